@@ -1,0 +1,47 @@
+// The aerograsp command line.
+#include <CLI/CLI.hpp>
+
+#include <exception>
+#include <iostream>
+
+#include "app/robot_command.h"
+#include "core/data_dir.h"
+
+#ifndef AEROGRASP_VERSION
+#define AEROGRASP_VERSION "unknown"
+#endif
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "aerograsp: dual-arm aerial grasping of known objects (detection, 6D pose, grasp "
+      "planning, visual servoing) on a PX4 hexacopter with a RealSense D435."};
+  app.set_version_flag("--version", std::string("aerograsp ") + AEROGRASP_VERSION);
+  app.require_subcommand(1);
+
+  aerograsp::RobotCommandOptions robot;
+  robot.config_path = aerograsp::DataPath("config/platform_4dof.yaml");
+  CLI::App* robot_cmd = app.add_subcommand(
+      "robot", "Print the platform: frame tree, camera, safe volume, arm chains, limits, reach");
+  robot_cmd->add_option("config", robot.config_path, "Platform YAML")
+      ->capture_default_str()
+      ->check(CLI::ExistingFile);
+  robot_cmd->add_option("--samples", robot.reach_samples,
+                        "Random configurations sampled for the workspace figures")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 10000000));
+  robot_cmd->add_option("--seed", robot.seed, "Seed of the workspace samples")->capture_default_str();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  try {
+    if (*robot_cmd) aerograsp::RunRobotCommand(robot, std::cout);
+  } catch (const std::exception& e) {
+    std::cerr << "aerograsp: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

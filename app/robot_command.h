@@ -1,0 +1,22 @@
+// `aerograsp robot CONFIG`: what the platform is made of, for a user checking a
+// configuration before flying it.
+#pragma once
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+
+namespace aerograsp {
+
+struct RobotCommandOptions {
+  std::string config_path;         ///< platform YAML
+  int reach_samples = 20000;       ///< random configurations for the workspace figures
+  std::uint32_t seed = 1;          ///< seed of those samples
+};
+
+/// Loads the platform and prints its transform tree, camera, safe volume, and
+/// for each arm its chain, limits, reach and home pose.
+/// @throws ConfigError / UrdfError with the file and what is wrong.
+void RunRobotCommand(const RobotCommandOptions& options, std::ostream& out);
+
+}  // namespace aerograsp

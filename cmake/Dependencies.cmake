@@ -1,0 +1,31 @@
+# Every third-party package, found through its own CMake config where it has one.
+# scripts/install_deps.sh installs them all on Debian 12.
+
+find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+find_package(yaml-cpp REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(spdlog REQUIRED)
+find_package(fmt REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(urdfdom REQUIRED)
+find_package(fcl REQUIRED)
+find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs dnn calib3d)
+find_package(VISP REQUIRED COMPONENTS visp_core visp_vision visp_vs visp_detection)
+find_package(apriltag REQUIRED)
+find_package(embree 3 REQUIRED)
+find_package(orocos_kdl REQUIRED)
+# PCL's config needs MPI's C target before it is found.
+find_package(MPI COMPONENTS C)
+find_package(PCL 1.12 REQUIRED COMPONENTS common io kdtree search features registration filters)
+
+if(AEROGRASP_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+  find_package(benchmark REQUIRED)
+endif()
+
+# urdfdom's config exports plain variables; wrap them in one target.
+if(NOT TARGET aerograsp_urdfdom)
+  add_library(aerograsp_urdfdom INTERFACE)
+  target_include_directories(aerograsp_urdfdom INTERFACE ${urdfdom_INCLUDE_DIRS})
+  target_link_libraries(aerograsp_urdfdom INTERFACE ${urdfdom_LIBRARIES})
+endif()

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package aerograsp needs to build, test and run.
+# Idempotent: packages already present are skipped; `apt-get update` runs at most once.
+# Must run as root (or with sudo available) on Debian 12 (bookworm).
+set -euo pipefail
+
+PACKAGES=(
+  # toolchain
+  build-essential cmake ninja-build ccache pkg-config git
+  # numerics, geometry, vision
+  libeigen3-dev libvisp-dev libopencv-dev libpcl-dev libopenmpi-dev
+  libfcl-dev libccd-dev liburdfdom-dev liburdfdom-headers-dev libapriltag-dev
+  libembree-dev libqhull-dev liborocos-kdl-dev
+  # configuration, CLI, logging, output
+  libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev
+  # tests and benchmarks
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install_deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null 2>&1; then SUDO="sudo"; else
+    echo "install_deps: need root to install: ${missing[*]}" >&2; exit 1
+  fi
+fi
+
+echo "install_deps: installing ${#missing[@]} packages: ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+echo "install_deps: done"
