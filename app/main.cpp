@@ -30,6 +30,8 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(1, 10000000));
   robot_cmd->add_option("--seed", robot.seed, "Seed of the workspace samples")->capture_default_str();
+  robot_cmd->add_option("--plot", robot.plot_path,
+                        "Write a PNG of the platform (side and front views, arms at home)");
 
   try {
     app.parse(argc, argv);

@@ -7,6 +7,7 @@
 #include <map>
 #include <random>
 
+#include "app/platform_plot.h"
 #include "core/platform.h"
 #include "core/transforms.h"
 
@@ -165,6 +166,12 @@ void RunRobotCommand(const RobotCommandOptions& options, std::ostream& out) {
 
   PrintArm(platform, Side::kLeft, options, out);
   PrintArm(platform, Side::kRight, options, out);
+
+  if (!options.plot_path.empty()) {
+    WritePlatformPlot(platform, platform.home(Side::kLeft), platform.home(Side::kRight),
+                      options.plot_path);
+    fmt::print(out, "\nWrote {} (arms at home)\n", options.plot_path);
+  }
 }
 
 }  // namespace aerograsp
