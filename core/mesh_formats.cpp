@@ -370,26 +370,9 @@ class PlyBodyReader {
     return 0.0;
   }
 
+  // Every PLY integer type (at most 32 bits) is exact as a double, so one
+  // decoder serves both; the check below rejects non-integral values.
   std::int64_t Int(PlyType type) {
-    if (!ascii_ && !IsFloatType(type)) {
-      const char* p = Take(SizeOf(type));
-      switch (type) {
-        case PlyType::kInt8:
-          return static_cast<std::int8_t>(*p);
-        case PlyType::kUint8:
-          return static_cast<std::uint8_t>(*p);
-        case PlyType::kInt16:
-          return Load<std::int16_t>(p);
-        case PlyType::kUint16:
-          return Load<std::uint16_t>(p);
-        case PlyType::kInt32:
-          return Load<std::int32_t>(p);
-        case PlyType::kUint32:
-          return Load<std::uint32_t>(p);
-        default:
-          break;
-      }
-    }
     const std::size_t start = pos_;
     const double value = Double(type);
     if (!(std::abs(value) < 9e15) || value != std::floor(value)) {
