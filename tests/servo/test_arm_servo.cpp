@@ -1,0 +1,211 @@
+#include "servo/arm_servo.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <iostream>
+#include <random>
+
+#include "core/config.h"
+#include "core/transforms.h"
+
+namespace aerograsp {
+namespace {
+
+ArmModel Arm(const char* urdf) {
+  return ArmModel::FromUrdfFile(std::string(AEROGRASP_DATA_DIR) + "/robots/" + urdf, "base_link",
+                                "tool");
+}
+
+Eigen::VectorXd Home4() {
+  Eigen::VectorXd q(4);
+  q << 0.0, -0.6283185, 2.0943951, 0.0;
+  return q;
+}
+
+// Runs the servo on an ideal arm (q integrates the command) until the target is
+// reached or the step budget is spent; returns the number of steps, -1 if not reached.
+int RunToTarget(const ArmModel& arm, ArmServo* servo, Eigen::VectorXd* q,
+                const Eigen::Isometry3d& bMg, int max_steps, double dt = 0.01) {
+  servo->SetTarget(bMg, 0.0);
+  for (int k = 0; k < max_steps; ++k) {
+    const double t = k * dt;
+    servo->SetTarget(bMg, t);  // a fresh observation every cycle
+    ServoCommand cmd;
+    const ServoStatus status = servo->Step(*q, t, dt, &cmd);
+    EXPECT_EQ(status, ServoStatus::kMoving);
+    EXPECT_TRUE(arm.WithinLimits(cmd.q_target_rad, 1e-9));
+    *q = cmd.q_target_rad;
+    if (cmd.position_error_m < 1e-3 && cmd.rotation_error_rad < 1e-2) return k;
+  }
+  return -1;
+}
+
+class ArmServoConvergenceTest : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ArmServoConvergenceTest, ReachesRandomReachableTargets) {
+  const ArmModel arm = Arm(GetParam());
+  std::mt19937 rng(11);
+  int reached = 0;
+  const int trials = 50;
+  for (int trial = 0; trial < trials; ++trial) {
+    Eigen::VectorXd q_goal(arm.dof());
+    for (int i = 0; i < arm.dof(); ++i) {
+      // Stay a little inside the limits so the goal is not on a boundary.
+      const double lo = arm.lower_limits()[i] + 0.2, hi = arm.upper_limits()[i] - 0.2;
+      q_goal[i] = std::uniform_real_distribution<double>(lo, hi)(rng);
+    }
+    Eigen::VectorXd q = q_goal;
+    for (int i = 0; i < arm.dof(); ++i) {
+      q[i] = std::clamp(q_goal[i] + std::uniform_real_distribution<double>(-0.5, 0.5)(rng),
+                        arm.lower_limits()[i], arm.upper_limits()[i]);
+    }
+    ArmServo servo(arm, ServoConfig{});
+    if (RunToTarget(arm, &servo, &q, arm.ForwardKinematics(q_goal), 1500) >= 0) ++reached;
+  }
+  EXPECT_GE(reached, trials * 9 / 10) << GetParam();
+  std::cout << GetParam() << ": reached " << reached << " of " << trials << " targets\n";
+}
+
+INSTANTIATE_TEST_SUITE_P(Arms, ArmServoConvergenceTest, ::testing::Values("arm4.urdf", "arm6.urdf"));
+
+TEST(ArmServoTest, VelocitiesStayBoundedAtTheStretchedSingularity) {
+  const ArmModel arm = Arm("arm4.urdf");
+  ArmServo servo(arm, ServoConfig{});
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(4);  // stretched: a singular configuration
+  // A target beyond reach straight along the arm, then one just beside it.
+  Eigen::Isometry3d bMg = arm.ForwardKinematics(q);
+  bMg.translation().z() += 0.2;
+  for (int k = 0; k < 300; ++k) {
+    const double t = 0.01 * k;
+    if (k == 150) bMg.translation().x() += 0.01;
+    servo.SetTarget(bMg, t);
+    ServoCommand cmd;
+    ASSERT_EQ(servo.Step(q, t, 0.01, &cmd), ServoStatus::kMoving);
+    ASSERT_TRUE(cmd.dq_rad_s.allFinite());
+    for (int i = 0; i < 4; ++i) {
+      EXPECT_LE(std::abs(cmd.dq_rad_s[i]), 0.8 * arm.velocity_limits()[i] + 1e-9);
+    }
+    q = cmd.q_target_rad;
+  }
+}
+
+TEST(ArmServoTest, NeverCommandsPastAJointLimit) {
+  const ArmModel arm = Arm("arm4.urdf");
+  ArmServo servo(arm, ServoConfig{});
+  Eigen::VectorXd q = Home4();
+  // A target that pulls the elbow against its upper limit.
+  Eigen::VectorXd q_far = Home4();
+  q_far[2] = arm.upper_limits()[2];
+  q_far[1] = arm.lower_limits()[1];
+  Eigen::Isometry3d bMg = arm.ForwardKinematics(q_far);
+  bMg.translation() *= 0.8;
+  for (int k = 0; k < 400; ++k) {
+    servo.SetTarget(bMg, 0.01 * k);
+    ServoCommand cmd;
+    servo.Step(q, 0.01 * k, 0.01, &cmd);
+    ASSERT_TRUE(arm.WithinLimits(cmd.q_target_rad, 1e-9)) << cmd.q_target_rad.transpose();
+    q = cmd.q_target_rad;
+  }
+}
+
+TEST(ArmServoTest, CommandStaysContinuousAtAGraspSwitch) {
+  const ArmModel arm = Arm("arm6.urdf");
+  auto jump_at_switch = [&](bool declare_switch) {
+    ArmServo servo(arm, ServoConfig{});
+    Eigen::VectorXd q(6);
+    q << 0.2, -0.8, 1.5, -0.5, 0.3, 0.1;
+    Eigen::VectorXd q_a = q, q_b = q;
+    q_a[0] += 0.4;
+    q_b[0] -= 0.4;
+    q_b[2] -= 0.3;
+    Eigen::VectorXd before;
+    for (int k = 0; k < 40; ++k) {
+      const double t = 0.01 * k;
+      const bool switching = k == 20;
+      servo.SetTarget(arm.ForwardKinematics(k < 20 ? q_a : q_b), t, switching && declare_switch);
+      ServoCommand cmd;
+      servo.Step(q, t, 0.01, &cmd);
+      if (k == 19) before = cmd.dq_rad_s;
+      if (k == 20) return (cmd.dq_rad_s - before).norm();
+      q = cmd.q_target_rad;
+    }
+    return -1.0;
+  };
+  // With the switch declared the command barely moves; the acceleration limit
+  // alone (30 rad/s^2 * 0.01 s per joint) allows a larger jump.
+  const double blended = jump_at_switch(true);
+  const double unblended = jump_at_switch(false);
+  EXPECT_LT(blended, 0.02);
+  EXPECT_GT(unblended, 5 * blended);
+}
+
+TEST(ArmServoTest, BadInputHoldsWithZeroVelocity) {
+  const ArmModel arm = Arm("arm4.urdf");
+  ArmServo servo(arm, ServoConfig{});
+  ServoCommand cmd;
+  EXPECT_EQ(servo.Step(Home4(), 0.0, 0.01, &cmd), ServoStatus::kNoTarget);
+  EXPECT_TRUE(cmd.dq_rad_s.isZero());
+
+  Eigen::Isometry3d nan_target = arm.ForwardKinematics(Home4());
+  nan_target.translation().x() = NAN;
+  servo.SetTarget(nan_target, 0.0);
+  EXPECT_EQ(servo.Step(Home4(), 0.0, 0.01, &cmd), ServoStatus::kInvalidTarget);
+  EXPECT_TRUE(cmd.dq_rad_s.isZero());
+  EXPECT_EQ(cmd.q_target_rad, Home4());
+
+  servo.SetTarget(arm.ForwardKinematics(Eigen::VectorXd::Zero(4)), 0.0);
+  EXPECT_EQ(servo.Step(Home4(), 0.5, 0.01, &cmd), ServoStatus::kStaleTarget);
+  EXPECT_TRUE(cmd.dq_rad_s.isZero());
+
+  Eigen::VectorXd q_nan = Home4();
+  q_nan[1] = NAN;
+  EXPECT_EQ(servo.Step(q_nan, 0.1, 0.01, &cmd), ServoStatus::kInvalidState);
+  EXPECT_TRUE(cmd.dq_rad_s.isZero());
+  EXPECT_TRUE(cmd.q_target_rad.allFinite());
+  EXPECT_EQ(servo.Step(Eigen::VectorXd::Zero(3), 0.1, 0.01, &cmd), ServoStatus::kInvalidState);
+}
+
+TEST(ArmServoTest, ForbiddenRegionShortensOrRefusesTheStep) {
+  const ArmModel arm = Arm("arm4.urdf");
+  const Eigen::VectorXd home = Home4();
+  Eigen::VectorXd q_goal = home;
+  q_goal[0] = 0.5;
+  // Forbid any configuration with j0 beyond home + 0.001 rad: the first step
+  // would pass it, a shortened step does not.
+  ArmServo shortened(arm, ServoConfig{}, [&](const Eigen::VectorXd& q) { return q[0] > 0.0005; });
+  shortened.SetTarget(arm.ForwardKinematics(q_goal), 0.0);
+  ServoCommand cmd;
+  for (int k = 0; k < 5; ++k) {
+    shortened.SetTarget(arm.ForwardKinematics(q_goal), 0.01 * k);
+    const ServoStatus status = shortened.Step(home, 0.01 * k, 0.01, &cmd);
+    if (status == ServoStatus::kMoving) {
+      EXPECT_LE(cmd.q_target_rad[0], 0.0005);
+    } else {
+      EXPECT_EQ(status, ServoStatus::kSafeVolume);
+    }
+  }
+  ArmServo refused(arm, ServoConfig{}, [](const Eigen::VectorXd&) { return true; });
+  refused.SetTarget(arm.ForwardKinematics(q_goal), 0.0);
+  EXPECT_EQ(refused.Step(home, 0.0, 0.01, &cmd), ServoStatus::kSafeVolume);
+  EXPECT_TRUE(cmd.dq_rad_s.isZero());
+  EXPECT_EQ(cmd.q_target_rad, home);
+}
+
+TEST(ServoConfigTest, DefaultsAreValidAndBadValuesNamed) {
+  EXPECT_NO_THROW(ServoConfig{}.Validate("servo.yaml"));
+  ServoConfig c;
+  c.gain_per_s = -1;
+  try {
+    c.Validate("servo.yaml");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("servo.yaml: servo.gain_per_s: -1 1/s is below"));
+  }
+  c = ServoConfig{};
+  c.orientation_weights.y() = 2.0;
+  EXPECT_THROW(c.Validate("servo.yaml"), ConfigError);
+}
+
+}  // namespace
+}  // namespace aerograsp
