@@ -43,6 +43,14 @@ urdf::ModelInterfaceSharedPtr ParseUrdf(const std::string& xml, const std::strin
   return model;
 }
 
+std::string ReadUrdfFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw UrdfError(path + ": cannot open file");
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 Eigen::Isometry3d ToIsometry(const urdf::Pose& p) {
   Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
   M.linear() = Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z)
@@ -144,11 +152,7 @@ void AddFixedSubtree(const urdf::Link& link, const Eigen::Isometry3d& segMl,
 
 ArmModel ArmModel::FromUrdfFile(const std::string& path, const std::string& base_link,
                                 const std::string& tip_link) {
-  std::ifstream in(path);
-  if (!in) throw UrdfError(path + ": cannot open file");
-  std::stringstream text;
-  text << in.rdbuf();
-  return FromUrdfString(text.str(), path, base_link, tip_link);
+  return FromUrdfString(ReadUrdfFile(path), path, base_link, tip_link);
 }
 
 ArmModel ArmModel::FromUrdfString(const std::string& urdf_xml, const std::string& source,
@@ -359,11 +363,7 @@ Eigen::Vector3d ArmModel::ShoulderPosition() const {
 }
 
 StaticFrameTree StaticFrameTree::FromUrdfFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw UrdfError(path + ": cannot open file");
-  std::stringstream text;
-  text << in.rdbuf();
-  return FromUrdfString(text.str(), path);
+  return FromUrdfString(ReadUrdfFile(path), path);
 }
 
 StaticFrameTree StaticFrameTree::FromUrdfString(const std::string& urdf_xml,

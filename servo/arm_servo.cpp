@@ -46,13 +46,14 @@ void ArmServo::Reset() {
   last_dq_ = Eigen::VectorXd::Zero(arm_.dof());
   switch_dq_ = Eigen::VectorXd::Zero(arm_.dof());
   switch_time_s_ = -1.0;
+  switch_pending_ = false;
 }
 
 void ArmServo::SetTarget(const Eigen::Isometry3d& bMg, double stamp_s, bool is_switch) {
   if (is_switch && has_target_) {
     // The previous command fades out from the first step after the switch.
     switch_dq_ = last_dq_;
-    switch_time_s_ = std::nan("");  // set at the next Step
+    switch_pending_ = true;
   }
   bMg_ = bMg;
   target_stamp_s_ = stamp_s;
@@ -119,9 +120,10 @@ ServoStatus ArmServo::Step(const Eigen::VectorXd& q, double now_s, double dt_s,
   out->min_singular = solution.min_singular;
 
   // Continuous sequencing at a grasp switch: the old command fades out.
-  if (switch_time_s_ != switch_time_s_) {  // NaN: first step after a switch
+  if (switch_pending_) {  // first step after a switch: fade what differs from the new command
     switch_dq_ -= dq;
     switch_time_s_ = now_s;
+    switch_pending_ = false;
   }
   if (switch_time_s_ >= 0.0) {
     const double fade = std::exp(-config_.switch_blend_per_s * (now_s - switch_time_s_));

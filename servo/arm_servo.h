@@ -85,6 +85,7 @@ class ArmServo {
   double target_stamp_s_ = 0.0;
   Eigen::VectorXd last_dq_;       // previous command (for smoothing and blending)
   Eigen::VectorXd switch_dq_;     // command at the last switch, fading out
+  bool switch_pending_ = false;   // a switch was declared; the blend starts at the next Step
   double switch_time_s_ = -1.0;   // < 0: no blend active
   Eigen::VectorXd last_good_q_;
 };
