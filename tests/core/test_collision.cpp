@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "core/collision.h"
+#include "core/shape_mesh.h"
 
 namespace aerograsp {
 namespace {
@@ -30,30 +31,6 @@ Eigen::VectorXd Pose(int dof, double q0, double q1, double q2) {
   q[1] = q1;
   q[2] = q2;
   return q;
-}
-
-/// A closed box mesh centred on its frame o, triangles facing outwards.
-TriangleMesh BoxMesh(const Eigen::Vector3d& size) {
-  TriangleMesh m;
-  for (int i = 0; i < 8; ++i) {
-    m.vertices.emplace_back((i & 1 ? 0.5 : -0.5) * size.x(), (i & 2 ? 0.5 : -0.5) * size.y(),
-                            (i & 4 ? 0.5 : -0.5) * size.z());
-  }
-  for (int axis = 0; axis < 3; ++axis) {
-    for (int side = 0; side < 2; ++side) {
-      const int b1 = 1 << ((axis + 1) % 3), b2 = 1 << ((axis + 2) % 3);
-      const int base = side ? 1 << axis : 0;
-      const int quad[4] = {base, base | b1, base | b1 | b2, base | b2};
-      for (Eigen::Vector3i t : {Eigen::Vector3i(quad[0], quad[1], quad[2]),
-                                Eigen::Vector3i(quad[0], quad[2], quad[3])}) {
-        const Eigen::Vector3d& a = m.vertices[t[0]];
-        const Eigen::Vector3d n = (m.vertices[t[1]] - a).cross(m.vertices[t[2]] - a);
-        if (n.dot(a + m.vertices[t[1]] + m.vertices[t[2]]) < 0.0) std::swap(t[1], t[2]);
-        m.triangles.push_back(t);
-      }
-    }
-  }
-  return m;
 }
 
 /// dMe: the arm's tool point in the body frame at q.
@@ -293,14 +270,14 @@ INSTANTIATE_TEST_SUITE_P(ShippedConfigs, CollisionMeshTest,
 
 TEST_P(CollisionMeshTest, BoxWiderThanTheOpeningHitsTheFingers) {
   // The open fingers' inner faces are 0.12 m apart; a 0.13 m box crosses them.
-  const int box = collision_.AddMesh(BoxMesh(Eigen::Vector3d::Constant(0.13)));
+  const int box = collision_.AddMesh(MakeBoxMesh(Eigen::Vector3d::Constant(0.13)));
   EXPECT_TRUE(Hits(box, AtLeftTool()));
   EXPECT_FALSE(Hits(box, AtLeftTool(), 0.0, PlatformCollision::Fingers::kExclude));
 }
 
 TEST_P(CollisionMeshTest, BoxBetweenTheOpenFingersIsHitOnlyWithinTheMargin) {
   // A 0.10 m box leaves 0.01 m to each finger.
-  const int box = collision_.AddMesh(BoxMesh(Eigen::Vector3d::Constant(0.10)));
+  const int box = collision_.AddMesh(MakeBoxMesh(Eigen::Vector3d::Constant(0.10)));
   EXPECT_FALSE(Hits(box, AtLeftTool()));
   EXPECT_FALSE(Hits(box, AtLeftTool(), 0.008));
   EXPECT_TRUE(Hits(box, AtLeftTool(), 0.012));
@@ -308,7 +285,7 @@ TEST_P(CollisionMeshTest, BoxBetweenTheOpenFingersIsHitOnlyWithinTheMargin) {
 }
 
 TEST_P(CollisionMeshTest, BoxOneMetreAwayIsNotHit) {
-  const int box = collision_.AddMesh(BoxMesh(Eigen::Vector3d::Constant(0.13)));
+  const int box = collision_.AddMesh(MakeBoxMesh(Eigen::Vector3d::Constant(0.13)));
   const Eigen::Isometry3d dMo = Eigen::Translation3d(1.0, 0.0, 0.0) * AtLeftTool();
   EXPECT_FALSE(Hits(box, dMo));
   EXPECT_FALSE(Hits(box, dMo, 0.5));
@@ -317,7 +294,7 @@ TEST_P(CollisionMeshTest, BoxOneMetreAwayIsNotHit) {
 TEST_P(CollisionMeshTest, ArmInsideAClosedMeshIsHit) {
   // A 2 m box around the whole platform: no triangle is near the arm, but the
   // closed mesh is a solid.
-  const TriangleMesh box = BoxMesh(Eigen::Vector3d::Constant(2.0));
+  const TriangleMesh box = MakeBoxMesh(Eigen::Vector3d::Constant(2.0));
   ASSERT_TRUE(CheckMesh(box).IsClosed());
   const int handle = collision_.AddMesh(box);
   EXPECT_TRUE(Hits(handle, Eigen::Isometry3d::Identity()));
@@ -325,21 +302,21 @@ TEST_P(CollisionMeshTest, ArmInsideAClosedMeshIsHit) {
 
 TEST_P(CollisionMeshTest, ArmInsideAnOpenMeshIsNotHit) {
   // The same box without one face is only a surface, 1 m from the arm.
-  TriangleMesh box = BoxMesh(Eigen::Vector3d::Constant(2.0));
+  TriangleMesh box = MakeBoxMesh(Eigen::Vector3d::Constant(2.0));
   box.triangles.resize(box.triangles.size() - 2);
   const int handle = collision_.AddMesh(box);
   EXPECT_FALSE(Hits(handle, Eigen::Isometry3d::Identity()));
 }
 
 TEST_P(CollisionMeshTest, HandlesCountFromZero) {
-  EXPECT_EQ(collision_.AddMesh(BoxMesh(Eigen::Vector3d::Constant(0.1))), 0);
-  EXPECT_EQ(collision_.AddMesh(BoxMesh(Eigen::Vector3d::Constant(0.1))), 1);
+  EXPECT_EQ(collision_.AddMesh(MakeBoxMesh(Eigen::Vector3d::Constant(0.1))), 0);
+  EXPECT_EQ(collision_.AddMesh(MakeBoxMesh(Eigen::Vector3d::Constant(0.1))), 1);
 }
 
 TEST(PlatformCollisionErrorTest, UnknownMeshHandleThrowsWithTheCount) {
   const Platform p = Platform::Load(Config("platform_4dof.yaml"));
   PlatformCollision collision(p);
-  collision.AddMesh(BoxMesh(Eigen::Vector3d::Constant(0.1)));
+  collision.AddMesh(MakeBoxMesh(Eigen::Vector3d::Constant(0.1)));
   try {
     collision.ArmHitsMesh(Side::kLeft, p.home(Side::kLeft), 3, Eigen::Isometry3d::Identity());
     FAIL() << "expected std::out_of_range";
@@ -364,7 +341,7 @@ TEST(PlatformCollisionErrorTest, MeshWithoutTrianglesIsRejected) {
 TEST(PlatformCollisionErrorTest, MeshIndexOutOfRangeIsRejected) {
   const Platform p = Platform::Load(Config("platform_4dof.yaml"));
   PlatformCollision collision(p);
-  TriangleMesh mesh = BoxMesh(Eigen::Vector3d::Constant(0.1));
+  TriangleMesh mesh = MakeBoxMesh(Eigen::Vector3d::Constant(0.1));
   mesh.triangles[5][1] = 8;
   try {
     collision.AddMesh(mesh);

@@ -1,0 +1,82 @@
+#include "core/random.h"
+
+#include <cmath>
+#include <vector>
+
+namespace aerograsp {
+namespace {
+
+std::uint64_t SplitMix64(std::uint64_t* x) {
+  std::uint64_t z = (*x += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+std::uint64_t Rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+
+constexpr int kTableBits = 16;
+
+/// Box-Muller samples of a fixed generator, shifted and scaled so that the
+/// table's mean is exactly 0 and its variance exactly 1.
+const std::vector<float>& NormalTable() {
+  static const std::vector<float> table = [] {
+    FastRandom rng(0x5EEDull);
+    std::vector<double> values(1u << kTableBits);
+    double sum = 0.0;
+    for (double& v : values) {
+      v = rng.Normal();
+      sum += v;
+    }
+    const double mean = sum / values.size();
+    double sq = 0.0;
+    for (double& v : values) {
+      v -= mean;
+      sq += v * v;
+    }
+    const double scale = 1.0 / std::sqrt(sq / values.size());
+    std::vector<float> out(values.size());
+    for (std::size_t i = 0; i < values.size(); ++i) out[i] = static_cast<float>(values[i] * scale);
+    return out;
+  }();
+  return table;
+}
+
+}  // namespace
+
+FastRandom::FastRandom(std::uint64_t seed) {
+  for (auto& s : s_) s = SplitMix64(&seed);
+}
+
+std::uint64_t FastRandom::Next() {
+  const std::uint64_t result = Rotl(s_[1] * 5, 7) * 9;
+  const std::uint64_t t = s_[1] << 17;
+  s_[2] ^= s_[0];
+  s_[3] ^= s_[1];
+  s_[1] ^= s_[2];
+  s_[0] ^= s_[3];
+  s_[2] ^= t;
+  s_[3] = Rotl(s_[3], 45);
+  return result;
+}
+
+double FastRandom::Normal() {
+  if (has_spare_) {
+    has_spare_ = false;
+    return spare_;
+  }
+  double u1 = Uniform();
+  while (u1 <= 0.0) u1 = Uniform();
+  const double u2 = Uniform();
+  const double r = std::sqrt(-2.0 * std::log(u1));
+  spare_ = r * std::sin(2.0 * M_PI * u2);
+  has_spare_ = true;
+  return r * std::cos(2.0 * M_PI * u2);
+}
+
+float FastRandom::FastNormal() {
+  static const std::vector<float>& table = NormalTable();
+  return table[Next() >> (64 - kTableBits)];
+}
+
+}  // namespace aerograsp
