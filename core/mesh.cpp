@@ -286,4 +286,27 @@ MassProperties ComputeMassProperties(const TriangleMesh& mesh) {
   return properties;
 }
 
+std::vector<double> IntersectRay(const TriangleMesh& mesh, const Eigen::Vector3d& origin,
+                                 const Eigen::Vector3d& direction) {
+  // Moller-Trumbore per triangle.
+  std::vector<double> hits;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    const Eigen::Vector3d& a = mesh.vertices[t[0]];
+    const Eigen::Vector3d e1 = mesh.vertices[t[1]] - a, e2 = mesh.vertices[t[2]] - a;
+    const Eigen::Vector3d p = direction.cross(e2);
+    const double det = e1.dot(p);
+    if (std::abs(det) < 1e-15) continue;
+    const Eigen::Vector3d s = origin - a;
+    const double u = s.dot(p) / det;
+    if (u < 0.0 || u > 1.0) continue;
+    const Eigen::Vector3d q = s.cross(e1);
+    const double v = direction.dot(q) / det;
+    if (v < 0.0 || u + v > 1.0) continue;
+    const double dist = e2.dot(q) / det;
+    if (dist >= 0.0) hits.push_back(dist);
+  }
+  std::sort(hits.begin(), hits.end());
+  return hits;
+}
+
 }  // namespace aerograsp

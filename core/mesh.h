@@ -69,6 +69,12 @@ TriangleMesh LoadClosedMesh(const std::string& path);
 /// @throws MeshError when the file cannot be written.
 void SaveMeshPly(const TriangleMesh& mesh, const std::string& path);
 
+/// The distances t >= 0 (sorted, in units of |direction|) at which the ray
+/// origin + t * direction crosses a triangle of the mesh (both faces count).
+/// Brute force over the triangles: for single rays, not images.
+std::vector<double> IntersectRay(const TriangleMesh& mesh, const Eigen::Vector3d& origin,
+                                 const Eigen::Vector3d& direction);
+
 /// Volume (m^3) and centre of mass (in the mesh frame, uniform density) of a
 /// closed mesh, by the divergence theorem.
 struct MassProperties {

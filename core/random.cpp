@@ -15,18 +15,22 @@ std::uint64_t SplitMix64(std::uint64_t* x) {
 
 std::uint64_t Rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
 
-constexpr int kTableBits = 16;
+constexpr int kTableBits = 16;  // FastNormal in random.h takes 16 bits per sample
 
 /// Box-Muller samples of a fixed generator, shifted and scaled so that the
 /// table's mean is exactly 0 and its variance exactly 1.
 const std::vector<float>& NormalTable() {
   static const std::vector<float> table = [] {
-    FastRandom rng(0x5EEDull);
+    // Box-Muller on splitmix64 uniforms in (0, 1].
+    std::uint64_t state = 0x5EEDull;
+    auto uniform = [&state] { return (static_cast<double>(SplitMix64(&state) >> 11) + 1.0) * 0x1.0p-53; };
     std::vector<double> values(1u << kTableBits);
     double sum = 0.0;
-    for (double& v : values) {
-      v = rng.Normal();
-      sum += v;
+    for (std::size_t i = 0; i < values.size(); i += 2) {
+      const double r = std::sqrt(-2.0 * std::log(uniform())), a = 2.0 * M_PI * uniform();
+      values[i] = r * std::cos(a);
+      values[i + 1] = r * std::sin(a);
+      sum += values[i] + values[i + 1];
     }
     const double mean = sum / values.size();
     double sq = 0.0;
@@ -44,7 +48,7 @@ const std::vector<float>& NormalTable() {
 
 }  // namespace
 
-FastRandom::FastRandom(std::uint64_t seed) {
+FastRandom::FastRandom(std::uint64_t seed) : normal_table_(NormalTable().data()) {
   for (auto& s : s_) s = SplitMix64(&seed);
 }
 
@@ -72,11 +76,6 @@ double FastRandom::Normal() {
   spare_ = r * std::sin(2.0 * M_PI * u2);
   has_spare_ = true;
   return r * std::cos(2.0 * M_PI * u2);
-}
-
-float FastRandom::FastNormal() {
-  static const std::vector<float>& table = NormalTable();
-  return table[Next() >> (64 - kTableBits)];
 }
 
 }  // namespace aerograsp

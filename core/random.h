@@ -20,13 +20,26 @@ class FastRandom {
   double Uniform(double lo, double hi) { return lo + (hi - lo) * Uniform(); }
   /// Standard normal by Box-Muller (exact, ~20 ns).
   double Normal();
-  /// Standard normal from a 65,536-entry table of Box-Muller samples (~2 ns):
+  /// Standard normal from a 65,536-entry table of Box-Muller samples (~1 ns;
+  /// one Next() serves four calls):
   /// exact mean 0 and variance 1 over the table, tails cut at about 4.5 sigma.
   /// For per-pixel image noise.
-  float FastNormal();
+  float FastNormal() {
+    if (table_indices_left_ == 0) {
+      table_bits_ = Next();
+      table_indices_left_ = 4;
+    }
+    const float value = normal_table_[table_bits_ & 0xFFFF];
+    table_bits_ >>= 16;
+    --table_indices_left_;
+    return value;
+  }
 
  private:
   std::uint64_t s_[4];
+  const float* normal_table_;     // 65,536 entries, shared by all generators
+  std::uint64_t table_bits_ = 0;  // unused 16-bit table indices of the last Next()
+  int table_indices_left_ = 0;
   double spare_ = 0.0;
   bool has_spare_ = false;
 };

@@ -59,78 +59,102 @@ double D435Config::DepthNoiseStdM(double z_m, int width_px) const {
 void SimulateD435(const D435Config& config, const CameraIntrinsics& K, const RenderBuffers& truth,
                   FastRandom* rng, RgbdFrame* frame) {
   const int W = truth.depth_m.width, H = truth.depth_m.height;
+  const std::size_t N = static_cast<std::size_t>(W) * H;
   const float inf = std::numeric_limits<float>::infinity();
-  // Treat "nothing hit" as infinitely far, so that silhouettes against the sky are edges.
-  auto z_at = [&](int x, int y) {
-    const float z = truth.depth_m.at(x, y);
-    return z > 0.0f ? z : inf;
-  };
 
   // Colour: additive noise on each channel.
   frame->color = truth.color;
   if (config.color_noise_levels > 0.0) {
-    const float sigma = static_cast<float>(config.color_noise_levels);
-    for (auto& value : frame->color.data) {
-      const float noisy = value + sigma * rng->FastNormal();
-      value = static_cast<std::uint8_t>(std::clamp(noisy + 0.5f, 0.0f, 255.0f));
+    // Integer noise: 16 random bits pick one of 256 x 256 rounded normal
+    // samples, four channels per Next().
+    static thread_local std::vector<std::int16_t> table;
+    static thread_local double table_sigma = -1.0;
+    if (table_sigma != config.color_noise_levels) {
+      FastRandom table_rng(0xC010Eull);
+      table.resize(1u << 16);
+      for (auto& t : table) t = static_cast<std::int16_t>(std::lround(config.color_noise_levels * table_rng.Normal()));
+      table_sigma = config.color_noise_levels;
+    }
+    auto& data = frame->color.data;
+    for (std::size_t i = 0; i < data.size(); i += 4) {
+      std::uint64_t bits = rng->Next();
+      const std::size_t end = std::min(data.size(), i + 4);
+      for (std::size_t j = i; j < end; ++j, bits >>= 16) {
+        const int noisy = data[j] + table[bits & 0xFFFF];
+        data[j] = static_cast<std::uint8_t>(noisy < 0 ? 0 : (noisy > 255 ? 255 : noisy));
+      }
     }
   }
 
-  // Which pixels lose their depth.
-  Image<std::uint8_t, 1> hole(W, H, 0);
+  // Depth with "nothing hit" as infinitely far, so that silhouettes against the
+  // sky are edges.
+  std::vector<float> z(N);
+  for (std::size_t i = 0; i < N; ++i) z[i] = truth.depth_m.data[i] > 0.0f ? truth.depth_m.data[i] : inf;
+
+  // Edges: a depth step to a 4-neighbour (both pixels of the pair are marked).
   const float edge_jump = static_cast<float>(config.edge_jump_m);
-  const double cos_start = std::cos(config.grazing_start_deg * M_PI / 180.0);
-  const double cos_end = std::cos(config.grazing_end_deg * M_PI / 180.0);
-  const double dark_span = std::max(1e-6, 1.0 - config.dark_start);
+  std::vector<std::uint8_t> hole(N, 0), edge(N, 0);
   for (int y = 0; y < H; ++y) {
-    for (int x = 0; x < W; ++x) {
-      const float z = truth.depth_m.at(x, y);
-      if (z <= 0.0f) continue;
-      double p_drop = 0.0;
-      const double c = truth.cos_incidence.at(x, y);
-      if (c < cos_start) p_drop = std::min(1.0, (cos_start - c) / (cos_start - cos_end));
-      const double dark = truth.darkness.at(x, y);
-      if (dark > config.dark_start) {
-        p_drop = std::max(p_drop, config.dark_hole_probability * (dark - config.dark_start) / dark_span);
+    const float* row = &z[static_cast<std::size_t>(y) * W];
+    std::uint8_t* e = &edge[static_cast<std::size_t>(y) * W];
+    for (int x = 0; x + 1 < W; ++x) {
+      if (std::abs(row[x + 1] - row[x]) > edge_jump) e[x] = e[x + 1] = 1;
+    }
+    if (y + 1 < H) {
+      const float* below = row + W;
+      std::uint8_t* e_below = e + W;
+      for (int x = 0; x < W; ++x) {
+        if (std::abs(below[x] - row[x]) > edge_jump) e[x] = e_below[x] = 1;
       }
-      const bool edge = (x > 0 && std::abs(z_at(x - 1, y) - z) > edge_jump) ||
-                        (x + 1 < W && std::abs(z_at(x + 1, y) - z) > edge_jump) ||
-                        (y > 0 && std::abs(z_at(x, y - 1) - z) > edge_jump) ||
-                        (y + 1 < H && std::abs(z_at(x, y + 1) - z) > edge_jump);
-      if (edge) p_drop = std::max(p_drop, config.edge_hole_probability);
-      if (p_drop > 0.0 && rng->Uniform() < p_drop) hole.at(x, y) = 1;
     }
   }
+
+  // Which pixels lose their depth: edges, grazing incidence, dark surfaces.
+  const float cos_start = static_cast<float>(std::cos(config.grazing_start_deg * M_PI / 180.0));
+  const float cos_end = static_cast<float>(std::cos(config.grazing_end_deg * M_PI / 180.0));
+  const float dark_start = static_cast<float>(config.dark_start);
+  const float dark_span = static_cast<float>(std::max(1e-6, 1.0 - config.dark_start));
+  for (std::size_t i = 0; i < N; ++i) {
+    if (z[i] == inf) continue;
+    const float c = truth.cos_incidence.data[i], dark = truth.darkness.data[i];
+    if (!edge[i] && c >= cos_start && dark <= dark_start) continue;  // the common case
+    double p_drop = edge[i] ? config.edge_hole_probability : 0.0;
+    if (c < cos_start) p_drop = std::max(p_drop, std::min(1.0, double(cos_start - c) / (cos_start - cos_end)));
+    if (dark > dark_start) p_drop = std::max(p_drop, config.dark_hole_probability * (dark - dark_start) / dark_span);
+    if (p_drop > 0.0 && rng->Uniform() < p_drop) hole[i] = 1;
+  }
+
   // Stereo shadow: the right imager does not see the background just left of a
   // near object's left edge; the band is as wide as the disparity difference,
   // in pixels of the colour image the depth is aligned to.
   if (config.stereo_shadow) {
     const double disparity_scale = K.fx * config.baseline_m;
     for (int y = 0; y < H; ++y) {
+      const float* row = &z[static_cast<std::size_t>(y) * W];
+      std::uint8_t* h = &hole[static_cast<std::size_t>(y) * W];
       for (int x = 1; x < W; ++x) {
-        const float z_near = z_at(x, y), z_far = z_at(x - 1, y);
-        if (!(z_far - z_near > edge_jump) || !std::isfinite(z_near)) continue;
-        const double band_px = disparity_scale * (1.0 / z_near - (std::isfinite(z_far) ? 1.0 / z_far : 0.0));
+        const float z_near = row[x], z_far = row[x - 1];
+        if (!(z_far - z_near > edge_jump) || z_near == inf) continue;
+        const double band_px = disparity_scale * (1.0 / z_near - (z_far == inf ? 0.0 : 1.0 / z_far));
         const int first = std::max(0, x - static_cast<int>(std::ceil(band_px)));
         for (int k = first; k < x; ++k) {
-          if (z_at(k, y) > z_near + edge_jump) hole.at(k, y) = 1;
+          if (row[k] > z_near + edge_jump) h[k] = 1;
         }
       }
     }
   }
 
-  // Noise, range limits, quantisation.
+  // Noise growing with z^2, range limits, quantisation.
   frame->depth = DepthImage(W, H, 0);
-  const double noise_gain = config.subpixel / (config.DepthFocalPx(W) * config.baseline_m);
-  const double max_units = std::numeric_limits<std::uint16_t>::max();
-  for (int y = 0; y < H; ++y) {
-    for (int x = 0; x < W; ++x) {
-      const double z = truth.depth_m.at(x, y);
-      if (z <= 0.0 || hole.at(x, y) || z < config.min_range_m || z > config.max_range_m) continue;
-      const double noisy = z + noise_gain * z * z * rng->FastNormal();
-      const double units = std::round(noisy / config.depth_scale_m);
-      if (units >= 1.0) frame->depth.at(x, y) = static_cast<std::uint16_t>(std::min(units, max_units));
-    }
+  const float noise_gain = static_cast<float>(config.subpixel / (config.DepthFocalPx(W) * config.baseline_m));
+  const float inv_scale = static_cast<float>(1.0 / config.depth_scale_m);
+  const float min_range = static_cast<float>(config.min_range_m), max_range = static_cast<float>(config.max_range_m);
+  const float max_units = std::numeric_limits<std::uint16_t>::max();
+  for (std::size_t i = 0; i < N; ++i) {
+    const float zi = z[i];
+    if (hole[i] || zi < min_range || zi > max_range) continue;  // also skips inf (no hit)
+    const float units = (zi + noise_gain * zi * zi * rng->FastNormal()) * inv_scale + 0.5f;
+    if (units >= 1.0f) frame->depth.data[i] = static_cast<std::uint16_t>(std::min(units, max_units));
   }
 }
 

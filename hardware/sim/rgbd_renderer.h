@@ -53,11 +53,17 @@ class RgbdRenderer {
   RgbdRenderer(const RgbdRenderer&) = delete;
   RgbdRenderer& operator=(const RgbdRenderer&) = delete;
 
-  /// Adds a mesh at the identity pose, visible. Returns its id (0, 1, ...).
+  /// kStatic meshes are given in the world frame and never move (they share
+  /// one acceleration structure, the cheapest to trace); kMovable meshes are
+  /// instances posed with SetPose().
+  enum class Motion { kStatic, kMovable };
+
+  /// Adds a mesh, visible, at the identity pose. Returns its id (0, 1, ...).
   /// @throws std::invalid_argument when uv is given with the wrong size, or a
   /// texture without uv.
-  int AddMesh(const RenderMesh& mesh);
+  int AddMesh(const RenderMesh& mesh, Motion motion = Motion::kMovable);
   /// wMm: the mesh frame in the world frame.
+  /// @throws std::invalid_argument for a static mesh.
   void SetPose(int id, const Eigen::Isometry3d& wMm);
   void SetVisible(int id, bool visible);
   int mesh_count() const;

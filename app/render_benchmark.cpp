@@ -1,0 +1,99 @@
+#include "app/render_benchmark.h"
+
+#include <fmt/format.h>
+#include <time.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "core/data_dir.h"
+#include "hardware/sim/d435_model.h"
+#include "hardware/sim/rgbd_renderer.h"
+#include "hardware/sim/world.h"
+
+namespace aerograsp {
+namespace {
+
+double ThreadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+double Percentile(std::vector<double> values, double p) {
+  std::sort(values.begin(), values.end());
+  const std::size_t i = std::min(values.size() - 1, static_cast<std::size_t>(p * (values.size() - 1) + 0.5));
+  return values[i];
+}
+
+}  // namespace
+
+void RunRenderBenchmark(const RenderBenchmarkOptions& options, std::ostream& out) {
+  const std::string world_path =
+      options.world_config.empty() ? DataPath("config/world_default.yaml") : options.world_config;
+  WorldConfig config = WorldConfig::Load(world_path);
+  config.object.motion = "crawl";
+  World world(config, options.seed);
+  // The same setup as SimCamera, timed stage by stage.
+  RgbdRenderer renderer;
+  for (const RenderMesh& mesh : world.static_scene()) renderer.AddMesh(mesh, RgbdRenderer::Motion::kStatic);
+  const int object_id = renderer.AddMesh(world.object_render_mesh());
+  const CameraIntrinsics& K = world.platform().camera();
+  FastRandom rng(options.seed);
+  RenderBuffers truth;
+  RgbdFrame frame;
+  std::vector<double> raycast_ms, model_ms, total_ms, wall_ms;
+  for (int i = 0; i < options.frames; ++i) {
+    world.StepTo(i / config.camera.frame_rate_hz);
+    const auto wall0 = std::chrono::steady_clock::now();
+    const double t0 = ThreadCpuSeconds();
+    renderer.SetPose(object_id, world.wMo());
+    renderer.Render(world.wMc(), K, Lighting{}, &truth);
+    const double t1 = ThreadCpuSeconds();
+    SimulateD435(config.camera.d435, K, truth, &rng, &frame);
+    const double t2 = ThreadCpuSeconds();
+    wall_ms.push_back(1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
+    raycast_ms.push_back(1e3 * (t1 - t0));
+    model_ms.push_back(1e3 * (t2 - t1));
+    total_ms.push_back(1e3 * (t2 - t0));
+  }
+  const double budget_ms = 20.0;
+  out << fmt::format("render benchmark: {} frames {}x{}, world {}, seed {} (CPU time of one thread)\n",
+                     options.frames, K.width, K.height, world_path, options.seed);
+  out << fmt::format("  {:<22} {:>9} {:>9}\n", "stage", "median", "p90");
+  out << fmt::format("  {:<22} {:>6.2f} ms {:>6.2f} ms\n", "ray casting + shading", Percentile(raycast_ms, 0.5),
+                     Percentile(raycast_ms, 0.9));
+  out << fmt::format("  {:<22} {:>6.2f} ms {:>6.2f} ms\n", "D435 model", Percentile(model_ms, 0.5),
+                     Percentile(model_ms, 0.9));
+  out << fmt::format("  {:<22} {:>6.2f} ms {:>6.2f} ms   (budget {:.0f} ms)\n", "colour + depth frame",
+                     Percentile(total_ms, 0.5), Percentile(total_ms, 0.9), budget_ms);
+  out << fmt::format("  {:<22} {:>6.2f} ms {:>6.2f} ms\n", "wall time", Percentile(wall_ms, 0.5),
+                     Percentile(wall_ms, 0.9));
+  if (!options.out_dir.empty()) {
+    std::filesystem::create_directories(options.out_dir);
+    nlohmann::json summary = {
+        {"stage", "render"},
+        {"frames", options.frames},
+        {"width", K.width},
+        {"height", K.height},
+        {"seed", options.seed},
+        {"raycast_ms_median", Percentile(raycast_ms, 0.5)},
+        {"d435_model_ms_median", Percentile(model_ms, 0.5)},
+        {"frame_ms_median", Percentile(total_ms, 0.5)},
+        {"frame_ms_p90", Percentile(total_ms, 0.9)},
+        {"wall_ms_median", Percentile(wall_ms, 0.5)},
+        {"budget_ms", budget_ms},
+    };
+    const std::string path = (std::filesystem::path(options.out_dir) / "summary.json").string();
+    std::ofstream file(path);
+    file << summary.dump(2) << "\n";
+    if (!file) throw std::runtime_error(path + ": cannot be written");
+    out << "  summary: " << path << "\n";
+  }
+}
+
+}  // namespace aerograsp

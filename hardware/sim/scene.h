@@ -1,0 +1,24 @@
+// The static scene around the object: textured ground, the support pipe on
+// two posts, and clutter, so that the camera sees a background.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "hardware/sim/rgbd_renderer.h"
+#include "hardware/sim/world_config.h"
+
+namespace aerograsp {
+
+/// wMp: the pipe frame p (origin on the pipe's axis at its centre, x along the
+/// axis, z down like w) in the world.
+Eigen::Isometry3d PipeFrame(const SceneConfig& scene);
+
+/// The scene's meshes, already in w. The same seed gives the same clutter.
+std::vector<RenderMesh> BuildStaticScene(const SceneConfig& scene, std::uint64_t seed);
+
+/// A square texture of `tiles` x `tiles` slightly different tiles with noise
+/// (the ground: concrete slabs), `pixels` wide.
+ColorImage MakeGroundTexture(int pixels, int tiles, std::uint64_t seed);
+
+}  // namespace aerograsp

@@ -1,0 +1,211 @@
+#include "hardware/sim/world.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/shape_mesh.h"
+#include "core/transforms.h"
+#include "hardware/sim/scene.h"
+
+namespace aerograsp {
+namespace {
+
+// Independent random streams, so that changing one part of a run (say, the
+// number of frames) does not change another (the clutter).
+constexpr std::uint64_t kSceneStream = 0x1000;
+constexpr std::uint64_t kVehicleStream = 0x2000;
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+// SimArm
+
+SimArm::SimArm(const ArmModel& arm, const ArmsSimConfig& config, const Eigen::VectorXd& q0_rad)
+    : arm_(&arm),
+      config_(config),
+      quantum_rad_(config.position_range_deg * M_PI / 180.0 / (config.position_counts - 1)) {
+  q_ = arm.Clamp(q0_rad);
+  target_ = q_;
+}
+
+double SimArm::Quantise(int joint, double q_rad) const {
+  const double lower = arm_->lower_limits()[joint];
+  const double counts = std::round((q_rad - lower) / quantum_rad_);
+  return lower + std::clamp(counts, 0.0, double(config_.position_counts - 1)) * quantum_rad_;
+}
+
+void SimArm::SetTarget(const Eigen::VectorXd& q_rad) {
+  if (q_rad.size() != q_.size() || !q_rad.allFinite()) return;  // the bus would reject it
+  const Eigen::VectorXd clamped = arm_->Clamp(q_rad);
+  for (int i = 0; i < clamped.size(); ++i) target_[i] = Quantise(i, clamped[i]);
+}
+
+void SimArm::Step(double dt_s) {
+  for (int i = 0; i < q_.size(); ++i) {
+    const double max_speed = config_.speed_scale * arm_->velocity_limits()[i];
+    const double speed = std::clamp((target_[i] - q_[i]) / config_.lag_s, -max_speed, max_speed);
+    q_[i] += speed * dt_s;
+  }
+  q_ = arm_->Clamp(q_);
+}
+
+Eigen::VectorXd SimArm::q_measured_rad() const {
+  Eigen::VectorXd q(q_.size());
+  for (int i = 0; i < q_.size(); ++i) q[i] = Quantise(i, q_[i]);
+  return q;
+}
+
+// ---------------------------------------------------------------------------
+// World
+
+World::World(const WorldConfig& config, std::uint64_t seed)
+    : config_(config),
+      seed_(seed),
+      platform_(Platform::Load(config.platform)),
+      object_(ObjectModel::Load(config.object.name)),
+      vehicle_(config.vehicle, seed * 0x9E3779B97F4A7C15ull + kVehicleStream) {
+  for (Side side : {Side::kLeft, Side::kRight}) {
+    arms_.emplace_back(platform_.arm(side), config.arms, platform_.home(side));
+    Gripper& g = grippers_[static_cast<int>(side)];
+    g.state.aperture_m = platform_.config().gripper.max_aperture_m;
+    // Render meshes of each segment from its collision shapes.
+    for (const ArmSegment& segment : platform_.arm(side).segments()) {
+      RenderMesh mesh;
+      for (const CollisionShape& shape : segment.collision) {
+        AppendMesh(MeshFromShape(shape), Eigen::Isometry3d::Identity(), &mesh.mesh);
+      }
+      mesh.material.albedo = {0.15f, 0.15f, 0.17f};  // black servos and brackets
+      arm_render_[static_cast<int>(side)].push_back(std::move(mesh));
+    }
+  }
+  static_scene_ = BuildStaticScene(config.scene, seed * 0x9E3779B97F4A7C15ull + kSceneStream);
+  object_render_.mesh = object_.mesh_o;
+  wMo_ = ObjectOnPipe(config.object.start_along_pipe_m);
+}
+
+World::~World() = default;
+
+Eigen::Isometry3d World::ObjectOnPipe(double along_m) const {
+  const double half_height = -object_.mesh_o.BoundsMin().z();  // o: z up
+  const Eigen::Vector3d p_p(along_m, 0.0, -(config_.scene.pipe_radius_m + half_height));
+  // o's z up is -z of p (NED-like); o's x along the pipe, turned by yaw_on_pipe.
+  const Eigen::Isometry3d pMo =
+      MakeTransform(p_p, Eigen::Vector3d(M_PI, 0.0, 0.0)) *
+      MakeTransform(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, config_.object.yaw_on_pipe_rad));
+  return PipeFrame(config_.scene) * pMo;
+}
+
+Eigen::Isometry3d World::wMe(Side side) const {
+  return wMd() * platform_.dMb(side) * platform_.arm(side).ForwardKinematics(arm(side).q_true_rad());
+}
+
+std::vector<Eigen::Isometry3d> World::ArmSegmentPoses(Side side) const {
+  std::vector<Eigen::Isometry3d> bMs;
+  platform_.arm(side).SegmentPoses(arm(side).q_true_rad(), &bMs);
+  const Eigen::Isometry3d wMb = wMd() * platform_.dMb(side);
+  std::vector<Eigen::Isometry3d> wMs;
+  for (std::size_t i = 0; i < arm_render_[static_cast<int>(side)].size(); ++i) wMs.push_back(wMb * bMs[i]);
+  return wMs;
+}
+
+void World::SetGripper(Side side, GripperCommand command) {
+  Gripper& g = grippers_[static_cast<int>(side)];
+  if (g.command == command) return;
+  g.command = command;
+  if (command == GripperCommand::kOpen && g.holding) {
+    g.holding = false;
+    const bool still_held = grippers_[0].holding || grippers_[1].holding;
+    if (!still_held) {
+      // Released: the object falls upright to the ground below it (no physics).
+      object_free_ = true;
+      const double yaw = std::atan2(wMo_.linear()(1, 0), wMo_.linear()(0, 0));
+      wMo_ = MakeTransform(Eigen::Vector3d(wMo_.translation().x(), wMo_.translation().y(),
+                                           object_.mesh_o.BoundsMin().z()),
+                           Eigen::Vector3d(M_PI, 0.0, yaw));
+    }
+  }
+}
+
+double World::ClosingWidth(Side side, bool* spans) const {
+  // The closing line: the tool x axis through the tool point, as long as the
+  // open aperture, in the object frame.
+  const double open_m = platform_.config().gripper.max_aperture_m;
+  const Eigen::Isometry3d oMe = wMo_.inverse() * wMe(side);
+  const Eigen::Vector3d x_o = oMe.linear().col(0);
+  const Eigen::Vector3d start_o = oMe.translation() - 0.5 * open_m * x_o;
+  const std::vector<double> hits = IntersectRay(object_.mesh_o, start_o, x_o);
+  double first = -1.0, last = -1.0;
+  std::size_t inside = 0;
+  for (double t : hits) {
+    if (t > open_m) break;
+    if (first < 0.0) first = t;
+    last = t;
+    ++inside;
+  }
+  // Held only when the object lies between the open pads along the line: both
+  // pad positions are outside the (closed) mesh, i.e. an even number of
+  // crossings lies beyond each of them, and the line crosses the object.
+  const std::size_t after = hits.size() - inside;
+  *spans = inside >= 2 && after % 2 == 0 && (inside + after) % 2 == 0;
+  if (!*spans) return 0.0;
+  // Symmetric fingers touch at the farther of the two surfaces from the tool point.
+  return 2.0 * std::max(0.5 * open_m - first, last - 0.5 * open_m);
+}
+
+void World::UpdateGripper(Side side, double dt_s) {
+  Gripper& g = grippers_[static_cast<int>(side)];
+  const GripperConfig& gc = platform_.config().gripper;
+  const double rate = gc.max_aperture_m / gc.close_time_s;
+  if (g.command == GripperCommand::kOpen) {
+    g.state.aperture_m = std::min(gc.max_aperture_m, g.state.aperture_m + rate * dt_s);
+    g.state.moving = g.state.aperture_m < gc.max_aperture_m;
+    g.state.closed = false;
+    g.state.holding = false;
+    return;
+  }
+  if (g.holding) {  // fingers rest on the object
+    g.state.moving = false;
+    return;
+  }
+  bool spans = false;
+  const double contact = ClosingWidth(side, &spans);
+  const double next = std::max(0.0, g.state.aperture_m - rate * dt_s);
+  if (spans && next <= contact && g.state.aperture_m >= contact) {
+    g.state.aperture_m = contact;
+    g.holding = true;
+    g.eMo = wMe(side).inverse() * wMo_;
+    object_free_ = true;
+    g.state = {contact, false, true, true};
+    return;
+  }
+  g.state.aperture_m = next;
+  g.state.moving = next > 0.0;
+  g.state.closed = next <= 0.0;
+}
+
+void World::PhysicsStep(double dt_s) {
+  vehicle_.Step(now_s_, dt_s);
+  for (auto& arm : arms_) arm.Step(dt_s);
+  for (Side side : {Side::kLeft, Side::kRight}) UpdateGripper(side, dt_s);
+  now_s_ += dt_s;
+  // The object: carried by a gripper, else crawling or resting.
+  if (grippers_[0].holding) {
+    wMo_ = wMe(Side::kLeft) * grippers_[0].eMo;
+  } else if (grippers_[1].holding) {
+    wMo_ = wMe(Side::kRight) * grippers_[1].eMo;
+  } else if (!object_free_ && config_.object.motion == "crawl" && config_.object.travel_m > 0.0) {
+    // Back and forth between start and start + travel at constant speed.
+    const double travel = config_.object.travel_m;
+    const double s = std::fmod(config_.object.speed_mps * now_s_, 2.0 * travel);
+    wMo_ = ObjectOnPipe(config_.object.start_along_pipe_m + (s <= travel ? s : 2.0 * travel - s));
+  }
+}
+
+void World::Step(double dt_s) { StepTo(now_s_ + dt_s); }
+
+void World::StepTo(double t_s) {
+  const double h = config_.physics_step_s;
+  while (now_s_ < t_s - 1e-12) PhysicsStep(std::min(h, t_s - now_s_));
+}
+
+}  // namespace aerograsp

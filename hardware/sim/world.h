@@ -1,0 +1,120 @@
+// The simulated world: vehicle, both arms with their grippers, the object on
+// its pipe, and the static scene, stepped deterministically on a simulated
+// clock (faster than real time; the same seed gives the same run).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/object_model.h"
+#include "core/platform.h"
+#include "hardware/arms_driver.h"
+#include "hardware/sim/rgbd_renderer.h"
+#include "hardware/sim/sim_vehicle.h"
+#include "hardware/sim/world_config.h"
+
+namespace aerograsp {
+
+/// One arm's servos: each joint follows its target with a first-order lag and
+/// a speed limit; targets and readings are quantised like the Feetech servos
+/// (FACTS.md: 10 bits over about 220 deg, counted from the lower limit).
+class SimArm {
+ public:
+  SimArm(const ArmModel& arm, const ArmsSimConfig& config, const Eigen::VectorXd& q0_rad);
+  void SetTarget(const Eigen::VectorXd& q_rad);
+  void Step(double dt_s);
+  const Eigen::VectorXd& q_true_rad() const { return q_; }
+  /// What the servos report: the true position quantised.
+  Eigen::VectorXd q_measured_rad() const;
+  const Eigen::VectorXd& target_rad() const { return target_; }
+  /// Angle of one position count (rad).
+  double quantum_rad() const { return quantum_rad_; }
+
+ private:
+  double Quantise(int joint, double q_rad) const;
+  const ArmModel* arm_;
+  ArmsSimConfig config_;
+  double quantum_rad_;
+  Eigen::VectorXd q_, target_;
+};
+
+class World {
+ public:
+  /// Loads the platform and the object named in the config.
+  /// @throws ConfigError / MeshError / UrdfError naming the file.
+  World(const WorldConfig& config, std::uint64_t seed);
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  const WorldConfig& config() const { return config_; }
+  const Platform& platform() const { return platform_; }
+  const ObjectModel& object() const { return object_; }
+  std::uint64_t seed() const { return seed_; }
+
+  double now_s() const { return now_s_; }
+  /// Advances the clock by dt_s in physics steps (the last one shortened to land on time).
+  void Step(double dt_s);
+  /// Advances to t_s (no-op when t_s <= now).
+  void StepTo(double t_s);
+
+  SimVehicle& vehicle() { return vehicle_; }
+  const SimVehicle& vehicle() const { return vehicle_; }
+  SimArm& arm(Side side) { return arms_[static_cast<int>(side)]; }
+  const SimArm& arm(Side side) const { return arms_[static_cast<int>(side)]; }
+  void SetGripper(Side side, GripperCommand command);
+  GripperState gripper(Side side) const { return grippers_[static_cast<int>(side)].state; }
+
+  /// Ground truth.
+  Eigen::Isometry3d wMd() const { return vehicle_.State().wMd; }
+  Eigen::Isometry3d wMc() const { return wMd() * platform_.dMc(); }
+  Eigen::Isometry3d wMo() const { return wMo_; }
+  /// The tool point of an arm in the world, at the arm's true joint positions.
+  Eigen::Isometry3d wMe(Side side) const;
+  /// Which gripper holds the object (both may); the object moves with the left one first.
+  bool held_by(Side side) const { return grippers_[static_cast<int>(side)].holding; }
+
+  /// The static scene (ground, pipe and its posts, clutter), in w, for rendering.
+  const std::vector<RenderMesh>& static_scene() const { return static_scene_; }
+  /// The object's render mesh in frame o.
+  const RenderMesh& object_render_mesh() const { return object_render_; }
+  /// Render meshes of one arm's segments, each in its segment frame (ArmModel::SegmentPoses).
+  const std::vector<RenderMesh>& arm_render_meshes(Side side) const {
+    return arm_render_[static_cast<int>(side)];
+  }
+  /// wMseg for each segment of an arm, matching arm_render_meshes.
+  std::vector<Eigen::Isometry3d> ArmSegmentPoses(Side side) const;
+
+  /// Where the object rests on the pipe at `along_m` from the pipe's centre.
+  Eigen::Isometry3d ObjectOnPipe(double along_m) const;
+
+ private:
+  struct Gripper {
+    GripperCommand command = GripperCommand::kOpen;
+    GripperState state;
+    bool holding = false;
+    Eigen::Isometry3d eMo = Eigen::Isometry3d::Identity();
+  };
+  void PhysicsStep(double dt_s);
+  void UpdateGripper(Side side, double dt_s);
+  double ClosingWidth(Side side, bool* spans) const;
+
+  WorldConfig config_;
+  std::uint64_t seed_;
+  Platform platform_;
+  ObjectModel object_;
+  SimVehicle vehicle_;
+  std::vector<SimArm> arms_;
+  std::array<Gripper, 2> grippers_;
+  double now_s_ = 0.0;
+  Eigen::Isometry3d wMo_ = Eigen::Isometry3d::Identity();
+  bool object_free_ = false;  // grasped once: no longer crawls
+  std::vector<RenderMesh> static_scene_;
+  RenderMesh object_render_;
+  std::array<std::vector<RenderMesh>, 2> arm_render_;
+};
+
+}  // namespace aerograsp

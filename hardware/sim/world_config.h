@@ -1,0 +1,87 @@
+// Configuration of the simulated world (data/config/world_default.yaml is the
+// reference): the scene, the object and its motion, the vehicle's hover
+// behaviour, the arms' servo dynamics, and the camera. World frame w is NED
+// with its origin on the ground at the take-off point.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+
+#include "hardware/sim/d435_model.h"
+
+namespace aerograsp {
+
+struct SceneConfig {
+  Eigen::Vector3d pipe_center_w_m{0.0, 0.0, -1.3};  ///< centre of the support pipe's axis (NED, so z < 0 is up)
+  double pipe_yaw_rad{M_PI / 2};  ///< pipe axis heading from north, [-pi, pi] rad (pi/2: east-west)
+  double pipe_radius_m{0.08};     ///< (0, 1] m
+  double pipe_length_m{4.0};      ///< (0, 50] m
+  int clutter_count{14};          ///< boxes and cylinders on the ground, [0, 200]
+  double clutter_radius_m{5.0};   ///< clutter lies within this distance of the pipe centre, (0, 50] m
+  double ground_tile_m{0.5};      ///< size of the ground texture's tiles, (0, 10] m
+};
+
+/// How the object moves: along the top of the pipe.
+struct ObjectMotionConfig {
+  std::string name{"crawler"};     ///< a shipped object name or a model path (core/object_model.h)
+  std::string motion{"static"};    ///< "static" | "crawl" (back and forth along the pipe)
+  double start_along_pipe_m{0.0};  ///< position along the pipe axis from its centre, m
+  double speed_mps{0.03};          ///< crawl speed, [0, 1] m/s
+  double travel_m{0.4};            ///< crawl from start to start + travel and back, [0, pipe length] m
+  double yaw_on_pipe_rad{0.0};     ///< object x from the pipe axis, about the vertical, rad
+};
+
+struct VehicleSimConfig {
+  std::string start{"hover"};            ///< "hover" (at start_w_m, flying) | "ground" (disarmed at the origin)
+  Eigen::Vector3d start_w_m{-0.65, 0.0, -2.0};  ///< hover start (NED), m
+  double start_yaw_rad{0.0};             ///< heading, rad
+  Eigen::Vector3d sway_amplitude_m{0.03, 0.03, 0.02};  ///< per axis, each [0, 1] m
+  Eigen::Vector3d sway_frequency_hz{0.31, 0.23, 0.4};  ///< per axis, each [0, 5] Hz
+  double tilt_amplitude_rad{0.02};       ///< roll and pitch sway, [0, 0.3] rad
+  double gust_rate_hz{0.1};              ///< mean gusts per second, [0, 10]
+  double gust_speed_mps{0.15};           ///< velocity kick of a gust, [0, 5] m/s
+  double drift_std_m{0.02};              ///< stationary spread of the slow drift, [0, 1] m
+  double drift_time_constant_s{8.0};     ///< correlation time of the drift, (0, 1000] s
+  double response_time_s{0.6};           ///< first-order time constant of setpoint following, (0, 10] s
+  double delay_s{0.15};                  ///< setpoint-to-response delay (FACTS: ~150 ms), [0, 2] s
+  double max_speed_mps{1.0};             ///< (0, 20] m/s
+  double offboard_timeout_s{0.5};        ///< no setpoint for this long in offboard: hold, (0, 10] s
+  double landed_height_m{0.30};          ///< body origin above the ground when landed, [0, 2] m
+};
+
+struct ArmsSimConfig {
+  double lag_s{0.05};               ///< servo first-order lag, (0, 2] s
+  double speed_scale{1.0};          ///< fraction of the URDF velocity limits the servos reach, (0, 2]
+  int position_counts{1024};        ///< position resolution (FACTS: 10 bits), [2, 65536]
+  double position_range_deg{220.0}; ///< angle spanned by the counts (FACTS: about +-110 deg), (0, 360] deg
+};
+
+struct CameraSimConfig {
+  double frame_rate_hz{30.0};       ///< (0, 300] Hz
+  D435Config d435;
+  double light_azimuth_deg{30.0};   ///< direction towards the sun, from north, deg
+  double light_elevation_deg{55.0}; ///< above the horizon, (0, 90] deg
+  double light_intensity{0.8};      ///< [0, 2]
+  double ambient{0.35};             ///< [0, 1]
+  double light_variation{0.1};      ///< slow relative change of the intensity, [0, 0.5]
+};
+
+struct WorldConfig {
+  std::string source;               ///< file it was read from (for messages)
+  std::string platform{"platform_4dof.yaml"};  ///< platform YAML, relative to this file's folder
+  double physics_step_s{0.002};     ///< integration step, (0, 0.05] s
+  SceneConfig scene;
+  ObjectMotionConfig object;
+  VehicleSimConfig vehicle;
+  ArmsSimConfig arms;
+  CameraSimConfig camera;
+
+  /// @throws ConfigError "<file>: <key>: ..." for a missing file, an unknown
+  /// key, a wrong type or a value out of range.
+  static WorldConfig Load(const std::string& path);
+  /// @throws ConfigError naming `source`, the key and the bound.
+  void Validate() const;
+};
+
+}  // namespace aerograsp
