@@ -108,6 +108,11 @@ std::vector<Eigen::Isometry3d> World::ArmSegmentPoses(Side side) const {
   return wMs;
 }
 
+void World::PlaceObject(const Eigen::Isometry3d& wMo) {
+  wMo_ = wMo;
+  object_free_ = true;
+}
+
 void World::SetGripper(Side side, GripperCommand command) {
   Gripper& g = grippers_[static_cast<int>(side)];
   if (g.command == command) return;

@@ -88,6 +88,10 @@ class World {
   /// wMseg for each segment of an arm, matching arm_render_meshes.
   std::vector<Eigen::Isometry3d> ArmSegmentPoses(Side side) const;
 
+  /// Moves the object to wMo (a hand placing it on a bench); it then stays
+  /// there (no crawling) until a gripper takes it.
+  void PlaceObject(const Eigen::Isometry3d& wMo);
+
   /// Where the object rests on the pipe at `along_m` from the pipe's centre.
   Eigen::Isometry3d ObjectOnPipe(double along_m) const;
 

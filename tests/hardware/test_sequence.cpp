@@ -1,0 +1,210 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/config.h"
+#include "core/transforms.h"
+#include "hardware/sequence.h"
+
+namespace aerograsp {
+namespace {
+namespace fs = std::filesystem;
+
+/// A small synthetic sequence: 4 frames of 32 x 24 with ramps, a pose, the
+/// vehicle and joints, written into a fresh temporary folder.
+class SequenceTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    folder_ = (fs::temp_directory_path() / (std::string("aerograsp_seq_") + info->name())).string();
+    fs::remove_all(folder_);
+    info_.intrinsics = {32, 24, 30.0, 31.0, 15.5, 11.5};
+    info_.depth_scale_m = 0.001;
+    info_.object = "crawler";
+    info_.frame_rate_hz = 30.0;
+    info_.description = "test";
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+
+  RgbdFrame MakeFrame(int i) const {
+    RgbdFrame f;
+    f.stamp_s = 0.1 * i + 1.0 / 3.0;
+    f.color = ColorImage(32, 24);
+    f.depth = DepthImage(32, 24);
+    for (std::size_t k = 0; k < f.color.data.size(); ++k) f.color.data[k] = static_cast<std::uint8_t>(k * 7 + i);
+    for (std::size_t k = 0; k < f.depth.data.size(); ++k) f.depth.data[k] = static_cast<std::uint16_t>(k * 97 + i);
+    return f;
+  }
+  SequenceExtras MakeExtras(int i) const {
+    SequenceExtras e;
+    e.cMo = MakeTransform(Eigen::Vector3d(0.1 * i, -0.2, 0.7 + 1e-7 * i), Eigen::Vector3d(0.1, 0.2 * i, -0.3));
+    VehicleState v;
+    v.wMd = MakeTransform(Eigen::Vector3d(1, 2, -3), Eigen::Vector3d(0.01, -0.02, 0.5 + i));
+    v.v_w = Eigen::Vector3d(0.1, 0.2, 1.0 / 3.0);
+    e.vehicle = v;
+    e.q_left_rad = Eigen::Vector4d(0.1, 0.2, 0.3, i);
+    e.q_right_rad = Eigen::Vector4d(-0.1, -0.2, -0.3, -i);
+    return e;
+  }
+  void WriteSequence(int frames) {
+    SequenceWriter writer(folder_, info_);
+    for (int i = 0; i < frames; ++i) writer.Write(MakeFrame(i), MakeExtras(i));
+  }
+  static void ExpectThrowsWith(const std::function<void()>& f, const std::string& text) {
+    try {
+      f();
+      ADD_FAILURE() << "expected an error containing '" << text << "'";
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+  }
+  std::string folder_;
+  SequenceInfo info_;
+};
+
+TEST_F(SequenceTest, ReplayReadsBackExactlyWhatWasWritten) {
+  WriteSequence(4);
+  ReplayCamera replay(folder_);
+  EXPECT_EQ(replay.info().frame_count, 4);
+  EXPECT_EQ(replay.info().object, "crawler");
+  EXPECT_EQ(replay.intrinsics().fx, 30.0);
+  EXPECT_EQ(replay.intrinsics().cy, 11.5);
+  EXPECT_TRUE(replay.has_groundtruth());
+  RgbdFrame frame;
+  for (int i = 0; i < 4; ++i) {
+    ASSERT_TRUE(replay.Grab(&frame));
+    const RgbdFrame expected = MakeFrame(i);
+    EXPECT_EQ(frame.index, i);
+    EXPECT_EQ(frame.stamp_s, expected.stamp_s);  // bit for bit
+    EXPECT_TRUE(frame.color == expected.color);
+    EXPECT_TRUE(frame.depth == expected.depth);
+    const SequenceExtras want = MakeExtras(i);
+    const SequenceExtras& got = replay.extras(i);
+    EXPECT_EQ(got.cMo->translation(), want.cMo->translation());
+    // The quaternion is read back bit for bit; the rotation matrix built from
+    // it differs from the original by rounding only.
+    EXPECT_TRUE(QuaternionWxyz(*got.cMo).isApprox(QuaternionWxyz(*want.cMo), 1e-15));
+    EXPECT_LT(ComparePoses(*got.cMo, *want.cMo).rotation_rad, 1e-15);
+    EXPECT_EQ(got.vehicle->wMd.translation(), want.vehicle->wMd.translation());
+    EXPECT_EQ(got.vehicle->v_w, want.vehicle->v_w);
+    EXPECT_EQ(*got.q_left_rad, *want.q_left_rad);
+    EXPECT_EQ(*got.q_right_rad, *want.q_right_rad);
+  }
+  EXPECT_FALSE(replay.Grab(&frame));
+  replay.Rewind();
+  ASSERT_TRUE(replay.Grab(&frame));
+  EXPECT_EQ(frame.index, 0);
+}
+
+TEST_F(SequenceTest, ExtrasAreOptional) {
+  {
+    SequenceWriter writer(folder_, info_);
+    writer.Write(MakeFrame(0));
+  }
+  ReplayCamera replay(folder_);
+  EXPECT_FALSE(replay.has_groundtruth());
+  EXPECT_FALSE(replay.extras(0).cMo.has_value());
+  EXPECT_FALSE(replay.extras(0).q_left_rad.has_value());
+  RgbdFrame frame;
+  ASSERT_TRUE(replay.Grab(&frame));
+  EXPECT_EQ(frame.stamp_s, MakeFrame(0).stamp_s);  // from stamps.csv
+}
+
+TEST_F(SequenceTest, WriterRefusesToOverwriteAndInconsistentExtras) {
+  WriteSequence(1);
+  ExpectThrowsWith([&] { SequenceWriter again(folder_, info_); }, "already holds a sequence");
+  SequenceWriter writer(folder_, info_, /*overwrite=*/true);
+  writer.Write(MakeFrame(0), MakeExtras(0));
+  ExpectThrowsWith([&] { writer.Write(MakeFrame(1)); }, "lacks this kind of data but frame 0 had it");
+  RgbdFrame wrong = MakeFrame(1);
+  wrong.depth = DepthImage(16, 24);
+  ExpectThrowsWith([&] { writer.Write(wrong, MakeExtras(1)); }, "the intrinsics say 32x24");
+}
+
+TEST_F(SequenceTest, AFolderWithoutSequenceYamlIsNotASequence) {
+  ExpectThrowsWith([&] { ReplayCamera r(folder_); }, "no such folder");
+  fs::create_directories(folder_);
+  ExpectThrowsWith([&] { ReplayCamera r(folder_); }, "not a sequence: no sequence.yaml");
+}
+
+TEST_F(SequenceTest, MissingFrameIsNamed) {
+  WriteSequence(4);
+  fs::remove(fs::path(folder_) / "depth" / "000002.png");
+  ExpectThrowsWith([&] { ReplayCamera r(folder_); }, "depth/000002.png: missing (sequence.yaml says 4 frames)");
+}
+
+TEST_F(SequenceTest, ImageOfTheWrongSizeIsNamedWhenRead) {
+  WriteSequence(2);
+  fs::copy_file(fs::path(folder_) / "color" / "000000.png", fs::path(folder_) / "big.png");
+  {
+    SequenceInfo other = info_;
+    other.intrinsics = {64, 24, 30.0, 31.0, 15.5, 11.5};
+    const std::string elsewhere = folder_ + "_other";
+    fs::remove_all(elsewhere);
+    {
+      SequenceWriter w(elsewhere, other);
+      RgbdFrame f;
+      f.color = ColorImage(64, 24);
+      f.depth = DepthImage(64, 24);
+      w.Write(f);
+    }
+    fs::copy_file(fs::path(elsewhere) / "color" / "000000.png", fs::path(folder_) / "color" / "000001.png",
+                  fs::copy_options::overwrite_existing);
+    fs::remove_all(elsewhere);
+  }
+  ReplayCamera replay(folder_);
+  RgbdFrame frame;
+  ASSERT_TRUE(replay.Grab(&frame));
+  ExpectThrowsWith([&] { replay.Grab(&frame); }, "color/000001.png: is 64x24, sequence.yaml says 32x24");
+}
+
+TEST_F(SequenceTest, CorruptImageIsNamed) {
+  WriteSequence(1);
+  std::ofstream(fs::path(folder_) / "depth" / "000000.png", std::ios::trunc) << "not a png";
+  ReplayCamera replay(folder_);
+  RgbdFrame frame;
+  ExpectThrowsWith([&] { replay.Grab(&frame); }, "depth/000000.png: cannot be read as an image");
+}
+
+TEST_F(SequenceTest, TruncatedAndGarbledCsvAreNamedWithTheLine) {
+  WriteSequence(3);
+  const fs::path gt = fs::path(folder_) / "groundtruth.csv";
+  std::string text;
+  {
+    std::ifstream in(gt);
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  // Drop the last row: a truncated recording.
+  const std::string truncated = text.substr(0, text.rfind('\n', text.size() - 2) + 1);
+  std::ofstream(gt, std::ios::trunc) << truncated;
+  ExpectThrowsWith([&] { ReplayCamera r(folder_); }, "groundtruth.csv: 2 rows but sequence.yaml says 3 frames");
+  // A garbage number on line 3.
+  std::string garbled = text;
+  garbled.replace(garbled.find(",", garbled.find('\n', garbled.find('\n') + 1)) + 1, 1, "x");
+  std::ofstream(gt, std::ios::trunc) << garbled;
+  ExpectThrowsWith([&] { ReplayCamera r(folder_); }, "groundtruth.csv: line 3:");
+}
+
+TEST_F(SequenceTest, BadYamlIsNamedWithTheField) {
+  WriteSequence(1);
+  const fs::path yaml = fs::path(folder_) / "sequence.yaml";
+  std::string text;
+  {
+    std::ifstream in(yaml);
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  std::string bad = text;
+  bad.replace(bad.find("fx: "), 4, "fx: -");
+  std::ofstream(yaml, std::ios::trunc) << bad;
+  ExpectThrowsWith([&] { ReadSequenceInfo(folder_); }, "sequence.yaml: intrinsics");
+  std::ofstream(yaml, std::ios::trunc) << "format: [unclosed\n";
+  ExpectThrowsWith([&] { ReadSequenceInfo(folder_); }, "sequence.yaml");
+  bad = text;
+  bad.replace(bad.find("version: 1"), 10, "version: 9");
+  std::ofstream(yaml, std::ios::trunc) << bad;
+  ExpectThrowsWith([&] { ReadSequenceInfo(folder_); }, "version: version 9 is not supported");
+}
+
+}  // namespace
+}  // namespace aerograsp
