@@ -117,12 +117,15 @@ SequenceWriter::SequenceWriter(const std::string& folder, const SequenceInfo& in
     Fail(folder, "already holds a sequence (sequence.yaml); choose another folder or overwrite it");
   }
   std::error_code ec;
+  // An overwritten recording must keep nothing of the old one.
+  for (const char* old : {"sequence.yaml", "color", "depth", "stamps.csv", "groundtruth.csv", "vehicle.csv",
+                          "joints.csv"}) {
+    fs::remove_all(root / old, ec);
+  }
   for (const char* sub : {"color", "depth"}) {
     fs::create_directories(root / sub, ec);
     if (ec) Fail((root / sub).string(), "cannot be created: " + ec.message());
   }
-  // An overwritten recording must not keep frames past its new end.
-  fs::remove(root / "sequence.yaml", ec);
 }
 
 SequenceWriter::~SequenceWriter() {

@@ -82,8 +82,8 @@ TEST_F(SequenceTest, ReplayReadsBackExactlyWhatWasWritten) {
     const SequenceExtras want = MakeExtras(i);
     const SequenceExtras& got = replay.extras(i);
     EXPECT_EQ(got.cMo->translation(), want.cMo->translation());
-    // The quaternion is read back bit for bit; the rotation matrix built from
-    // it differs from the original by rounding only.
+    // The pose is rebuilt from the written t and q: t is exact, the rotation
+    // equal up to rounding.
     EXPECT_TRUE(QuaternionWxyz(*got.cMo).isApprox(QuaternionWxyz(*want.cMo), 1e-15));
     EXPECT_LT(ComparePoses(*got.cMo, *want.cMo).rotation_rad, 1e-15);
     EXPECT_EQ(got.vehicle->wMd.translation(), want.vehicle->wMd.translation());

@@ -1,0 +1,97 @@
+#include "app/record_command.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <sstream>
+
+#include "core/data_dir.h"
+#include "hardware/sequence.h"
+#include "hardware/sim/sim_devices.h"
+
+namespace aerograsp {
+namespace {
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+class RecordCommandTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = (fs::temp_directory_path() / "aerograsp_record_test").string();
+    fs::remove_all(folder_);
+    options_.out_dir = folder_;
+    options_.frames = 4;
+    options_.seed = 11;
+    options_.motion = "crawl";
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+  std::string Run() {
+    std::ostringstream out, progress;
+    RunRecordCommand(options_, out, progress);
+    EXPECT_THAT(progress.str(), HasSubstr("record: done"));
+    return out.str();
+  }
+  std::string folder_;
+  RecordCommandOptions options_;
+};
+
+TEST_F(RecordCommandTest, ReplayMatchesTheSimulatorFrameForFrame) {
+  const std::string out = Run();
+  EXPECT_THAT(out, HasSubstr("4 frames at 30 Hz"));
+  EXPECT_THAT(out, HasSubstr("object crawler (crawl), seed 11"));
+  EXPECT_TRUE(fs::exists(fs::path(folder_) / "preview_color.png"));
+  EXPECT_TRUE(fs::exists(fs::path(folder_) / "preview_depth.png"));
+
+  // The same world and seed, run again here, gives the frames the replay reads.
+  WorldConfig config = WorldConfig::Load(DataPath("config/world_default.yaml"));
+  config.object.motion = "crawl";
+  World world(config, 11);
+  SimCamera camera(&world);
+  ReplayCamera replay(folder_);
+  ASSERT_TRUE(replay.has_groundtruth());
+  EXPECT_EQ(replay.info().frame_rate_hz, 30.0);
+  RgbdFrame simulated, replayed;
+  for (int i = 0; i < 4; ++i) {
+    world.StepTo(i / 30.0);
+    camera.Grab(&simulated);
+    ASSERT_TRUE(replay.Grab(&replayed));
+    EXPECT_TRUE(simulated.color == replayed.color) << "frame " << i;
+    EXPECT_TRUE(simulated.depth == replayed.depth) << "frame " << i;
+    EXPECT_EQ(simulated.stamp_s, replayed.stamp_s);
+    const Eigen::Isometry3d cMo = world.wMc().inverse() * world.wMo();
+    EXPECT_EQ(replay.extras(i).cMo->translation(), cMo.translation());
+  }
+  EXPECT_FALSE(replay.Grab(&replayed));
+  // The object crawls: its pose changes from frame to frame.
+  EXPECT_GT((replay.extras(3).cMo->translation() - replay.extras(0).cMo->translation()).norm(), 1e-3);
+}
+
+TEST_F(RecordCommandTest, RefusesToOverwriteUnlessAsked) {
+  Run();
+  try {
+    Run();
+    FAIL() << "expected an error";
+  } catch (const HardwareError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("already holds a sequence"));
+  }
+  options_.overwrite = true;
+  options_.frames = 2;
+  Run();
+  EXPECT_EQ(ReplayCamera(folder_).info().frame_count, 2);
+  EXPECT_FALSE(fs::exists(fs::path(folder_) / "color" / "000003.png"));  // nothing left of the old one
+}
+
+TEST_F(RecordCommandTest, UnknownObjectListsTheShippedOnes) {
+  options_.object = "teapot";
+  try {
+    Run();
+    FAIL() << "expected an error";
+  } catch (const std::exception& e) {
+    EXPECT_THAT(e.what(), HasSubstr("teapot: no such file and no shipped object of that name"));
+    EXPECT_THAT(e.what(), HasSubstr("crawler, pipe, u_shape"));
+  }
+}
+
+}  // namespace
+}  // namespace aerograsp
