@@ -9,6 +9,7 @@ constexpr double kTakeoffTolerance_m = 0.05;  // take-off done within this of th
 constexpr double kLandingSpeed_mps = 0.5;
 constexpr double kGustFrequency_hz = 0.5;     // the position loop's disturbance rejection
 constexpr double kGustDamping = 0.7;
+constexpr double kSwayFadeIn_s = 2.0;
 
 Eigen::Matrix3d RotationFrd(double roll, double pitch, double yaw) {
   return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
@@ -32,6 +33,7 @@ SimVehicle::SimVehicle(const VehicleSimConfig& config, std::uint64_t seed)
   if (config.start == "hover") {
     p_nominal_w_ = hold_w_ = config.start_w_m;
     state_.mode = FlightMode::kHold;
+    airborne_since_s_ = -kSwayFadeIn_s;  // in the air for a while already
   } else {
     p_nominal_w_ = hold_w_ = Eigen::Vector3d(0.0, 0.0, -config.landed_height_m);
     state_.mode = FlightMode::kDisarmed;
@@ -148,15 +150,22 @@ void SimVehicle::Step(double t_s, double dt_s) {
 void SimVehicle::UpdatePose(double t_s, double dt_s) {
   Eigen::Vector3d sway = Eigen::Vector3d::Zero();
   double roll = 0.0, pitch = 0.0;
-  if (Flying() && dt_s > 0.0) {
+  if (Flying()) {
+    // Sway fades in over the first seconds in the air (no jump at take-off).
+    if (std::isnan(airborne_since_s_)) airborne_since_s_ = t_s;
+    const double fade = std::min(1.0, (t_s - airborne_since_s_) / kSwayFadeIn_s);
     for (int i = 0; i < 3; ++i) {
       const double w = 2.0 * M_PI * config_.sway_frequency_hz[i];
-      sway[i] = config_.sway_amplitude_m[i] * std::sin(w * t_s + sway_phase_[i]);
+      sway[i] = fade * config_.sway_amplitude_m[i] * std::sin(w * t_s + sway_phase_[i]);
     }
-    roll = config_.tilt_amplitude_rad * std::sin(2.0 * M_PI * config_.sway_frequency_hz.y() * t_s +
-                                                tilt_phase_.x());
-    pitch = config_.tilt_amplitude_rad * std::sin(2.0 * M_PI * config_.sway_frequency_hz.x() * t_s +
-                                                 tilt_phase_.y());
+    roll = fade * config_.tilt_amplitude_rad *
+           std::sin(2.0 * M_PI * config_.sway_frequency_hz.y() * t_s + tilt_phase_.x());
+    pitch = fade * config_.tilt_amplitude_rad *
+            std::sin(2.0 * M_PI * config_.sway_frequency_hz.x() * t_s + tilt_phase_.y());
+  } else {
+    airborne_since_s_ = std::nan("");
+  }
+  if (Flying() && dt_s > 0.0) {
     // Gusts: velocity kicks into a damped second-order disturbance.
     if (rng_.Uniform() < config_.gust_rate_hz * dt_s) {
       const double heading = rng_.Uniform(0.0, 2.0 * M_PI);

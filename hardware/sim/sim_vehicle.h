@@ -3,6 +3,7 @@
 // disturbances (sway, tilt, gusts, slow drift). World frame w is NED.
 #pragma once
 
+#include <cmath>
 #include <deque>
 
 #include "core/random.h"
@@ -53,6 +54,7 @@ class SimVehicle {
   Eigen::Vector3d gust_w_ = Eigen::Vector3d::Zero(), gust_rate_w_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d drift_w_ = Eigen::Vector3d::Zero();
   double last_roll_rad_ = 0.0, last_pitch_rad_ = 0.0;
+  double airborne_since_s_ = std::nan("");  // start of the present flight; NaN on the ground
 };
 
 }  // namespace aerograsp
