@@ -33,11 +33,19 @@ float Luminance(const Eigen::Vector3f& rgb) {
 }
 
 std::uint8_t ToByte(float value) {
-  return static_cast<std::uint8_t>(std::clamp(value * 255.0f + 0.5f, 0.0f, 255.0f));
+  const float v = value * 255.0f + 0.5f;
+  return static_cast<std::uint8_t>(v < 0.0f ? 0.0f : (v > 255.0f ? 255.0f : v));
+}
+
+/// The fractional part, in [0, 1) (floorf is a library call without SSE4.1).
+float Fraction(float value) {
+  int i = static_cast<int>(value);
+  if (value < static_cast<float>(i)) --i;
+  return value - static_cast<float>(i);
 }
 
 Eigen::Vector3f SampleTexture(const ColorImage& texture, const Eigen::Vector2f& uv) {
-  const float u = uv.x() - std::floor(uv.x()), v = uv.y() - std::floor(uv.y());  // repeat
+  const float u = Fraction(uv.x()), v = Fraction(uv.y());  // the texture repeats
   const int x = std::min(texture.width - 1, static_cast<int>(u * texture.width));
   const int y = std::min(texture.height - 1, static_cast<int>(v * texture.height));
   const std::uint8_t* p = &texture.at(x, y);
@@ -55,11 +63,18 @@ void Reset(int width, int height, T value, Image<T, C>* image) {
 
 }  // namespace
 
+// Two levels: the static meshes share one scene, built once with high
+// quality and instanced once in the top scene; each movable mesh is an
+// instance of its own scene. Moving a mesh only rebuilds the small top level.
 struct RgbdRenderer::Impl {
   RTCDevice device = nullptr;
   RTCScene top = nullptr;
-  bool dirty = true;
-  std::vector<MeshData> meshes;  // by id; the top scene's geometry ID equals the id
+  RTCScene statics = nullptr;
+  RTCGeometry statics_instance = nullptr;
+  bool top_dirty = true, statics_dirty = false;
+  std::vector<MeshData> meshes;       // by id
+  std::vector<int> mesh_of_top;       // top-level geometry ID -> mesh id (-1: the statics instance)
+  std::vector<int> mesh_of_static;    // geometry ID in `statics` -> mesh id
 
   Impl() {
     device = rtcNewDevice("threads=1");  // one core: the budget is per core
@@ -67,14 +82,30 @@ struct RgbdRenderer::Impl {
     top = rtcNewScene(device);
     rtcSetSceneBuildQuality(top, RTC_BUILD_QUALITY_LOW);
     rtcSetSceneFlags(top, RTC_SCENE_FLAG_DYNAMIC);
+    statics = rtcNewScene(device);
+    rtcSetSceneBuildQuality(statics, RTC_BUILD_QUALITY_HIGH);
+    statics_instance = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(statics_instance, statics);
+    const float identity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+    rtcSetGeometryTransform(statics_instance, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, identity);
+    rtcCommitGeometry(statics_instance);
+    mesh_of_top.push_back(-1);
+    rtcAttachGeometryByID(top, statics_instance, 0);
   }
   ~Impl() {
     for (auto& m : meshes) {
       rtcReleaseGeometry(m.geometry);
       if (m.scene) rtcReleaseScene(m.scene);
     }
+    rtcReleaseGeometry(statics_instance);
+    rtcReleaseScene(statics);
     rtcReleaseScene(top);
     rtcReleaseDevice(device);
+  }
+  /// Mesh id of a hit: an instance of a movable mesh, or a geometry of the statics.
+  int MeshOfHit(unsigned inst, unsigned geom) const {
+    const int top_mesh = mesh_of_top[inst];
+    return top_mesh >= 0 ? top_mesh : mesh_of_static[geom];
   }
 };
 
@@ -125,9 +156,17 @@ int RgbdRenderer::AddMesh(const RenderMesh& in, Motion motion) {
 
   const int id = static_cast<int>(impl_->meshes.size());
   impl_->meshes.push_back(std::move(data));
-  if (impl_->meshes.back().movable) SetPose(id, Eigen::Isometry3d::Identity());
-  rtcAttachGeometryByID(impl_->top, impl_->meshes.back().geometry, static_cast<unsigned>(id));
-  impl_->dirty = true;
+  MeshData& added = impl_->meshes.back();
+  if (added.movable) {
+    SetPose(id, Eigen::Isometry3d::Identity());
+    rtcAttachGeometryByID(impl_->top, added.geometry, static_cast<unsigned>(impl_->mesh_of_top.size()));
+    impl_->mesh_of_top.push_back(id);
+    impl_->top_dirty = true;
+  } else {
+    rtcAttachGeometryByID(impl_->statics, added.geometry, static_cast<unsigned>(impl_->mesh_of_static.size()));
+    impl_->mesh_of_static.push_back(id);
+    impl_->statics_dirty = true;
+  }
   return id;
 }
 
@@ -141,7 +180,7 @@ void RgbdRenderer::SetPose(int id, const Eigen::Isometry3d& wMm) {
   rtcSetGeometryTransform(m.geometry, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
   rtcCommitGeometry(m.geometry);
   m.wRm = wMm.linear().cast<float>();
-  impl_->dirty = true;
+  impl_->top_dirty = true;
 }
 
 void RgbdRenderer::SetVisible(int id, bool visible) {
@@ -154,14 +193,20 @@ void RgbdRenderer::SetVisible(int id, bool visible) {
     rtcDisableGeometry(m.geometry);
   }
   rtcCommitGeometry(m.geometry);
-  impl_->dirty = true;
+  (m.movable ? impl_->top_dirty : impl_->statics_dirty) = true;
 }
 
 void RgbdRenderer::Render(const Eigen::Isometry3d& wMc, const CameraIntrinsics& K, const Lighting& lighting,
                           RenderBuffers* out) {
-  if (impl_->dirty) {
+  if (impl_->statics_dirty) {
+    rtcCommitScene(impl_->statics);
+    rtcCommitGeometry(impl_->statics_instance);
+    impl_->statics_dirty = false;
+    impl_->top_dirty = true;
+  }
+  if (impl_->top_dirty) {
     rtcCommitScene(impl_->top);
-    impl_->dirty = false;
+    impl_->top_dirty = false;
   }
   const int W = K.width, H = K.height;
   Reset(W, H, std::uint8_t{0}, &out->color);
@@ -177,16 +222,28 @@ void RgbdRenderer::Render(const Eigen::Isometry3d& wMc, const CameraIntrinsics& 
   const float intensity = static_cast<float>(lighting.intensity);
   const std::uint8_t background[3] = {ToByte(lighting.background.x()), ToByte(lighting.background.y()),
                                       ToByte(lighting.background.z())};
-  // Ray directions in c have z = 1, so the hit distance t is the depth z.
-  std::vector<float> x_c(W), y_c(H);
-  for (int x = 0; x < W; ++x) x_c[x] = static_cast<float>((x - K.cx) / K.fx);
-  for (int y = 0; y < H; ++y) y_c[y] = static_cast<float>((y - K.cy) / K.fy);
+  // Ray directions in c have z = 1, so the hit distance t is the depth z. In
+  // w: d = wRc (x_c, y_c, 1) = column part (per x) + row part (per y).
+  std::vector<Eigen::Vector3f> column_w(W), row_w(H);
+  for (int x = 0; x < W; ++x) column_w[x] = wRc.col(0) * static_cast<float>((x - K.cx) / K.fx);
+  for (int y = 0; y < H; ++y) row_w[y] = wRc.col(1) * static_cast<float>((y - K.cy) / K.fy) + wRc.col(2);
 
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   alignas(64) RTCRayHit16 packet;
   alignas(64) int valid[kPacket];
+  // Embree writes only tfar and the hit: the rest of the rays is set once.
+  for (int k = 0; k < kPacket; ++k) {
+    packet.ray.org_x[k] = origin.x();
+    packet.ray.org_y[k] = origin.y();
+    packet.ray.org_z[k] = origin.z();
+    packet.ray.tnear[k] = 0.0f;
+    packet.ray.time[k] = 0.0f;
+    packet.ray.mask[k] = 0xFFFFFFFFu;
+    packet.ray.id[k] = static_cast<unsigned>(k);
+    packet.ray.flags[k] = 0;
+  }
 
   for (int y0 = 0; y0 < H; y0 += kTileH) {
     for (int x0 = 0; x0 < W; x0 += kTileW) {
@@ -194,20 +251,11 @@ void RgbdRenderer::Render(const Eigen::Isometry3d& wMc, const CameraIntrinsics& 
         const int x = x0 + k % kTileW, y = y0 + k / kTileW;
         const bool inside = x < W && y < H;
         valid[k] = inside ? -1 : 0;
-        const Eigen::Vector3f dir =
-            inside ? Eigen::Vector3f(wRc.col(0) * x_c[x] + wRc.col(1) * y_c[y] + wRc.col(2)) : wRc.col(2);
-        packet.ray.org_x[k] = origin.x();
-        packet.ray.org_y[k] = origin.y();
-        packet.ray.org_z[k] = origin.z();
+        const Eigen::Vector3f dir = inside ? Eigen::Vector3f(column_w[x] + row_w[y]) : row_w[0];
         packet.ray.dir_x[k] = dir.x();
         packet.ray.dir_y[k] = dir.y();
         packet.ray.dir_z[k] = dir.z();
-        packet.ray.tnear[k] = 0.0f;
         packet.ray.tfar[k] = std::numeric_limits<float>::infinity();
-        packet.ray.time[k] = 0.0f;
-        packet.ray.mask[k] = 0xFFFFFFFFu;
-        packet.ray.id[k] = static_cast<unsigned>(k);
-        packet.ray.flags[k] = 0;
         packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
         packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
       }
@@ -222,9 +270,8 @@ void RgbdRenderer::Render(const Eigen::Isometry3d& wMc, const CameraIntrinsics& 
           rgb[2] = background[2];
           continue;
         }
-        const unsigned inst = packet.hit.instID[0][k];
-        const unsigned id = inst != RTC_INVALID_GEOMETRY_ID ? inst : packet.hit.geomID[k];
-        const MeshData& m = impl_->meshes[id];
+        const int id = impl_->MeshOfHit(packet.hit.instID[0][k], packet.hit.geomID[k]);
+        const MeshData& m = impl_->meshes[static_cast<std::size_t>(id)];
         const unsigned prim = packet.hit.primID[k];
         const float bu = packet.hit.u[k], bv = packet.hit.v[k], bw = 1.0f - bu - bv;
         const Eigen::Vector3f dir(packet.ray.dir_x[k], packet.ray.dir_y[k], packet.ray.dir_z[k]);
