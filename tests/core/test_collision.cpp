@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "core/collision.h"
+#include "tests/common/test_meshes.h"
 
 namespace aerograsp {
 namespace {
@@ -32,29 +33,7 @@ Eigen::VectorXd Pose(int dof, double q0, double q1, double q2) {
   return q;
 }
 
-/// A closed box mesh centred on its frame o, triangles facing outwards.
-TriangleMesh BoxMesh(const Eigen::Vector3d& size) {
-  TriangleMesh m;
-  for (int i = 0; i < 8; ++i) {
-    m.vertices.emplace_back((i & 1 ? 0.5 : -0.5) * size.x(), (i & 2 ? 0.5 : -0.5) * size.y(),
-                            (i & 4 ? 0.5 : -0.5) * size.z());
-  }
-  for (int axis = 0; axis < 3; ++axis) {
-    for (int side = 0; side < 2; ++side) {
-      const int b1 = 1 << ((axis + 1) % 3), b2 = 1 << ((axis + 2) % 3);
-      const int base = side ? 1 << axis : 0;
-      const int quad[4] = {base, base | b1, base | b1 | b2, base | b2};
-      for (Eigen::Vector3i t : {Eigen::Vector3i(quad[0], quad[1], quad[2]),
-                                Eigen::Vector3i(quad[0], quad[2], quad[3])}) {
-        const Eigen::Vector3d& a = m.vertices[t[0]];
-        const Eigen::Vector3d n = (m.vertices[t[1]] - a).cross(m.vertices[t[2]] - a);
-        if (n.dot(a + m.vertices[t[1]] + m.vertices[t[2]]) < 0.0) std::swap(t[1], t[2]);
-        m.triangles.push_back(t);
-      }
-    }
-  }
-  return m;
-}
+using test::BoxMesh;
 
 /// dMe: the arm's tool point in the body frame at q.
 Eigen::Isometry3d dMe(const Platform& p, Side side, const Eigen::VectorXd& q) {
