@@ -1,6 +1,7 @@
 // Small closed meshes for tests, built in code so each test shows its geometry.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <utility>
 
 #include "core/mesh.h"
