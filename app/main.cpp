@@ -3,7 +3,9 @@
 
 #include <exception>
 #include <iostream>
+#include <vector>
 
+#include "app/plan_command.h"
 #include "app/record_command.h"
 #include "app/render_benchmark.h"
 #include "app/robot_command.h"
@@ -62,6 +64,32 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100000));
   render_bench_cmd->add_option("--seed", render_bench.seed, "World seed")->capture_default_str();
   render_bench_cmd->add_option("--world", render_bench.world_config, "World YAML")->check(CLI::ExistingFile);
+  // ---- plan: dual grasps of an object (issue 5) ----
+  aerograsp::PlanCommandOptions plan;
+  plan.config_path = aerograsp::DataPath("config/platform_4dof.yaml");
+  std::vector<double> plan_xyz, plan_rpy;
+  CLI::App* plan_cmd = app.add_subcommand(
+      "plan", "Rank the dual grasps of an object (shipped name or mesh path); table, PNG, summary.json");
+  plan_cmd->add_option("object", plan.object, "Shipped object (crawler, pipe, u_shape) or a mesh file")
+      ->required();
+  plan_cmd->add_option("--out", plan.out_dir, "Output folder (summary.json, grasps.png)")->required();
+  plan_cmd->add_option("--config", plan.config_path, "Platform YAML")
+      ->capture_default_str()
+      ->check(CLI::ExistingFile);
+  plan_cmd->add_option("--object-xyz", plan_xyz,
+                       "Object position in the body frame d (FRD), m [default 0.10 0 0.46]")
+      ->expected(3);
+  plan_cmd->add_option("--object-rpy", plan_rpy, "Object roll pitch yaw in d, deg [default 180 0 90]")
+      ->expected(3);
+  plan_cmd->add_option("--resolution", plan.resolution_m, "Contact ray grid, m")->capture_default_str();
+  plan_cmd->add_option("--mass", plan.mass_kg, "Mass of a bare mesh, kg")->capture_default_str();
+  plan_cmd->add_option("--cache-dir", plan.cache_dir, "Contact cache folder [~/.cache/aerograsp]");
+  plan_cmd->add_flag("!--no-cache", plan.use_cache, "Neither read nor write the contact cache");
+  plan_cmd->add_option("--top", plan.top, "Rows of the table")->capture_default_str()->check(CLI::Range(1, 1000));
+  plan_cmd->add_option("--repeats", plan.repeats, "Timing repetitions (median)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  // ---- end plan ----
 
   try {
     app.parse(argc, argv);
@@ -73,6 +101,11 @@ int main(int argc, char** argv) {
     if (*robot_cmd) aerograsp::RunRobotCommand(robot, std::cout);
     if (*record_cmd) aerograsp::RunRecordCommand(record, std::cout, std::cerr);
     if (*render_bench_cmd) aerograsp::RunRenderBenchmark(render_bench, std::cout);
+    if (*plan_cmd) {
+      if (!plan_xyz.empty()) plan.object_xyz_m = Eigen::Vector3d(plan_xyz[0], plan_xyz[1], plan_xyz[2]);
+      if (!plan_rpy.empty()) plan.object_rpy_deg = Eigen::Vector3d(plan_rpy[0], plan_rpy[1], plan_rpy[2]);
+      aerograsp::RunPlanCommand(plan, std::cout);
+    }
   } catch (const std::exception& e) {
     std::cerr << "aerograsp: error: " << e.what() << "\n";
     return 1;

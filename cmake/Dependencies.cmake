@@ -13,6 +13,8 @@ find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs dnn calib3d)
 find_package(VISP REQUIRED COMPONENTS visp_core visp_vision visp_vs visp_detection)
 find_package(apriltag REQUIRED)
 find_package(embree 3 REQUIRED)
+# Qhull's config exports Qhull::qhull_r (reentrant C library, used by grasp quality).
+find_package(Qhull REQUIRED)
 find_package(orocos_kdl REQUIRED)
 # PCL's config needs MPI's C target before it is found.
 find_package(MPI COMPONENTS C)

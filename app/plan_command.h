@@ -1,0 +1,45 @@
+// `aerograsp plan OBJECT --out DIR`: the ranked dual grasps of an object placed
+// at a configurable pose in front of and below the vehicle, a picture of the
+// best ones, the contact cache, and summary.json with the stage timings.
+#pragma once
+
+#include <Eigen/Core>
+#include <ostream>
+#include <string>
+
+namespace aerograsp {
+
+struct PlanCommandOptions {
+  std::string object;       ///< a shipped object name (data/objects/NAME) or a mesh path
+  std::string out_dir;      ///< summary.json and grasps.png go here (created)
+  std::string config_path;  ///< platform YAML
+  /// Where the object is placed for planning: its frame o in the body frame d
+  /// (FRD: x forward, y right, z down). Default: 0.10 m ahead of the body
+  /// centre, centred between the arms, 0.46 m below it, upright (roll 180 deg
+  /// turns the object's z-up into d's z-down) with its long x axis across the
+  /// vehicle (yaw 90 deg) so each arm can take one end. Why there: the shoulders
+  /// are at y = +-0.1525 m, z = 0.12 m, and the 4-DoF arm reaches forward only
+  /// nearly stretched (yaw +-90 deg, elbow >= -15 deg), so its grasps lie about
+  /// 0.3-0.44 m below the shoulders with a downward approach; the placement
+  /// maximises the dual pairs of the shipped objects. Override with
+  /// --object-xyz / --object-rpy.
+  Eigen::Vector3d object_xyz_m{0.10, 0.0, 0.46};
+  Eigen::Vector3d object_rpy_deg{180.0, 0.0, 90.0};  ///< URDF roll, pitch, yaw of o in d (deg)
+  double resolution_m = 0.015;   ///< contact ray grid (m)
+  double mass_kg = 0.5;          ///< used for a bare mesh (shipped objects carry theirs)
+  std::string cache_dir;         ///< contact cache folder; "" = $XDG_CACHE_HOME/aerograsp or ~/.cache/aerograsp
+  bool use_cache = true;
+  int top = 10;                  ///< rows of the table
+  int repeats = 3;               ///< timing repetitions (median reported)
+};
+
+/// Runs the planner and prints the table; writes DIR/summary.json and
+/// DIR/grasps.png. A plan with no feasible grasp is not an error: it prints
+/// why (too big for the gripper, out of reach, collisions) and the summary says
+/// so too.
+/// @throws MeshError / ConfigError naming the file and what is wrong (missing,
+/// corrupt or open mesh, bad object.yaml); std::runtime_error when DIR cannot
+/// be written.
+void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out);
+
+}  // namespace aerograsp

@@ -1,0 +1,108 @@
+// Inverse kinematics of the arms: closed form for the yaw-pitch-pitch-roll
+// chain of the 4-DoF arms, damped Gauss-Newton for any other chain. Frames:
+// everything is in the arm base b (bl or br); the tool frame e has z along the
+// approach and x along the fingers' closing direction (core/frames.h). Units
+// m and rad. The solver is a description (built once from an ArmModel); the
+// queries are const, keep no state and may run concurrently.
+//
+// What a 4-DoF arm can reach: the shoulder yaw turns a vertical plane, the two
+// pitches place the elbow and the tool in that plane, and the roll turns the
+// gripper about the forearm, which is the approach axis. So the tool position
+// fixes the approach (up to the elbow and yaw branches) and only the rotation
+// about the approach is free: a target "position + approach" is reachable only
+// when the approach line meets the yaw axis. SolveGraspAxis uses the freedoms
+// a two-finger grasp has (the approach may turn about the closing axis, and the
+// contacts may sit anywhere along the finger pads) to meet that condition exactly.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "core/arm_model.h"
+
+namespace aerograsp {
+
+/// Settings of the numeric solver (chains without a closed form) and the
+/// acceptance tolerances of every solution.
+struct IkOptions {
+  double position_tolerance_m{1e-5};     ///< FK check of each solution, (0, 0.01] m
+  double orientation_tolerance_rad{1e-4};  ///< FK check of each solution, (0, 0.1] rad
+  int max_iterations{60};                ///< numeric solver iterations per seed, [1, 1000]
+  double damping{0.005};                  ///< numeric solver damping lambda, [0, 1]
+  int approach_samples{8};               ///< numeric SolveGraspAxis: approach angles about the closing axis, [1, 64]
+};
+
+/// One grasp-axis solution: joints, the tool pose, and where the contacts sit.
+struct GraspAxisSolution {
+  Eigen::VectorXd q;               ///< joint positions (rad), within limits
+  Eigen::Isometry3d bMe;           ///< tool pose they give (FK)
+  double depth_m = 0.0;            ///< tool point beyond the contact centre along the approach (m)
+};
+
+class ArmIk {
+ public:
+  /// Copies the model and analyses its chain: a closed form is used when the
+  /// chain has four revolute joints with j0 a yaw whose axis passes through j1's
+  /// origin, j1 and j2 parallel and perpendicular to j0, j3 along the forearm
+  /// line through j2's origin, and the tool point on that line with its z axis
+  /// along it (the shipped 4-DoF arm). Otherwise the numeric solver is used.
+  explicit ArmIk(const ArmModel& model, const IkOptions& options = {});
+
+  const ArmModel& model() const { return model_; }
+  /// True when the closed form applies (see the constructor).
+  bool is_analytic() const { return analytic_; }
+
+  /// Position IK: every solution within the joint limits that puts the tool
+  /// point at p_b, sorted by distance to q_seed (size dof()). The rotation about
+  /// the approach is chosen so that the closing axis x_e is as close as possible
+  /// to +-x_b (x_b need not be perpendicular to the approach; a zero x_b keeps
+  /// the seed's roll). Closed form: up to 8 solutions (yaw, elbow and roll
+  /// branches). Numeric: at most one (from the seed, position only).
+  /// Returns the number of solutions written to `solutions` (cleared first).
+  int SolvePosition(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b,
+                    const Eigen::VectorXd& q_seed, std::vector<Eigen::VectorXd>* solutions) const;
+
+  /// Full pose IK from q_seed by damped Gauss-Newton (any chain, any dof).
+  /// Returns true and writes q when the pose is reached within the tolerances
+  /// and the joint limits.
+  bool SolvePoseNumeric(const Eigen::Isometry3d& bMe_target, const Eigen::VectorXd& q_seed,
+                        Eigen::VectorXd* q) const;
+
+  /// Grasp-axis IK: the fingers close along +-x_b (unit) through the contact
+  /// centre c_b, the approach z_e is any direction perpendicular to x_b, and the
+  /// tool point is at c_b + depth * z_e with depth in [depth_min_m, depth_max_m]
+  /// (where the contacts sit along the pads). Closed form for the 4-DoF chain
+  /// (exact: the approach and depth that meet the yaw-plane condition);
+  /// otherwise the numeric solver at `approach_samples` approach angles and the
+  /// middle depth, seeded with q_seed. Solutions are sorted by distance to q_seed.
+  /// Returns the number written to `solutions` (cleared first).
+  int SolveGraspAxis(const Eigen::Vector3d& c_b, const Eigen::Vector3d& x_b, double depth_min_m,
+                     double depth_max_m, const Eigen::VectorXd& q_seed,
+                     std::vector<GraspAxisSolution>* solutions) const;
+
+ private:
+  void AnalyseChain();
+  /// Closed-form position IK, no sorting, appends to `solutions`.
+  void AnalyticPosition(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b, double seed_roll,
+                        std::vector<Eigen::VectorXd>* solutions) const;
+  /// Wraps each joint angle into its limits (+-2 pi) when possible.
+  bool FitLimits(Eigen::VectorXd* q) const;
+  bool CheckPosition(const Eigen::VectorXd& q, const Eigen::Vector3d& p_b) const;
+  void SortBySeed(const Eigen::VectorXd& q_seed, std::vector<Eigen::VectorXd>* solutions) const;
+
+  ArmModel model_;
+  IkOptions options_;
+  bool analytic_ = false;
+  // Closed-form chain description, base frame, at q = 0.
+  Eigen::Vector3d w_[4];   // joint axes (unit)
+  Eigen::Vector3d o1_;     // shoulder pitch origin (on the yaw axis)
+  Eigen::Vector3d h0_;     // in-plane horizontal direction at q = 0: unit(w1 x w0)
+  Eigen::Vector3d u0_;     // upper arm direction at q = 0: unit(o2 - o1)
+  Eigen::Vector3d f0_;     // forearm direction at q = 0: unit(tool - o2)
+  Eigen::Vector3d xe0_;    // tool x axis at q = 0
+  double l1_ = 0.0;        // |o2 - o1|
+  double l2_ = 0.0;        // |tool - o2|
+  double approach_sign_ = 1.0;  // z_e = approach_sign_ * forearm direction
+};
+
+}  // namespace aerograsp

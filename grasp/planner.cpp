@@ -1,0 +1,312 @@
+#include "grasp/planner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/collision.h"
+#include "core/config.h"
+
+namespace aerograsp {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::time_point since) {
+  return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+bool SamePairs(const DualGrasp& d, const SwitchState& s) {
+  return d.left.pair == s.left_pair && d.right.pair == s.right_pair;
+}
+
+/// Best first; ties broken by the pair indices so the order is deterministic.
+bool Better(const DualGrasp& a, const DualGrasp& b) {
+  if (a.score != b.score) return a.score > b.score;
+  if (a.left.pair != b.left.pair) return a.left.pair < b.left.pair;
+  return a.right.pair < b.right.pair;
+}
+
+}  // namespace
+
+const char* InfeasibilityName(Infeasibility why) {
+  switch (why) {
+    case Infeasibility::kNone: return "feasible";
+    case Infeasibility::kUnreachable: return "unreachable";
+    case Infeasibility::kSafeVolume: return "safe volume";
+    case Infeasibility::kObjectCollision: return "hits the object";
+    case Infeasibility::kPrecatchUnreachable: return "pre-catch unreachable";
+    case Infeasibility::kPrecatchCollision: return "pre-catch collides";
+  }
+  return "?";
+}
+
+void GraspPlannerConfig::Validate(const std::string& source, const GripperConfig& gripper) const {
+  contacts.Validate(source);
+  friction.Validate(source);
+  CheckRange(source, "depth_min_m", depth_min_m, -0.02, 0.2, "m");
+  CheckRange(source, "depth_max_m", depth_max_m, depth_min_m, gripper.finger_length_m, "m");
+  CheckRange(source, "precatch_distance_m", precatch_distance_m, 0.0, 0.3, "m");
+  CheckRange(source, "safe_volume_margin_m", safe_volume_margin_m, 0.0, 0.1, "m");
+  CheckRange(source, "arms_margin_m", arms_margin_m, 0.0, 0.1, "m");
+  CheckRange(source, "object_margin_m", object_margin_m, 0.0, 0.05, "m");
+  CheckRange(source, "support_directions", support_directions, 12, 4096, "");
+  CheckRange(source, "exact_top_k", exact_top_k, 0, 10000, "");
+  CheckRange(source, "quality_weight", quality_weight, 0.0, 100.0, "");
+  CheckRange(source, "task_weight", task_weight, 0.0, 100.0, "");
+  CheckRange(source, "cost_weight_per_rad", cost_weight_per_rad, 0.0, 10.0, "");
+  CheckRange(source, "switch_margin", switch_margin, 0.0, 10.0, "");
+}
+
+GraspPlanner::GraspPlanner(const Platform& platform, ObjectModel object, ContactSet contacts,
+                           const GraspPlannerConfig& config)
+    : dMb_{platform.dMb(Side::kLeft), platform.dMb(Side::kRight)},
+      object_(std::move(object)),
+      contacts_(std::move(contacts)),
+      config_(config),
+      collision_(std::make_unique<PlatformCollision>(platform)),
+      ik_{ArmIk(platform.arm(Side::kLeft)), ArmIk(platform.arm(Side::kRight))} {
+  config_.Validate(platform.config().source, platform.config().gripper);
+  if (object_.mesh_o.triangles.empty()) {
+    throw std::invalid_argument("GraspPlanner: object '" + object_.name + "' has an empty mesh");
+  }
+  mesh_handle_ = collision_->AddMesh(object_.mesh_o);
+  torque_scale_m_ = 0.0;
+  for (const Eigen::Vector3d& v : object_.mesh_o.vertices) {
+    torque_scale_m_ = std::max(torque_scale_m_, (v - object_.com_o).norm());
+  }
+  torque_scale_m_ = std::max(torque_scale_m_, 1e-3);
+  const std::vector<Wrench> directions = SupportDirections(config_.support_directions);
+  directions_ = static_cast<int>(directions.size());
+  wrenches_.resize(contacts_.pairs.size());
+  support_.resize(contacts_.pairs.size() * directions.size());
+  for (std::size_t i = 0; i < contacts_.pairs.size(); ++i) {
+    const ContactPair& p = contacts_.pairs[i];
+    AppendContactWrenches(p.a.p_o, -p.a.n_o, object_.com_o, torque_scale_m_, config_.friction,
+                          &wrenches_[i]);
+    AppendContactWrenches(p.b.p_o, -p.b.n_o, object_.com_o, torque_scale_m_, config_.friction,
+                          &wrenches_[i]);
+    const std::vector<float> table = SupportTable(wrenches_[i], directions);
+    std::copy(table.begin(), table.end(), support_.begin() + i * directions.size());
+  }
+}
+
+GraspPlanner::~GraspPlanner() = default;
+
+WrenchQuality GraspPlanner::ExactQuality(int pair, int other) const {
+  std::vector<Wrench> w = wrenches_.at(pair);
+  if (other >= 0) {
+    const std::vector<Wrench>& b = wrenches_.at(other);
+    w.insert(w.end(), b.begin(), b.end());
+  }
+  return ComputeWrenchQuality(w);
+}
+
+bool GraspPlanner::EvaluateArm(Side side, int pair, const Eigen::Isometry3d& dMo,
+                               const Eigen::VectorXd& q_current, ArmGrasp* out,
+                               Infeasibility* why) const {
+  const int s = static_cast<int>(side);
+  const ArmIk& ik = ik_[s];
+  const ContactPair& p = contacts_.pairs.at(pair);
+  const Eigen::Isometry3d bMo = dMb_[s].inverse() * dMo;
+  const Eigen::Vector3d c_b = bMo * p.center_o();
+  const Eigen::Vector3d x_b = bMo.linear() * p.closing_axis_o();
+  std::vector<GraspAxisSolution> solutions;
+  *why = Infeasibility::kUnreachable;
+  if (ik.SolveGraspAxis(c_b, x_b, config_.depth_min_m, config_.depth_max_m, q_current,
+                        &solutions) == 0) {
+    return false;
+  }
+  // The furthest any solution got, so the reason names the real obstacle.
+  Infeasibility furthest = Infeasibility::kSafeVolume;
+  auto note = [&furthest](Infeasibility w) { furthest = std::max(furthest, w); };
+  std::vector<Eigen::VectorXd> pre;
+  for (const GraspAxisSolution& sol : solutions) {
+    if (collision_->ArmInSafeVolume(side, sol.q, config_.safe_volume_margin_m)) {
+      note(Infeasibility::kSafeVolume);
+      continue;
+    }
+    if (collision_->ArmHitsMesh(side, sol.q, mesh_handle_, dMo, config_.object_margin_m,
+                                PlatformCollision::Fingers::kInclude)) {
+      note(Infeasibility::kObjectCollision);
+      continue;
+    }
+    // Pre-catch: the tool point back along the approach. A 4-DoF arm reaches a
+    // point with the approach its position dictates, so the pre-catch approach
+    // may differ slightly from the grasp's; the roll keeps the closing axis.
+    const Eigen::Vector3d z_b = sol.bMe.linear().col(2);
+    const Eigen::Vector3d p_pre_b = sol.bMe.translation() - config_.precatch_distance_m * z_b;
+    if (ik.SolvePosition(p_pre_b, sol.bMe.linear().col(0), sol.q, &pre) == 0) {
+      note(Infeasibility::kPrecatchUnreachable);
+      continue;
+    }
+    const Eigen::VectorXd& q_pre = pre.front();
+    if (collision_->ArmInSafeVolume(side, q_pre, config_.safe_volume_margin_m) ||
+        collision_->ArmHitsMesh(side, q_pre, mesh_handle_, dMo, config_.object_margin_m,
+                                PlatformCollision::Fingers::kInclude)) {
+      note(Infeasibility::kPrecatchCollision);
+      continue;
+    }
+    out->pair = pair;
+    out->side = side;
+    out->q_grasp = sol.q;
+    out->q_precatch = q_pre;
+    out->dMg = dMb_[s] * sol.bMe;
+    out->dMp = dMb_[s] * ik.model().ForwardKinematics(q_pre);
+    out->depth_m = sol.depth_m;
+    out->cost_rad = (sol.q - q_current).norm();
+    *why = Infeasibility::kNone;
+    return true;
+  }
+  *why = furthest;
+  return false;
+}
+
+PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
+  PlanResult result;
+  const int n = static_cast<int>(contacts_.pairs.size());
+  for (Side side : {Side::kLeft, Side::kRight}) {
+    const Eigen::VectorXd& q = side == Side::kLeft ? query.q_left : query.q_right;
+    std::vector<ArmGrasp>& feasible = side == Side::kLeft ? result.left : result.right;
+    ArmStats& stats = side == Side::kLeft ? result.left_stats : result.right_stats;
+    const Clock::time_point t0 = Clock::now();
+    ArmGrasp grasp;
+    Infeasibility why;
+    for (int i = 0; i < n; ++i) {
+      ++stats.candidates;
+      if (EvaluateArm(side, i, query.dMo, q, &grasp, &why)) {
+        feasible.push_back(grasp);
+      }
+      ++stats.by_reason[static_cast<int>(why)];
+    }
+    stats.feasible = static_cast<int>(feasible.size());
+    stats.seconds = Seconds(t0);
+  }
+
+  // Quality bound, task term and cost of every combination.
+  PairStats& ps = result.pair_stats;
+  const Eigen::Vector3d g_o = query.dMo.linear().transpose() * query.gravity_d.normalized();
+  std::vector<DualGrasp> candidates;
+  Clock::time_point t0 = Clock::now();
+  for (const ArmGrasp& l : result.left) {
+    const float* hl = &support_[static_cast<std::size_t>(l.pair) * directions_];
+    const Eigen::Vector3d cl = contacts_.pairs[l.pair].center_o();
+    for (const ArmGrasp& r : result.right) {
+      if (l.pair == r.pair) continue;
+      ++ps.considered;
+      const double eps =
+          EpsilonUpperBound(hl, &support_[static_cast<std::size_t>(r.pair) * directions_], directions_);
+      if (eps <= 0.0) {
+        ++ps.no_force_closure;
+        continue;
+      }
+      const WeightShare share = ComputeWeightShare(cl, contacts_.pairs[r.pair].center_o(),
+                                                   object_.com_o, g_o, torque_scale_m_);
+      DualGrasp d;
+      d.left = l;
+      d.right = r;
+      d.epsilon = eps;
+      d.task = share.term;
+      d.left_share = share.left_share;
+      d.score = config_.quality_weight * eps + config_.task_weight * share.term -
+                config_.cost_weight_per_rad * (l.cost_rad + r.cost_rad);
+      candidates.push_back(std::move(d));
+    }
+  }
+  ps.quality_seconds = Seconds(t0);
+  std::sort(candidates.begin(), candidates.end(), Better);
+
+  // The two arms must clear each other at the grasp and at the pre-catch.
+  t0 = Clock::now();
+  for (DualGrasp& d : candidates) {
+    if (collision_->ArmsCollide(d.left.q_grasp, d.right.q_grasp, config_.arms_margin_m) ||
+        collision_->ArmsCollide(d.left.q_precatch, d.right.q_precatch, config_.arms_margin_m)) {
+      ++ps.arms_collide;
+      continue;
+    }
+    result.ranked.push_back(std::move(d));
+  }
+  ps.collision_seconds = Seconds(t0);
+
+  // Exact epsilon for the best few; those without force closure are dropped.
+  t0 = Clock::now();
+  std::vector<DualGrasp> top;
+  std::size_t next = 0;
+  while (static_cast<int>(top.size()) < config_.exact_top_k && next < result.ranked.size()) {
+    DualGrasp d = result.ranked[next++];
+    const WrenchQuality q = ExactQuality(d.left.pair, d.right.pair);
+    ++ps.exact_evaluations;
+    if (!q.force_closure) {
+      ++ps.exact_dropped;
+      continue;
+    }
+    d.score -= config_.quality_weight * (d.epsilon - q.epsilon);
+    d.epsilon = q.epsilon;
+    d.epsilon_exact = true;
+    top.push_back(std::move(d));
+  }
+  ps.exact_seconds = Seconds(t0);
+  std::sort(top.begin(), top.end(), Better);
+  top.insert(top.end(), std::make_move_iterator(result.ranked.begin() + next),
+             std::make_move_iterator(result.ranked.end()));
+  result.ranked = std::move(top);
+  ps.valid = static_cast<long long>(result.ranked.size());
+  return result;
+}
+
+SwitchDecision GraspPlanner::Reevaluate(const PlanQuery& query, const SwitchState& state) const {
+  const PlanResult plan = Plan(query);
+  SwitchDecision decision;
+  const DualGrasp* current = nullptr;
+  for (const DualGrasp& d : plan.ranked) {
+    if (SamePairs(d, state)) {
+      current = &d;
+      break;
+    }
+  }
+  decision.current_feasible = current != nullptr;
+  std::ostringstream why;
+  if (plan.ranked.empty()) {
+    decision.status = SwitchDecision::Status::kNoGrasp;
+    why << "no feasible dual grasp (left " << plan.left_stats.feasible << ", right "
+        << plan.right_stats.feasible << " feasible single grasps)";
+    decision.reason = why.str();
+    decision.next = SwitchState{};
+    return decision;
+  }
+  const DualGrasp& best = plan.ranked.front();
+  if (current && best.score <= current->score + config_.switch_margin) {
+    decision.status = SwitchDecision::Status::kKeep;
+    decision.grasp = *current;
+    why << "keep pair (" << current->left.pair << ", " << current->right.pair << "), score "
+        << current->score;
+  } else {
+    decision.status = SwitchDecision::Status::kSwitch;
+    decision.grasp = best;
+    if (state.left_pair < 0) {
+      why << "first choice";
+    } else if (!current) {
+      why << "pair (" << state.left_pair << ", " << state.right_pair << ") became unreachable";
+      Infeasibility wl = Infeasibility::kNone, wr = Infeasibility::kNone;
+      ArmGrasp unused;
+      if (state.left_pair < static_cast<int>(contacts_.pairs.size()) &&
+          state.right_pair < static_cast<int>(contacts_.pairs.size())) {
+        EvaluateArm(Side::kLeft, state.left_pair, query.dMo, query.q_left, &unused, &wl);
+        EvaluateArm(Side::kRight, state.right_pair, query.dMo, query.q_right, &unused, &wr);
+        why << " (left: " << InfeasibilityName(wl) << ", right: " << InfeasibilityName(wr);
+        if (wl == Infeasibility::kNone && wr == Infeasibility::kNone) why << ", pair: arms or quality";
+        why << ")";
+      }
+    } else {
+      why << "pair (" << best.left.pair << ", " << best.right.pair << ") scores " << best.score
+          << " > current " << current->score << " + margin " << config_.switch_margin;
+    }
+    why << " -> pair (" << best.left.pair << ", " << best.right.pair << ")";
+  }
+  decision.reason = why.str();
+  decision.next = SwitchState{decision.grasp.left.pair, decision.grasp.right.pair};
+  return decision;
+}
+
+}  // namespace aerograsp

@@ -1,0 +1,196 @@
+// Dual-arm grasp planning (paper Sect. 4): per-arm feasibility of every
+// contact pair (grasp-axis IK with joint limits, pre-catch pose, collisions of
+// the arm and its open fingers with the object, the safe volume and the other
+// arm), dual pairs ranked by quality and by cost from the current arm state,
+// and the online re-evaluation that tells the app when to switch pairs.
+//
+// Frames: d body (FRD), b arm base, o object, g grasp (= tool frame e at the
+// grasp: z approach, x closing). Units m, rad. The planner is an immutable
+// description built once per object; Plan and Reevaluate are const, keep no
+// state and may run concurrently (the app runs Reevaluate in its own thread).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/arm_ik.h"
+#include "core/platform.h"
+#include "grasp/contacts.h"
+#include "grasp/quality.h"
+
+namespace aerograsp {
+
+class PlatformCollision;
+
+struct GraspPlannerConfig {
+  ContactOptions contacts;
+  FrictionConfig friction;
+  double depth_min_m{0.0};   ///< contacts at least this far behind the tool point along the
+                             ///< approach, [-0.02, 0.2] m (the tool point is 0.02 m inside the tips)
+  double depth_max_m{0.08};  ///< and at most this far (on the pads), (depth_min_m, finger_length_m)
+  double precatch_distance_m{0.08};   ///< pre-catch tool point back along the approach, [0, 0.3] m
+  /// Arm clearance to the safe volume, [0, 0.1] m. Default 0 (touching counts):
+  /// the volume's lower face is only 0.03 m above the shoulder pitch axes and the
+  /// upper arm's box sweeps to 0.005 m of it as it turns, so any larger margin
+  /// would forbid most of the workspace; the volume itself is the margin.
+  double safe_volume_margin_m{0.0};
+  double arms_margin_m{0.01};         ///< clearance between the two arms, [0, 0.1] m
+  double object_margin_m{0.0};        ///< arm and open fingers to the object, [0, 0.05] m
+  int support_directions{256};        ///< directions of the fast epsilon bound, [12, 4096]
+  int exact_top_k{20};                ///< best pairs whose epsilon is recomputed exactly, [0, 10000]
+  double quality_weight{1.0};         ///< score per unit of epsilon, [0, 100]
+  double task_weight{0.05};           ///< score per unit of the weight-share term, [0, 100]
+  double cost_weight_per_rad{0.005};  ///< score lost per rad of joint travel (both arms), [0, 10]
+  double switch_margin{0.01};         ///< a feasible current pair is left only for one scoring
+                                      ///< this much more, [0, 10]
+
+  /// @throws ConfigError "<source>: <key>: ..." naming the bound; the depth
+  /// range is checked against the gripper's finger length.
+  void Validate(const std::string& source, const GripperConfig& gripper) const;
+};
+
+/// The object as the planner needs it (from data/objects/NAME/object.yaml or a
+/// bare mesh, whose centre of mass is then computed at uniform density).
+struct ObjectModel {
+  std::string name;
+  TriangleMesh mesh_o;                            ///< closed, metres, frame o
+  double mass_kg = 0.0;
+  Eigen::Vector3d com_o = Eigen::Vector3d::Zero();  ///< centre of mass in o
+};
+
+/// One arm's feasible grasp of one contact pair.
+struct ArmGrasp {
+  int pair = -1;  ///< index into contacts().pairs
+  Side side = Side::kLeft;
+  Eigen::VectorXd q_grasp;     ///< rad
+  Eigen::VectorXd q_precatch;  ///< rad
+  Eigen::Isometry3d dMg = Eigen::Isometry3d::Identity();  ///< tool at the grasp, in d
+  Eigen::Isometry3d dMp = Eigen::Isometry3d::Identity();  ///< tool at the pre-catch, in d
+  double depth_m = 0.0;   ///< contacts this far behind the tool point
+  double cost_rad = 0.0;  ///< |q_grasp - q_current|
+};
+
+/// Why an arm cannot take a contact pair (the first test that failed on its
+/// most promising IK solution).
+enum class Infeasibility {
+  kNone,
+  kUnreachable,          ///< no IK solution within the joint limits
+  kSafeVolume,           ///< every solution enters the safe volume
+  kObjectCollision,      ///< the arm or open fingers hit the object at the grasp
+  kPrecatchUnreachable,  ///< the pre-catch point has no IK solution
+  kPrecatchCollision,    ///< the pre-catch pose hits the object or the safe volume
+};
+const char* InfeasibilityName(Infeasibility why);
+
+struct ArmStats {
+  int candidates = 0;
+  int feasible = 0;
+  int by_reason[6] = {0, 0, 0, 0, 0, 0};  ///< counts per Infeasibility (index = enum value)
+  double seconds = 0.0;
+};
+
+/// A ranked dual grasp.
+struct DualGrasp {
+  ArmGrasp left, right;
+  double epsilon = 0.0;      ///< Ferrari-Canny epsilon of both grippers' contacts together
+  bool epsilon_exact = false;  ///< true: Qhull; false: the support-function upper bound
+  double task = 0.0;         ///< weight-share term [0, 1]
+  double left_share = 0.0;   ///< fraction of the weight on the left arm
+  double score = 0.0;        ///< quality_weight eps + task_weight task - cost_weight cost
+};
+
+struct PairStats {
+  long long considered = 0;       ///< feasible left x feasible right, different pairs
+  long long no_force_closure = 0; ///< bound <= 0
+  long long arms_collide = 0;     ///< the two arms touch at the grasp or pre-catch
+  long long exact_dropped = 0;    ///< bound > 0 but no force closure in the exact hull
+  long long valid = 0;            ///< ranked
+  double quality_seconds = 0.0;   ///< bound + task term over `considered`
+  double exact_seconds = 0.0;     ///< Qhull over `exact_evaluations`
+  int exact_evaluations = 0;
+  double collision_seconds = 0.0;
+};
+
+/// What a plan is asked: where the object is and where the arms are now.
+struct PlanQuery {
+  Eigen::Isometry3d dMo = Eigen::Isometry3d::Identity();  ///< object in the body frame
+  Eigen::VectorXd q_left, q_right;                        ///< current joints (rad)
+  Eigen::Vector3d gravity_d = Eigen::Vector3d::UnitZ();   ///< gravity direction in d (FRD, level)
+};
+
+struct PlanResult {
+  std::vector<ArmGrasp> left, right;  ///< feasible per arm, in contact-pair order
+  ArmStats left_stats, right_stats;
+  std::vector<DualGrasp> ranked;      ///< valid pairs, best first
+  PairStats pair_stats;
+};
+
+/// The current choice the app follows (state kept by the caller).
+struct SwitchState {
+  int left_pair = -1;   ///< -1: none yet
+  int right_pair = -1;
+};
+
+struct SwitchDecision {
+  enum class Status { kKeep, kSwitch, kNoGrasp };
+  Status status = Status::kNoGrasp;
+  DualGrasp grasp;          ///< the pair to follow now (valid unless kNoGrasp)
+  bool current_feasible = false;
+  std::string reason;       ///< one line for the log
+  SwitchState next;         ///< state for the next call
+};
+
+class GraspPlanner {
+ public:
+  /// Copies what it needs from `platform`. Precomputes, per contact pair, its wrenches (torques about the centre of
+  /// mass divided by the object's largest vertex distance from it) and their
+  /// support table, and builds the object's collision model.
+  /// @throws ConfigError from config.Validate; std::invalid_argument when the
+  /// platform's arms have different joint counts or the mesh is empty.
+  GraspPlanner(const Platform& platform, ObjectModel object, ContactSet contacts,
+               const GraspPlannerConfig& config);
+  ~GraspPlanner();
+  GraspPlanner(const GraspPlanner&) = delete;
+  GraspPlanner& operator=(const GraspPlanner&) = delete;
+
+  const ContactSet& contacts() const { return contacts_; }
+  const ObjectModel& object() const { return object_; }
+  const GraspPlannerConfig& config() const { return config_; }
+  double torque_scale_m() const { return torque_scale_m_; }
+
+  /// Feasibility of one contact pair for one arm with the object at dMo, IK
+  /// seeded (and solutions ordered) by q_current. Returns true and fills `out`.
+  bool EvaluateArm(Side side, int pair, const Eigen::Isometry3d& dMo,
+                   const Eigen::VectorXd& q_current, ArmGrasp* out, Infeasibility* why) const;
+
+  /// Every pair for both arms, then every left x right combination: bound,
+  /// task term and cost, arms collision, exact epsilon for the top
+  /// `exact_top_k` (ranked by it among themselves; the rest follow by bound).
+  PlanResult Plan(const PlanQuery& query) const;
+
+  /// The best pair now, or kNoGrasp. Keeps the current pair while it is valid
+  /// and no pair scores `switch_margin` more (hysteresis: no flapping between
+  /// near-equal pairs); switches when it became unreachable, with the reason.
+  SwitchDecision Reevaluate(const PlanQuery& query, const SwitchState& state) const;
+
+  /// Exact wrench-hull quality of one pair alone (a single grasp) or of two
+  /// pairs together (a dual grasp; pass -1 as `other` for a single one).
+  WrenchQuality ExactQuality(int pair, int other = -1) const;
+
+ private:
+  Eigen::Isometry3d dMb_[2];
+  ObjectModel object_;
+  ContactSet contacts_;
+  GraspPlannerConfig config_;
+  double torque_scale_m_ = 1.0;
+  std::unique_ptr<PlatformCollision> collision_;
+  int mesh_handle_ = -1;
+  ArmIk ik_[2];
+  std::vector<std::vector<Wrench>> wrenches_;  // per pair
+  std::vector<float> support_;                 // per pair, support_directions floats
+  int directions_ = 0;
+};
+
+}  // namespace aerograsp

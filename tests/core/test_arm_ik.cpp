@@ -1,0 +1,134 @@
+#include "core/arm_ik.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/transforms.h"
+
+namespace aerograsp {
+namespace {
+
+std::string Robot(const std::string& name) {
+  return std::string(AEROGRASP_DATA_DIR) + "/robots/" + name;
+}
+
+ArmModel Arm(const std::string& file) {
+  return ArmModel::FromUrdfFile(Robot(file), "base_link", "tool");
+}
+
+Eigen::VectorXd RandomWithinLimits(const ArmModel& arm, std::mt19937* rng) {
+  Eigen::VectorXd q(arm.dof());
+  for (int i = 0; i < arm.dof(); ++i) {
+    q[i] = std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(*rng);
+  }
+  return q;
+}
+
+TEST(ArmIkTest, FourDofArmHasClosedFormSixDofHasNot) {
+  EXPECT_TRUE(ArmIk(Arm("arm4.urdf")).is_analytic());
+  EXPECT_FALSE(ArmIk(Arm("arm6.urdf")).is_analytic());
+}
+
+TEST(ArmIkTest, PositionSolutionsReproduceForwardKinematics) {
+  const ArmModel arm = Arm("arm4.urdf");
+  const ArmIk ik(arm);
+  std::mt19937 rng(7);
+  std::vector<Eigen::VectorXd> sols;
+  for (int trial = 0; trial < 500; ++trial) {
+    const Eigen::VectorXd q = RandomWithinLimits(arm, &rng);
+    const Eigen::Isometry3d bMe = arm.ForwardKinematics(q);
+    ASSERT_GT(ik.SolvePosition(bMe.translation(), bMe.linear().col(0), q, &sols), 0) << q.transpose();
+    // Sorted by distance to the seed: the first is the configuration FK came from.
+    EXPECT_LT((sols[0] - q).norm(), 1e-6) << q.transpose() << " vs " << sols[0].transpose();
+    for (const Eigen::VectorXd& s : sols) {
+      EXPECT_TRUE(arm.WithinLimits(s));
+      const Eigen::Isometry3d bMs = arm.ForwardKinematics(s);
+      EXPECT_LT((bMs.translation() - bMe.translation()).norm(), 1e-6);
+      // The closing axis is +-x: |x_s . x_e| = 1 whenever the approach is the same.
+      if (bMs.linear().col(2).dot(bMe.linear().col(2)) > 1.0 - 1e-9) {
+        EXPECT_NEAR(std::abs(bMs.linear().col(0).dot(bMe.linear().col(0))), 1.0, 1e-6);
+      }
+    }
+  }
+}
+
+TEST(ArmIkTest, OutOfReachHasNoSolution) {
+  const ArmModel arm = Arm("arm4.urdf");
+  const ArmIk ik(arm);
+  std::vector<Eigen::VectorXd> sols;
+  EXPECT_EQ(ik.SolvePosition(Eigen::Vector3d(0.0, 0.0, 0.6), Eigen::Vector3d::UnitX(),
+                             Eigen::VectorXd::Zero(4), &sols),
+            0);
+  std::vector<GraspAxisSolution> grasps;
+  EXPECT_EQ(ik.SolveGraspAxis(Eigen::Vector3d(0.5, 0.3, 0.4), Eigen::Vector3d::UnitY(), 0.0, 0.08,
+                              Eigen::VectorXd::Zero(4), &grasps),
+            0);
+}
+
+// Grasp-axis IK recovers a configuration whose fingers close along the given
+// axis through the contact centre, with the contacts at a depth in range.
+void CheckGraspAxis(const std::string& urdf, int trials, double min_success) {
+  const ArmModel arm = Arm(urdf);
+  const ArmIk ik(arm);
+  std::mt19937 rng(11);
+  std::vector<GraspAxisSolution> sols;
+  int solved = 0;
+  for (int trial = 0; trial < trials; ++trial) {
+    const Eigen::VectorXd q = RandomWithinLimits(arm, &rng);
+    const Eigen::Isometry3d bMe = arm.ForwardKinematics(q);
+    const double depth = std::uniform_real_distribution<double>(0.0, 0.08)(rng);
+    const Eigen::Vector3d c = bMe.translation() - depth * bMe.linear().col(2);
+    const Eigen::Vector3d x = bMe.linear().col(0);
+    // Seed near the truth, as the planner seeds from the current arm state.
+    Eigen::VectorXd seed = q;
+    seed.array() += 0.05;
+    if (ik.SolveGraspAxis(c, x, 0.0, 0.08, arm.Clamp(seed), &sols) == 0) continue;
+    ++solved;
+    for (const GraspAxisSolution& s : sols) {
+      EXPECT_TRUE(arm.WithinLimits(s.q));
+      const Eigen::Isometry3d bMs = arm.ForwardKinematics(s.q);
+      EXPECT_LT((bMs.matrix() - s.bMe.matrix()).norm(), 1e-12);
+      EXPECT_NEAR(std::abs(bMs.linear().col(0).dot(x)), 1.0, 1e-6);
+      EXPECT_GE(s.depth_m, 0.0 - 1e-12);
+      EXPECT_LE(s.depth_m, 0.08 + 1e-12);
+      // Position tolerance 1e-5 m plus the approach's 1e-4 rad over the depth.
+      EXPECT_LT((bMs.translation() - (c + s.depth_m * bMs.linear().col(2))).norm(), 2e-5);
+    }
+  }
+  EXPECT_GE(solved, min_success * trials) << urdf;
+}
+
+TEST(ArmIkTest, GraspAxisClosedFormFindsReachableGrasps) {
+  // Every sample comes from a reachable pose, so the closed form must find it.
+  CheckGraspAxis("arm4.urdf", 400, 1.0);
+}
+
+TEST(ArmIkTest, GraspAxisNumericForSixDofArm) {
+  // The numeric solver samples 8 approach angles at the middle depth; most
+  // sampled grasps are reachable with one of them.
+  CheckGraspAxis("arm6.urdf", 100, 0.5);
+}
+
+TEST(ArmIkTest, NumericPoseReachesForwardKinematicsTarget) {
+  const ArmModel arm = Arm("arm6.urdf");
+  const ArmIk ik(arm);
+  std::mt19937 rng(3);
+  int solved = 0;
+  for (int trial = 0; trial < 100; ++trial) {
+    const Eigen::VectorXd q = RandomWithinLimits(arm, &rng);
+    Eigen::VectorXd seed = q;
+    seed.array() += 0.1;
+    Eigen::VectorXd sol;
+    if (!ik.SolvePoseNumeric(arm.ForwardKinematics(q), arm.Clamp(seed), &sol)) continue;
+    ++solved;
+    const PoseError err = ComparePoses(arm.ForwardKinematics(sol), arm.ForwardKinematics(q));
+    EXPECT_LT(err.translation_m, 1e-5);
+    EXPECT_LT(err.rotation_rad, 1e-4);
+  }
+  EXPECT_GE(solved, 90);
+}
+
+}  // namespace
+}  // namespace aerograsp

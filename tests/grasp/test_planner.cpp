@@ -1,0 +1,222 @@
+#include "grasp/planner.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "core/collision.h"
+#include "core/config.h"
+#include "core/transforms.h"
+#include "tests/common/test_meshes.h"
+
+namespace aerograsp {
+namespace {
+
+using ::testing::HasSubstr;
+
+Platform LoadPlatform() {
+  return Platform::Load(std::string(AEROGRASP_DATA_DIR) + "/config/platform_4dof.yaml");
+}
+
+ObjectModel Box(const Eigen::Vector3d& size) {
+  ObjectModel o;
+  o.name = "box";
+  o.mesh_o = test::BoxMesh(size);
+  o.mass_kg = 0.3;
+  return o;
+}
+
+/// The object placed so that the left arm at q_left holds it: the box's x axis
+/// along the tool's closing axis, its centre `depth` behind the tool point.
+Eigen::Isometry3d PlaceAtTool(const Platform& p, const Eigen::VectorXd& q_left, double depth) {
+  const Eigen::Isometry3d dMe = p.dMb(Side::kLeft) * p.arm(Side::kLeft).ForwardKinematics(q_left);
+  Eigen::Isometry3d dMo = dMe;
+  dMo.translation() = dMe.translation() - depth * dMe.linear().col(2);
+  return dMo;
+}
+
+TEST(GraspPlannerTest, ArmReachesABoxPlacedAtItsOwnTool) {
+  const Platform platform = LoadPlatform();
+  const ObjectModel box = Box(Eigen::Vector3d(0.05, 0.05, 0.05));
+  ContactSet contacts = ComputeContactPairs(box.mesh_o, platform.config().gripper, ContactOptions{});
+  const GraspPlanner planner(platform, box, contacts, GraspPlannerConfig{});
+  Eigen::VectorXd q(4);
+  q << 0.3, -0.9, 0.6, 0.2;
+  const Eigen::Isometry3d dMo = PlaceAtTool(platform, q, 0.04);
+  int feasible = 0, unreachable = 0;
+  for (int i = 0; i < static_cast<int>(planner.contacts().pairs.size()); ++i) {
+    ArmGrasp g;
+    Infeasibility why;
+    if (planner.EvaluateArm(Side::kLeft, i, dMo, q, &g, &why)) {
+      ++feasible;
+      // The grasp frame closes along the pair's axis through its centre.
+      const ContactPair& pair = planner.contacts().pairs[i];
+      const Eigen::Vector3d x_d = dMo.linear() * pair.closing_axis_o();
+      EXPECT_NEAR(std::abs(g.dMg.linear().col(0).dot(x_d)), 1.0, 1e-6);
+      const Eigen::Vector3d c_d = dMo * pair.center_o();
+      EXPECT_LT((g.dMg.translation() - (c_d + g.depth_m * g.dMg.linear().col(2))).norm(), 1e-5);
+    } else {
+      unreachable += why == Infeasibility::kUnreachable;
+    }
+  }
+  // The closing axes along x and y of the box are perpendicular to the
+  // approach and reachable; along z (the approach itself) they never are.
+  EXPECT_EQ(feasible, 18);
+  EXPECT_EQ(unreachable, 9);
+}
+
+/// The u_shape at the plan command's default placement.
+class ShippedPlanTest : public ::testing::Test {
+ protected:
+  ShippedPlanTest()
+      : platform_(LoadPlatform()), object_(UShape()),
+        planner_(platform_, object_,
+                 ComputeContactPairs(object_.mesh_o, platform_.config().gripper, ContactOptions{}),
+                 GraspPlannerConfig{}) {
+    query_.dMo = MakeTransform(Eigen::Vector3d(0.10, 0.0, 0.46),
+                               Eigen::Vector3d(M_PI, 0.0, M_PI / 2));
+    query_.q_left = platform_.home(Side::kLeft);
+    query_.q_right = platform_.home(Side::kRight);
+  }
+  static ObjectModel UShape() {
+    ObjectModel o;
+    o.name = "u_shape";
+    o.mesh_o = LoadClosedMesh(std::string(AEROGRASP_DATA_DIR) + "/objects/u_shape/u_shape.ply");
+    o.mass_kg = 0.3;
+    o.com_o = ComputeMassProperties(o.mesh_o).center_of_mass;
+    return o;
+  }
+  Platform platform_;
+  ObjectModel object_;
+  GraspPlanner planner_;
+  PlanQuery query_;
+};
+
+TEST_F(ShippedPlanTest, RankedPairsAreFeasibleForBothArmsTogether) {
+  const PlanResult plan = planner_.Plan(query_);
+  ASSERT_FALSE(plan.ranked.empty());
+  EXPECT_EQ(plan.left_stats.candidates, static_cast<int>(planner_.contacts().pairs.size()));
+  EXPECT_EQ(plan.pair_stats.valid, static_cast<long long>(plan.ranked.size()));
+  const PlatformCollision collision(platform_);
+  for (std::size_t i = 0; i < plan.ranked.size(); ++i) {
+    const DualGrasp& d = plan.ranked[i];
+    if (i > 0 && d.epsilon_exact == plan.ranked[i - 1].epsilon_exact) {
+      EXPECT_LE(d.score, plan.ranked[i - 1].score);
+    }
+    EXPECT_GT(d.epsilon, 0.0);
+    for (const ArmGrasp* g : {&d.left, &d.right}) {
+      const ArmModel& arm = platform_.arm(g->side);
+      EXPECT_TRUE(arm.WithinLimits(g->q_grasp));
+      EXPECT_TRUE(arm.WithinLimits(g->q_precatch));
+      EXPECT_FALSE(collision.ArmInSafeVolume(g->side, g->q_grasp));
+      const Eigen::Isometry3d dMe = platform_.dMb(g->side) * arm.ForwardKinematics(g->q_grasp);
+      EXPECT_LT(ComparePoses(dMe, g->dMg).translation_m, 1e-9);
+      // The pre-catch tool point is back along the approach.
+      const Eigen::Vector3d back = g->dMg.translation() - 0.08 * g->dMg.linear().col(2);
+      EXPECT_LT((g->dMp.translation() - back).norm(), 1e-5);
+    }
+    EXPECT_FALSE(collision.ArmsCollide(d.left.q_grasp, d.right.q_grasp));
+  }
+  // The exact epsilon of the best pair is what Qhull gives for both grippers' contacts.
+  const DualGrasp& best = plan.ranked.front();
+  ASSERT_TRUE(best.epsilon_exact);
+  EXPECT_DOUBLE_EQ(best.epsilon, planner_.ExactQuality(best.left.pair, best.right.pair).epsilon);
+}
+
+TEST_F(ShippedPlanTest, PlanIsDeterministic) {
+  const PlanResult a = planner_.Plan(query_), b = planner_.Plan(query_);
+  ASSERT_EQ(a.ranked.size(), b.ranked.size());
+  for (std::size_t i = 0; i < a.ranked.size(); ++i) {
+    EXPECT_EQ(a.ranked[i].left.pair, b.ranked[i].left.pair);
+    EXPECT_EQ(a.ranked[i].right.pair, b.ranked[i].right.pair);
+    EXPECT_EQ(a.ranked[i].score, b.ranked[i].score);
+  }
+}
+
+TEST_F(ShippedPlanTest, ObjectOutOfReachHasNoGraspAndSaysWhy) {
+  PlanQuery far = query_;
+  far.dMo.translation() = Eigen::Vector3d(1.5, 0.0, 0.5);
+  const PlanResult plan = planner_.Plan(far);
+  EXPECT_TRUE(plan.ranked.empty());
+  EXPECT_EQ(plan.left_stats.by_reason[static_cast<int>(Infeasibility::kUnreachable)],
+            plan.left_stats.candidates);
+  const SwitchDecision d = planner_.Reevaluate(far, SwitchState{});
+  EXPECT_EQ(d.status, SwitchDecision::Status::kNoGrasp);
+  EXPECT_THAT(d.reason, HasSubstr("no feasible dual grasp"));
+}
+
+TEST_F(ShippedPlanTest, KeepsTheCurrentPairUntilItBecomesUnreachable) {
+  SwitchDecision first = planner_.Reevaluate(query_, SwitchState{});
+  ASSERT_EQ(first.status, SwitchDecision::Status::kSwitch);
+  EXPECT_THAT(first.reason, HasSubstr("first choice"));
+  // Same pose: keep.
+  SwitchDecision again = planner_.Reevaluate(query_, first.next);
+  EXPECT_EQ(again.status, SwitchDecision::Status::kKeep);
+  EXPECT_TRUE(again.current_feasible);
+  // Move the object to where the current pair is out of reach but others are
+  // not: the planner switches, says why, and picks the best pair there.
+  bool switched = false;
+  for (int i = 0; i < 27 * 3 && !switched; ++i) {
+    const int step = 1 + i / 27, cell = i % 27;
+    const Eigen::Vector3d offset(0.01 * step * (cell % 3 - 1), 0.01 * step * (cell / 3 % 3 - 1),
+                                 0.01 * step * (cell / 9 - 1));
+    PlanQuery moved = query_;
+    moved.dMo.translation() += offset;
+    const PlanResult plan = planner_.Plan(moved);
+    if (plan.ranked.empty()) continue;
+    bool current_valid = false;
+    for (const DualGrasp& d : plan.ranked) {
+      current_valid |= d.left.pair == first.next.left_pair && d.right.pair == first.next.right_pair;
+    }
+    if (current_valid) continue;
+    const SwitchDecision d = planner_.Reevaluate(moved, first.next);
+    switched = true;
+    EXPECT_EQ(d.status, SwitchDecision::Status::kSwitch);
+    EXPECT_FALSE(d.current_feasible);
+    EXPECT_THAT(d.reason, HasSubstr("became unreachable"));
+    EXPECT_EQ(d.next.left_pair, plan.ranked.front().left.pair);
+    EXPECT_EQ(d.next.right_pair, plan.ranked.front().right.pair);
+  }
+  EXPECT_TRUE(switched);
+}
+
+TEST_F(ShippedPlanTest, HysteresisStopsFlappingUnderSway) {
+  // The object sways +-1 cm and +-1 deg about its placement; with the switch
+  // margin the choice changes far less often than the best pair does.
+  SwitchState state = planner_.Reevaluate(query_, SwitchState{}).next;
+  int switches = 0, best_changes = 0;
+  int previous_best_left = state.left_pair, previous_best_right = state.right_pair;
+  for (int k = 0; k < 16; ++k) {
+    PlanQuery q = query_;
+    const double s = std::sin(0.7 * k);
+    q.dMo.translation() += Eigen::Vector3d(0.01 * s, 0.01 * std::cos(1.3 * k), 0.0);
+    q.dMo = q.dMo * Eigen::AngleAxisd(0.017 * s, Eigen::Vector3d::UnitX());
+    const SwitchDecision d = planner_.Reevaluate(q, state);
+    const PlanResult plan = planner_.Plan(q);
+    if (!plan.ranked.empty()) {
+      const DualGrasp& b = plan.ranked.front();
+      best_changes += b.left.pair != previous_best_left || b.right.pair != previous_best_right;
+      previous_best_left = b.left.pair;
+      previous_best_right = b.right.pair;
+    }
+    switches += d.status == SwitchDecision::Status::kSwitch;
+    if (d.status != SwitchDecision::Status::kNoGrasp) state = d.next;
+  }
+  EXPECT_LE(switches, best_changes);
+  EXPECT_LT(switches, 8);
+}
+
+TEST(GraspPlannerConfigTest, DefaultsAreValidAndBadDepthNamesItsKey) {
+  GraspPlannerConfig c;
+  EXPECT_NO_THROW(c.Validate("plan.yaml", GripperConfig{}));
+  c.depth_max_m = 0.2;  // longer than the 0.12 m fingers
+  try {
+    c.Validate("plan.yaml", GripperConfig{});
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("plan.yaml: depth_max_m"));
+    EXPECT_THAT(e.what(), HasSubstr("above the upper bound 0.12 m"));
+  }
+}
+
+}  // namespace
+}  // namespace aerograsp
