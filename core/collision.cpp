@@ -143,8 +143,7 @@ struct ObjectMesh {
   std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> bvh;
   Eigen::Vector3d center_o, half_o;  ///< bounding box in o (m)
   bool closed = false;
-  std::vector<Eigen::Vector3d> vertices_o;
-  std::vector<Eigen::Vector3i> triangles;
+  TriangleMesh solid_o;  ///< the closed mesh's triangles (no colours)
 };
 
 /// Ray parity: true when p_o is inside the closed mesh. The ray's direction is
@@ -152,24 +151,7 @@ struct ObjectMesh {
 /// mesh; a graze miscounts by one, which the caller accepts.
 bool Inside(const ObjectMesh& mesh, const Eigen::Vector3d& p_o) {
   const Eigen::Vector3d dir = Eigen::Vector3d(0.5741, 0.6217, 0.5327).normalized();
-  int crossings = 0;
-  for (const Eigen::Vector3i& t : mesh.triangles) {
-    // Moller-Trumbore.
-    const Eigen::Vector3d& a = mesh.vertices_o[t[0]];
-    const Eigen::Vector3d e1 = mesh.vertices_o[t[1]] - a;
-    const Eigen::Vector3d e2 = mesh.vertices_o[t[2]] - a;
-    const Eigen::Vector3d h = dir.cross(e2);
-    const double det = e1.dot(h);
-    if (std::abs(det) < 1e-15) continue;
-    const Eigen::Vector3d s = p_o - a;
-    const double u = s.dot(h) / det;
-    if (u < 0.0 || u > 1.0) continue;
-    const Eigen::Vector3d qv = s.cross(e1);
-    const double v = dir.dot(qv) / det;
-    if (v < 0.0 || u + v > 1.0) continue;
-    if (e2.dot(qv) / det > 0.0) ++crossings;
-  }
-  return crossings % 2 == 1;
+  return IntersectRay(mesh.solid_o, p_o, dir).size() % 2 == 1;
 }
 
 /// Number of contact points FCL reports at most for one pair (box-box gives up
@@ -384,8 +366,8 @@ int PlatformCollision::AddMesh(const TriangleMesh& mesh_o) {
   m.half_o = 0.5 * (hi - lo);
   m.closed = CheckMesh(mesh_o).IsClosed();
   if (m.closed) {
-    m.vertices_o = mesh_o.vertices;
-    m.triangles = mesh_o.triangles;
+    m.solid_o.vertices = mesh_o.vertices;
+    m.solid_o.triangles = mesh_o.triangles;
   }
   impl_->meshes.push_back(std::move(m));
   return static_cast<int>(impl_->meshes.size()) - 1;
