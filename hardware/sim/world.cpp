@@ -108,6 +108,10 @@ std::vector<Eigen::Isometry3d> World::ArmSegmentPoses(Side side) const {
   return wMs;
 }
 
+void World::AttachToTool(Side side, const RenderMesh& mesh, const Eigen::Isometry3d& eMm) {
+  attachments_.push_back({side, mesh, eMm});
+}
+
 void World::PlaceObject(const Eigen::Isometry3d& wMo) {
   wMo_ = wMo;
   object_free_ = true;

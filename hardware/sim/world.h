@@ -92,6 +92,16 @@ class World {
   /// there (no crawling) until a gripper takes it.
   void PlaceObject(const Eigen::Isometry3d& wMo);
 
+  /// A mesh fixed to an arm's tool frame (e.g. a tag board on the gripper):
+  /// eMm places the mesh frame in the tool frame. Rendered by SimCamera.
+  struct ToolAttachment {
+    Side side;
+    RenderMesh mesh;
+    Eigen::Isometry3d eMm;
+  };
+  void AttachToTool(Side side, const RenderMesh& mesh, const Eigen::Isometry3d& eMm);
+  const std::vector<ToolAttachment>& tool_attachments() const { return attachments_; }
+
   /// Where the object rests on the pipe at `along_m` from the pipe's centre.
   Eigen::Isometry3d ObjectOnPipe(double along_m) const;
 
@@ -119,6 +129,7 @@ class World {
   std::vector<RenderMesh> static_scene_;
   RenderMesh object_render_;
   std::array<std::vector<RenderMesh>, 2> arm_render_;
+  std::vector<ToolAttachment> attachments_;
 };
 
 }  // namespace aerograsp
