@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/config.h"
+#include "core/stdout_capture.h"
 
 namespace aerograsp {
 
@@ -35,13 +36,7 @@ CameraIntrinsics LoadCameraXml(const std::string& path, const std::string& camer
   vpCameraParameters cam;
   int status = vpXmlParserCamera::SEQUENCE_ERROR;
   try {
-    // ViSP reports what it found on std::cout; keep our output clean.
-    std::ostringstream chatter;
-    std::streambuf* const saved = std::cout.rdbuf(chatter.rdbuf());
-    struct Restore {
-      std::streambuf* saved;
-      ~Restore() { std::cout.rdbuf(saved); }
-    } restore{saved};
+    const StdoutCapture quiet;  // ViSP reports what it found on std::cout
     // With width and height 0, ViSP takes the first camera of that name.
     status = parser.parse(cam, path, camera_name,
                           vpCameraParameters::perspectiveProjWithoutDistortion, 0, 0);
