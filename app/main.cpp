@@ -5,6 +5,7 @@
 #include <iostream>
 #include <vector>
 
+#include "app/calibrate_command.h"
 #include "app/plan_command.h"
 #include "app/record_command.h"
 #include "app/render_benchmark.h"
@@ -91,6 +92,21 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000));
   // ---- end plan ----
 
+  aerograsp::CalibrateCommandOptions calibrate;
+  CLI::App* calibrate_cmd = app.add_subcommand(
+      "calibrate", "Camera-to-arm calibration from an AprilTag board on the gripper (simulator)");
+  calibrate_cmd->add_option("--arm", calibrate.arm, "Arm to calibrate")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"left", "right"}));
+  calibrate_cmd->add_option("--out", calibrate.out_dir, "Folder for the samples, the calibration and the report");
+  calibrate_cmd->add_option("--resolve", calibrate.resolve_dir, "Solve again from the samples saved in this folder")
+      ->check(CLI::ExistingDirectory);
+  calibrate_cmd->add_option("--poses", calibrate.poses, "Arm poses to visit")
+      ->capture_default_str()
+      ->check(CLI::Range(4, 100));
+  calibrate_cmd->add_option("--seed", calibrate.seed, "World and pose-planning seed")->capture_default_str();
+  calibrate_cmd->add_option("--world", calibrate.world_config, "World YAML")->check(CLI::ExistingFile);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -100,6 +116,7 @@ int main(int argc, char** argv) {
   try {
     if (*robot_cmd) aerograsp::RunRobotCommand(robot, std::cout);
     if (*record_cmd) aerograsp::RunRecordCommand(record, std::cout, std::cerr);
+    if (*calibrate_cmd) aerograsp::RunCalibrateCommand(calibrate, std::cout, std::cerr);
     if (*render_bench_cmd) aerograsp::RunRenderBenchmark(render_bench, std::cout);
     if (*plan_cmd) {
       if (!plan_xyz.empty()) plan.object_xyz_m = Eigen::Vector3d(plan_xyz[0], plan_xyz[1], plan_xyz[2]);

@@ -22,10 +22,10 @@ namespace aerograsp {
 struct TagBoardConfig {
   std::string family{"tag36h11"};  ///< only tag36h11 is supported
   int rows{2};                     ///< [1, 20]
-  int cols{4};                     ///< [1, 20]
-  double tag_size_m{0.025};        ///< edge of a tag's black square, (0.005, 1] m
-  double spacing_m{0.008};         ///< white gap between neighbouring tags, [0, 1] m
-  double margin_m{0.005};          ///< white border around the tags, [0, 1] m
+  int cols{3};                     ///< [1, 20]
+  double tag_size_m{0.018};        ///< edge of a tag's black square, (0.005, 1] m
+  double spacing_m{0.006};         ///< white gap between neighbouring tags, [0, 1] m
+  double margin_m{0.004};          ///< white border around the tags, [0, 1] m
   int first_id{0};                 ///< id of the top-left tag, [0, 586 - rows * cols]
 
   /// Reads the fields present in `node` (unknown keys are rejected).

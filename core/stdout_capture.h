@@ -1,25 +1,24 @@
-// Captures what a library writes to std::cout (ViSP reports progress there)
-// for as long as the object lives, so that our own output stays clean.
+// Keeps what a library writes to standard output (ViSP reports progress
+// there, through std::cout and printf) out of our output for as long as the
+// object lives. Not thread-safe: it redirects the process's stdout.
 #pragma once
 
-#include <iostream>
-#include <sstream>
 #include <string>
 
 namespace aerograsp {
 
 class StdoutCapture {
  public:
-  StdoutCapture() : saved_(std::cout.rdbuf(buffer_.rdbuf())) {}
-  ~StdoutCapture() { std::cout.rdbuf(saved_); }
+  StdoutCapture();
+  ~StdoutCapture();
   StdoutCapture(const StdoutCapture&) = delete;
   StdoutCapture& operator=(const StdoutCapture&) = delete;
-  /// What was written so far.
-  std::string text() const { return buffer_.str(); }
+  /// What was written to std::cout so far (printf output is discarded).
+  std::string text() const;
 
  private:
-  std::ostringstream buffer_;
-  std::streambuf* saved_;
+  struct Impl;
+  Impl* impl_;
 };
 
 }  // namespace aerograsp

@@ -1,0 +1,94 @@
+#include "app/calibrate_command.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace aerograsp {
+namespace {
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+class CalibrateCommandTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = (fs::temp_directory_path() / "aerograsp_calibrate_test").string();
+    fs::remove_all(folder_);
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+  nlohmann::json Summary() const {
+    std::ifstream in(fs::path(folder_) / "summary.json");
+    return nlohmann::json::parse(in);
+  }
+  std::string folder_;
+};
+
+TEST_F(CalibrateCommandTest, SimulatedCalibrationIsWithinAMillimetreAndBeatsOpenCv) {
+  CalibrateCommandOptions options;
+  options.arm = "left";
+  options.out_dir = folder_;
+  options.poses = 12;
+  std::ostringstream out, progress;
+  RunCalibrateCommand(options, out, progress);
+  EXPECT_THAT(out.str(), HasSubstr("planned 12 poses of the left arm"));
+  EXPECT_TRUE(fs::exists(fs::path(folder_) / "calibration_left.yaml"));
+  EXPECT_TRUE(fs::exists(fs::path(folder_) / "poses.png"));
+  EXPECT_TRUE(fs::exists(fs::path(folder_) / "samples" / "000.png"));
+  const nlohmann::json s = Summary();
+  EXPECT_GE(s["samples_used"].get<int>(), 6);
+  EXPECT_EQ(s["samples_used"].get<int>() + s["samples_rejected"].get<int>(), 12);
+  EXPECT_LT(s["error_to_truth_mm"].get<double>(), 1.0);
+  EXPECT_LT(s["error_to_truth_deg"].get<double>(), 0.1);
+  for (const auto& [name, method] : s["opencv"].items()) {
+    ASSERT_TRUE(method["ok"].get<bool>()) << name;
+    EXPECT_LT(s["error_to_truth_mm"].get<double>(), method["error_to_truth_mm"].get<double>()) << name;
+  }
+
+  // Solving again from the saved samples gives the same residuals (no truth offline).
+  const double residual_mm = s["residual_mm"].get<double>();
+  CalibrateCommandOptions again;
+  again.resolve_dir = folder_;
+  std::ostringstream out2;
+  RunCalibrateCommand(again, out2, progress);
+  const nlohmann::json s2 = Summary();
+  EXPECT_NEAR(s2["residual_mm"].get<double>(), residual_mm, 1e-6);
+  EXPECT_FALSE(s2.contains("error_to_truth_mm"));
+}
+
+TEST_F(CalibrateCommandTest, AllSamplesRejectedSaysSoAndKeepsThem) {
+  CalibrateCommandOptions options;
+  options.out_dir = folder_;
+  options.poses = 4;
+  options.settle_timeout_s = 0.01;  // the arm never settles in time: every sample rejected
+  std::ostringstream out, progress;
+  try {
+    RunCalibrateCommand(options, out, progress);
+    FAIL() << "expected an error";
+  } catch (const std::exception& e) {
+    EXPECT_THAT(e.what(), HasSubstr("only 0 usable samples"));
+  }
+  EXPECT_THAT(out.str(), HasSubstr("rejected: arm not settled"));
+  EXPECT_TRUE(fs::exists(fs::path(folder_) / "samples.yaml"));
+  EXPECT_TRUE(fs::exists(fs::path(folder_) / "samples" / "003.png"));
+}
+
+TEST_F(CalibrateCommandTest, CorruptSamplesFileNamesTheField) {
+  fs::create_directories(folder_);
+  std::ofstream(fs::path(folder_) / "samples.yaml") << "platform: /nonexistent.yaml\narm: left\n";
+  CalibrateCommandOptions options;
+  options.resolve_dir = folder_;
+  std::ostringstream out, progress;
+  try {
+    RunCalibrateCommand(options, out, progress);
+    FAIL() << "expected an error";
+  } catch (const std::exception& e) {
+    EXPECT_THAT(e.what(), HasSubstr("samples.yaml: platform"));
+  }
+}
+
+}  // namespace
+}  // namespace aerograsp
