@@ -30,15 +30,15 @@ ColorImage RenderBoardAt(const TagBoardConfig& board, const Eigen::Isometry3d& c
 }
 
 TEST(TagBoardTest, LayoutAndSize) {
-  TagBoardConfig board;  // 2 x 4 tags of 25 mm, 8 mm apart, 5 mm margin: fits the gripper's side
-  EXPECT_NEAR(board.Size().x(), 4 * 0.025 + 3 * 0.008 + 2 * 0.005, 1e-12);
-  EXPECT_NEAR(board.Size().y(), 2 * 0.025 + 0.008 + 2 * 0.005, 1e-12);
+  TagBoardConfig board;  // 2 x 3 tags of 18 mm, 6 mm apart, 4 mm margin: fits between the fingers
+  EXPECT_NEAR(board.Size().x(), 3 * 0.018 + 2 * 0.006 + 2 * 0.004, 1e-12);
+  EXPECT_NEAR(board.Size().y(), 2 * 0.018 + 0.006 + 2 * 0.004, 1e-12);
   const auto tags = BoardTags(board);
-  ASSERT_EQ(tags.size(), 8u);
-  EXPECT_EQ(tags[5].id, 5);
-  EXPECT_NEAR(tags[5].corners_t[0].y(), -0.5 * board.Size().y() + 0.005 + 0.033, 1e-12);
-  EXPECT_NEAR(tags[0].corners_t[0].x(), -0.5 * board.Size().x() + 0.005, 1e-12);
-  EXPECT_NEAR((tags[1].corners_t[2] - tags[1].corners_t[0]).norm(), 0.025 * std::sqrt(2.0), 1e-12);
+  ASSERT_EQ(tags.size(), 6u);
+  EXPECT_EQ(tags[4].id, 4);
+  EXPECT_NEAR(tags[4].corners_t[0].y(), -0.5 * board.Size().y() + 0.004 + 0.024, 1e-12);
+  EXPECT_NEAR(tags[0].corners_t[0].x(), -0.5 * board.Size().x() + 0.004, 1e-12);
+  EXPECT_NEAR((tags[1].corners_t[2] - tags[1].corners_t[0]).norm(), 0.018 * std::sqrt(2.0), 1e-12);
 }
 
 TEST(TagBoardTest, BadConfigNamesTheKey) {
@@ -57,7 +57,7 @@ TEST(TagBoardTest, SvgIsAtTrueScale) {
   WriteBoardSvg(TagBoardConfig{}, path);
   std::ifstream in(path);
   const std::string text((std::istreambuf_iterator<char>(in)), {});
-  EXPECT_NE(text.find("width=\"134mm\" height=\"68mm\""), std::string::npos) << text.substr(0, 300);
+  EXPECT_NE(text.find("width=\"74mm\" height=\"50mm\""), std::string::npos) << text.substr(0, 300);
 }
 
 TEST(TagBoardTest, RenderedBoardIsDetectedAndItsPoseRecovered) {
@@ -66,14 +66,14 @@ TEST(TagBoardTest, RenderedBoardIsDetectedAndItsPoseRecovered) {
   FastRandom rng(5);
   for (int trial = 0; trial < 6; ++trial) {
     const Eigen::Isometry3d cMt = MakeTransform(
-        Eigen::Vector3d(rng.Uniform(-0.05, 0.05), rng.Uniform(-0.05, 0.05), rng.Uniform(0.3, 0.5)),
+        Eigen::Vector3d(rng.Uniform(-0.05, 0.05), rng.Uniform(-0.05, 0.05), rng.Uniform(0.25, 0.4)),
         Eigen::Vector3d(rng.Uniform(-0.5, 0.5), rng.Uniform(-0.5, 0.5), rng.Uniform(-M_PI, M_PI)));
     const ColorImage image = RenderBoardAt(board, cMt, 100 + trial);
     const std::vector<TagDetection> detections = detector.Detect(image);
-    ASSERT_EQ(detections.size(), 8u) << "trial " << trial;
+    ASSERT_EQ(detections.size(), 6u) << "trial " << trial;
     const BoardPose pose = EstimateBoardPose(detections, board, CameraIntrinsics{});
     ASSERT_TRUE(pose.valid);
-    EXPECT_EQ(pose.tags_used, 8);
+    EXPECT_EQ(pose.tags_used, 6);
     EXPECT_LT(pose.reprojection_rms_px, 0.5);
     const PoseError error = ComparePoses(pose.cMt, cMt);
     EXPECT_LT(error.translation_m, 0.003) << "trial " << trial;
