@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "app/robot_command.h"
+#include "app/servo_benchmark.h"
 #include "core/data_dir.h"
 
 #ifndef AEROGRASP_VERSION
@@ -33,6 +34,16 @@ int main(int argc, char** argv) {
   robot_cmd->add_option("--plot", robot.plot_path,
                         "Write a PNG of the platform (side and front views, arms at home)");
 
+  // --- benchmark: speed and accuracy figures of one stage ---
+  CLI::App* benchmark_cmd =
+      app.add_subcommand("benchmark", "Speed and accuracy figures of one stage, printed and in summary.json");
+  benchmark_cmd->require_subcommand(1);
+  aerograsp::ServoBenchmarkOptions servo_benchmark;
+  CLI::App* servo_benchmark_cmd = benchmark_cmd->add_subcommand(
+      "servo", "Dual-arm servo: convergence, iterations, step time, safe-volume entries; KDL IK on the same targets");
+  aerograsp::AddServoBenchmarkOptions(servo_benchmark_cmd, &servo_benchmark);
+  // --- end benchmark ---
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -41,6 +52,7 @@ int main(int argc, char** argv) {
 
   try {
     if (*robot_cmd) aerograsp::RunRobotCommand(robot, std::cout);
+    if (*servo_benchmark_cmd) aerograsp::RunServoBenchmark(servo_benchmark, std::cout);
   } catch (const std::exception& e) {
     std::cerr << "aerograsp: error: " << e.what() << "\n";
     return 1;
