@@ -159,9 +159,12 @@ struct DualServo {
                const Eigen::VectorXd (&start)[2]) {
     for (int a = 0; a < 2; ++a) {
       q[a] = start[a];
+      // Via configurations: hanging straight down, and home.
+      const ArmModel& arm = platform.arm(kSides[a]);
+      ServoConfig config;
+      config.via_rad = {arm.Clamp(Eigen::VectorXd::Zero(arm.dof())), platform.home(kSides[a])};
       servo[a] = std::make_unique<ArmServo>(
-          platform.arm(kSides[a]), ServoConfig{},
-          MakeCollisionPredicate(collision, kSides[a], margin_m, &q[1 - a]));
+          arm, config, MakeCollisionPredicate(collision, kSides[a], margin_m, &q[1 - a]));
     }
   }
 };

@@ -278,7 +278,17 @@ ServoStatus ArmServo::Step(const Eigen::VectorXd& q, double now_s, double dt_s,
     };
     if (!shorten(dq)) {
       dq = Limit(q, dq_joint, dt_s, &scale);
-      if (!shorten(dq)) return Hold(q, ServoStatus::kSafeVolume, out);
+      if (!shorten(dq)) {
+        // The path checked when q* was chosen is blocked now (the other arm
+        // moved in, or a dip between the path's samples): search again after
+        // unreachable_retry_s, from here, via points included.
+        has_goal_ = false;
+        has_via_ = false;
+        has_failed_ = true;
+        failed_bMg_ = bMg_;
+        failed_at_s_ = now_s;
+        return Hold(q, ServoStatus::kSafeVolume, out);
+      }
     }
     dq *= step;
   }

@@ -56,7 +56,7 @@ struct ServoConfig {
   /// arms: hanging straight down, the farthest from the safe volume).
   std::vector<Eigen::VectorXd> via_rad{};
   /// Spacing of the forbidden-predicate checks along the straight path to q*.
-  double path_check_step_rad{0.05};    ///< (0, 1] rad
+  double path_check_step_rad{0.02};    ///< (0, 1] rad
   IkOptions ik{};                      ///< the joint-goal search
 
   /// @throws ConfigError "<source>: servo.<field>: ..." for out-of-range values.
