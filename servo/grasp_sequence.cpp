@@ -71,20 +71,20 @@ GraspPhase GraspSequence::Step(const Eigen::VectorXd& q, double now_s, double dt
   }
   const double in_phase_s = now_s - phase_start_s_;
   const bool moving = out->servo_status == ServoStatus::kMoving;
+  // A servoing phase ends when its pose is met, or in a timeout.
+  const auto advance = [&](const PoseTolerance& tolerance, double timeout_s, GraspPhase next) {
+    if (moving && tolerance.Met(out->joints.error)) {
+      Enter(next, now_s);
+    } else if (in_phase_s > timeout_s) {
+      Enter(GraspPhase::kTimedOut, now_s);
+    }
+  };
   switch (phase_) {
     case GraspPhase::kPreCatch:
-      if (moving && config_.precatch_tolerance.Met(out->joints.error)) {
-        Enter(GraspPhase::kGrasp, now_s);
-      } else if (in_phase_s > config_.precatch_timeout_s) {
-        Enter(GraspPhase::kTimedOut, now_s);
-      }
+      advance(config_.precatch_tolerance, config_.precatch_timeout_s, GraspPhase::kGrasp);
       break;
     case GraspPhase::kGrasp:
-      if (moving && config_.grasp_tolerance.Met(out->joints.error)) {
-        Enter(GraspPhase::kClose, now_s);
-      } else if (in_phase_s > config_.grasp_timeout_s) {
-        Enter(GraspPhase::kTimedOut, now_s);
-      }
+      advance(config_.grasp_tolerance, config_.grasp_timeout_s, GraspPhase::kClose);
       break;
     case GraspPhase::kClose:
       if (in_phase_s >= config_.close_time_s) Enter(GraspPhase::kDone, now_s);
