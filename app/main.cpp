@@ -10,6 +10,7 @@
 #include "app/record_command.h"
 #include "app/render_benchmark.h"
 #include "app/robot_command.h"
+#include "app/servo_benchmark.h"
 #include "core/data_dir.h"
 
 #ifndef AEROGRASP_VERSION
@@ -65,6 +66,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100000));
   render_bench_cmd->add_option("--seed", render_bench.seed, "World seed")->capture_default_str();
   render_bench_cmd->add_option("--world", render_bench.world_config, "World YAML")->check(CLI::ExistingFile);
+  aerograsp::ServoBenchmarkOptions servo_benchmark;
+  CLI::App* servo_benchmark_cmd = benchmark_cmd->add_subcommand(
+      "servo", "Dual-arm servo: convergence, iterations, step time, safe-volume entries; KDL IK on the same targets");
+  aerograsp::AddServoBenchmarkOptions(servo_benchmark_cmd, &servo_benchmark);
   // ---- plan: dual grasps of an object (issue 5) ----
   aerograsp::PlanCommandOptions plan;
   plan.config_path = aerograsp::DataPath("config/platform_4dof.yaml");
@@ -123,6 +128,7 @@ int main(int argc, char** argv) {
       if (!plan_rpy.empty()) plan.object_rpy_deg = Eigen::Vector3d(plan_rpy[0], plan_rpy[1], plan_rpy[2]);
       aerograsp::RunPlanCommand(plan, std::cout);
     }
+    if (*servo_benchmark_cmd) aerograsp::RunServoBenchmark(servo_benchmark, std::cout);
   } catch (const std::exception& e) {
     std::cerr << "aerograsp: error: " << e.what() << "\n";
     return 1;

@@ -65,6 +65,13 @@ class ArmModel {
   const Eigen::VectorXd& lower_limits() const { return lower_; }
   const Eigen::VectorXd& upper_limits() const { return upper_; }
   const Eigen::VectorXd& velocity_limits() const { return velocity_; }
+  /// Joint i's frame at q_i = 0, expressed in joint i-1's frame (moved by
+  /// q_{i-1}; the base frame for i = 0), and joint i's unit axis in its own
+  /// frame: the chain as another kinematics library (KDL) needs it.
+  const Eigen::Isometry3d& joint_origin(int i) const { return joints_[i].parentMjoint; }
+  const Eigen::Vector3d& joint_axis(int i) const { return joints_[i].axis; }
+  /// The tip link in the last joint's frame.
+  const Eigen::Isometry3d& tip_offset() const { return lastMtip_; }
   /// Segments 0..dof() (see ArmSegment).
   const std::vector<ArmSegment>& segments() const { return segments_; }
 

@@ -16,12 +16,19 @@ void ServoConfig::Validate(const std::string& source) const {
   CheckRange(source, "servo.speed_fraction", speed_fraction, 1e-6, 1.0, "");
   CheckRange(source, "servo.max_accel_rad_s2", max_accel_rad_s2, 1e-6, 1000.0, "rad/s^2");
   CheckRange(source, "servo.limit_zone_rad", limit_zone_rad, 0.0, 1.0, "rad");
-  CheckRange(source, "servo.limit_gain_per_s", limit_gain_per_s, 0.0, 100.0, "1/s");
   for (int i = 0; i < 3; ++i) {
     CheckRange(source, "servo.orientation_weights[" + std::to_string(i) + "]",
                orientation_weights[i], 0.0, 1.0, "");
   }
   CheckRange(source, "servo.stale_target_s", stale_target_s, 1e-6, 10.0, "s");
+  CheckRange(source, "servo.guide_near_rad", guide_near_rad, 0.0, 3.0, "rad");
+  CheckRange(source, "servo.guide_far_rad", guide_far_rad, guide_near_rad + 1e-6, 6.0, "rad");
+  CheckRange(source, "servo.guide_min", guide_min, 0.0, 1.0, "");
+  CheckRange(source, "servo.retarget_m", retarget_m, 0.0, 1.0, "m");
+  CheckRange(source, "servo.retarget_rad", retarget_rad, 0.0, M_PI, "rad");
+  CheckRange(source, "servo.unreachable_retry_s", unreachable_retry_s, 0.0, 60.0, "s");
+  CheckRange(source, "servo.path_check_step_rad", path_check_step_rad, 1e-6, 1.0, "rad");
+  ik.Validate(source, "servo.ik");
 }
 
 const char* ServoStatusName(ServoStatus status) {
@@ -32,13 +39,27 @@ const char* ServoStatusName(ServoStatus status) {
     case ServoStatus::kInvalidTarget: return "invalid target";
     case ServoStatus::kInvalidState: return "invalid joint state";
     case ServoStatus::kSafeVolume: return "safe volume";
+    case ServoStatus::kUnreachable: return "unreachable";
   }
   return "?";
 }
 
 ArmServo::ArmServo(const ArmModel& arm, const ServoConfig& config, ForbiddenPredicate forbidden)
-    : arm_(arm), config_(config), forbidden_(std::move(forbidden)), pbvs_(config.gain_per_s) {
+    : arm_(arm),
+      config_(config),
+      forbidden_(std::move(forbidden)),
+      pbvs_(config.gain_per_s),
+      ik_(arm, config.ik, config.orientation_weights) {
   config_.Validate("servo config");
+  for (std::size_t v = 0; v < config_.via_rad.size(); ++v) {
+    if (!arm_.WithinLimits(config_.via_rad[v])) {
+      throw ConfigError("servo config: servo.via_rad[" + std::to_string(v) +
+                        "]: needs " + std::to_string(arm_.dof()) + " finite joints within the limits of " +
+                        arm_.source());
+    }
+  }
+  via_ = config_.via_rad.empty() ? std::vector<Eigen::VectorXd>{arm_.Clamp(Eigen::VectorXd::Zero(arm_.dof()))}
+                                 : config_.via_rad;
   Reset();
 }
 
@@ -60,10 +81,102 @@ void ArmServo::SetTarget(const Eigen::Isometry3d& bMg, double stamp_s, bool is_s
   has_target_ = true;
 }
 
+bool ArmServo::PathAllowed(const Eigen::VectorXd& q_from, const Eigen::VectorXd& q_to) const {
+  if (!forbidden_) return true;
+  const double length = (q_to - q_from).cwiseAbs().maxCoeff();
+  const int samples = std::max(1, static_cast<int>(std::ceil(length / config_.path_check_step_rad)));
+  for (int k = samples; k >= 1; --k) {  // the goal first: it is the likeliest to be refused
+    if (forbidden_(q_from + (q_to - q_from) * (static_cast<double>(k) / samples))) return false;
+  }
+  return true;
+}
+
+namespace {
+
+bool Moved(const Eigen::Isometry3d& aMb_1, const Eigen::Isometry3d& aMb_2, double m, double rad) {
+  const PoseError d = ComparePoses(aMb_1, aMb_2);
+  return d.translation_m > m || d.rotation_rad > rad;
+}
+
+}  // namespace
+
+bool ArmServo::UpdateJointGoal(const Eigen::VectorXd& q, double now_s) {
+  // Reached via point: on to the next.
+  if (has_via_ && (via_q_ - q).cwiseAbs().maxCoeff() <= config_.guide_near_rad) has_via_ = false;
+  if (has_goal_ && goal_bMg_.matrix() == bMg_.matrix()) return true;
+  // A target that moved a little: refine q* from itself (a few iterations).
+  if (has_goal_) {
+    const IkResult refined = ik_.SolveFrom(bMg_, q_goal_, config_.ik.iterations_per_seed);
+    if (refined.converged &&
+        ((refined.q - q_goal_).cwiseAbs().maxCoeff() <= config_.path_check_step_rad ||
+         PathAllowed(has_via_ ? via_q_ : q, refined.q))) {
+      q_goal_ = refined.q;
+      goal_bMg_ = bMg_;
+      return true;
+    }
+  }
+  if (!has_goal_ && has_failed_ && now_s - failed_at_s_ < config_.unreachable_retry_s &&
+      !Moved(failed_bMg_, bMg_, config_.retarget_m, config_.retarget_rad)) {
+    return false;  // searched already, in vain
+  }
+  // Search: a goal whose straight joint path is allowed, else one reached
+  // through a via configuration with both legs allowed.
+  std::vector<Eigen::VectorXd> seeds{q};
+  if (has_goal_) seeds.push_back(q_goal_);
+  int via = -1;
+  const auto reachable = [&](const Eigen::VectorXd& q_star) {
+    via = -1;
+    if (PathAllowed(q, q_star)) return true;
+    for (std::size_t v = 0; v < via_.size(); ++v) {
+      if (PathAllowed(q, via_[v]) && PathAllowed(via_[v], q_star)) {
+        via = static_cast<int>(v);
+        return true;
+      }
+    }
+    return false;
+  };
+  const IkResult found = ik_.Search(bMg_, seeds, 1u, reachable);
+  has_goal_ = found.converged;
+  if (has_goal_) {
+    q_goal_ = found.q;
+    goal_bMg_ = bMg_;
+    has_failed_ = false;
+    has_via_ = via >= 0;
+    if (has_via_) via_q_ = via_[via];
+  } else {
+    has_failed_ = true;
+    failed_bMg_ = bMg_;
+    failed_at_s_ = now_s;
+  }
+  return has_goal_;
+}
+
+Eigen::VectorXd ArmServo::Limit(const Eigen::VectorXd& q, Eigen::VectorXd dq, double dt_s,
+                                double* scale) const {
+  // Speed limits (uniform scaling keeps the direction), then acceleration limits.
+  *scale = 1.0;
+  for (int i = 0; i < arm_.dof(); ++i) {
+    const double vmax = config_.speed_fraction * arm_.velocity_limits()[i];
+    if (std::abs(dq[i]) > vmax) *scale = std::min(*scale, vmax / std::abs(dq[i]));
+  }
+  dq *= *scale;
+  const double max_change = config_.max_accel_rad_s2 * dt_s;
+  dq = last_dq_ + (dq - last_dq_).cwiseMax(-max_change).cwiseMin(max_change);
+  // Never step past a joint limit.
+  for (int i = 0; i < arm_.dof(); ++i) {
+    const double next = q[i] + dq[i] * dt_s;
+    if (next > arm_.upper_limits()[i]) dq[i] = std::min(0.0, (arm_.upper_limits()[i] - q[i]) / dt_s);
+    if (next < arm_.lower_limits()[i]) dq[i] = std::max(0.0, (arm_.lower_limits()[i] - q[i]) / dt_s);
+  }
+  return dq;
+}
+
 ServoStatus ArmServo::Hold(const Eigen::VectorXd& q, ServoStatus status, ServoCommand* out) {
   out->dq_rad_s = Eigen::VectorXd::Zero(arm_.dof());
   out->q_target_rad = q;
   out->step_scale = 0.0;
+  out->guide_weight = 0.0;
+  out->q_goal_rad = has_goal_ ? q_goal_ : Eigen::VectorXd();
   last_dq_.setZero();
   return status;
 }
@@ -84,15 +197,17 @@ ServoStatus ArmServo::Step(const Eigen::VectorXd& q, double now_s, double dt_s,
   Eigen::Isometry3d bMe;
   Eigen::Matrix<double, 6, Eigen::Dynamic> J(6, n);
   arm_.Kinematics(q, &bMe, &J);
-  const Eigen::Matrix<double, 6, 1> twist = pbvs_.Twist(bMe, bMg_);
   const PoseError error = ComparePoses(bMe, bMg_);
   out->position_error_m = error.translation_m;
   out->rotation_error_rad = error.rotation_rad;
+  out->error = ComputeApproachError(bMe, bMg_);
+  if (!UpdateJointGoal(q, now_s)) return Hold(q, ServoStatus::kUnreachable, out);
+  const Eigen::Matrix<double, 6, 1> twist = pbvs_.Twist(bMe, bMg_);
 
   // Joint weights for limit avoidance (weighted least norm): a joint inside the
-  // zone near a limit and still moving toward it gets a small weight.
+  // zone near a limit and still moving toward it gets a small weight. (No push
+  // out of the zone: it held the arm short of goals that lie in the zone.)
   Eigen::VectorXd w = Eigen::VectorXd::Ones(n);
-  Eigen::VectorXd away = Eigen::VectorXd::Zero(n);  // push out of the zone
   for (int i = 0; i < n; ++i) {
     const double to_lower = q[i] - arm_.lower_limits()[i];
     const double to_upper = arm_.upper_limits()[i] - q[i];
@@ -100,10 +215,8 @@ ServoStatus ArmServo::Step(const Eigen::VectorXd& q, double now_s, double dt_s,
     if (zone <= 0.0) continue;
     if (to_lower < zone && last_dq_[i] <= 0.0) {
       w[i] = std::max(0.05, to_lower / zone);
-      away[i] = config_.limit_gain_per_s * (zone - to_lower);
     } else if (to_upper < zone && last_dq_[i] >= 0.0) {
       w[i] = std::max(0.05, to_upper / zone);
-      away[i] = -config_.limit_gain_per_s * (zone - to_upper);
     }
   }
   const Eigen::MatrixXd sqrt_w = w.cwiseSqrt().asDiagonal();
@@ -115,9 +228,27 @@ ServoStatus ArmServo::Step(const Eigen::VectorXd& q, double now_s, double dt_s,
   const Eigen::MatrixXd J2 = W_b * J.bottomRows<3>() * sqrt_w;
   const DlsSolution solution =
       SolvePrioritized(J1, twist.head<3>(), J2, W_b * twist.tail<3>(), config_.damping);
-  Eigen::VectorXd dq = sqrt_w * solution.dq + away;
+  Eigen::VectorXd dq = sqrt_w * solution.dq;
   out->damping = solution.damping;
   out->min_singular = solution.min_singular;
+
+  // Far from q*, along the straight joint path to it; near it, mostly PBVS,
+  // with guide_min of the joint-space law left in: it finishes what PBVS
+  // cannot near a singularity (a 4-DoF arm near stretched has no joint to turn
+  // its approach axis once the position is met).
+  // On the way to a via point, only joint-space motion.
+  const Eigen::VectorXd& q_next = has_via_ ? via_q_ : q_goal_;
+  const double to_goal = (q_next - q).cwiseAbs().maxCoeff();
+  const double ramp = has_via_ ? 1.0
+                               : std::clamp((to_goal - config_.guide_near_rad) /
+                                                (config_.guide_far_rad - config_.guide_near_rad),
+                                            0.0, 1.0);
+  const double guide = config_.guide_min + (1.0 - config_.guide_min) * ramp;
+  // Toward a via point as fast as the limits allow (no need to stop there).
+  const Eigen::VectorXd dq_joint = (q_next - q) * (has_via_ ? 1.0 / dt_s : config_.gain_per_s);
+  dq = (1.0 - guide) * dq + guide * dq_joint;
+  out->guide_weight = guide;
+  out->q_goal_rad = q_goal_;
 
   // Continuous sequencing at a grasp switch: the old command fades out.
   if (switch_pending_) {  // first step after a switch: fade what differs from the new command
@@ -131,27 +262,34 @@ ServoStatus ArmServo::Step(const Eigen::VectorXd& q, double now_s, double dt_s,
     if (fade < 1e-4) switch_time_s_ = -1.0;
   }
 
-  // Speed limits (uniform scaling keeps the direction), then acceleration limits.
   double scale = 1.0;
-  for (int i = 0; i < n; ++i) {
-    const double vmax = config_.speed_fraction * arm_.velocity_limits()[i];
-    if (std::abs(dq[i]) > vmax) scale = std::min(scale, vmax / std::abs(dq[i]));
-  }
-  dq *= scale;
-  const double max_change = config_.max_accel_rad_s2 * dt_s;
-  dq = last_dq_ + (dq - last_dq_).cwiseMax(-max_change).cwiseMin(max_change);
-  // Never step past a joint limit.
-  for (int i = 0; i < n; ++i) {
-    const double next = q[i] + dq[i] * dt_s;
-    if (next > arm_.upper_limits()[i]) dq[i] = std::min(0.0, (arm_.upper_limits()[i] - q[i]) / dt_s);
-    if (next < arm_.lower_limits()[i]) dq[i] = std::max(0.0, (arm_.lower_limits()[i] - q[i]) / dt_s);
-  }
+  dq = Limit(q, dq, dt_s, &scale);
 
-  // The safe volume: shorten the step until it is allowed, else hold.
+  // The forbidden region: shorten the step until it is allowed; failing that,
+  // step along the straight joint path to q* (checked when q* was chosen)
+  // instead of the blend; failing that too, hold.
   double step = 1.0;
   if (forbidden_) {
-    while (step > 0.1 && forbidden_(q + step * dq * dt_s)) step *= 0.5;
-    if (step <= 0.1) return Hold(q, ServoStatus::kSafeVolume, out);
+    const auto shorten = [&](const Eigen::VectorXd& dq_try) {
+      for (step = 1.0; step > 0.1; step *= 0.5) {
+        if (!forbidden_(q + step * dq_try * dt_s)) return true;
+      }
+      return false;
+    };
+    if (!shorten(dq)) {
+      dq = Limit(q, dq_joint, dt_s, &scale);
+      if (!shorten(dq)) {
+        // The path checked when q* was chosen is blocked now (the other arm
+        // moved in, or a dip between the path's samples): search again after
+        // unreachable_retry_s, from here, via points included.
+        has_goal_ = false;
+        has_via_ = false;
+        has_failed_ = true;
+        failed_bMg_ = bMg_;
+        failed_at_s_ = now_s;
+        return Hold(q, ServoStatus::kSafeVolume, out);
+      }
+    }
     dq *= step;
   }
   out->step_scale = scale * step;

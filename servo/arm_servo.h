@@ -2,14 +2,27 @@
 // squares (position first, then orientation) -> joint-limit avoidance, speed
 // and acceleration limits -> safe-volume check -> joint targets. Bad input never
 // throws out of Step(): it returns a hold status with a zero velocity.
+//
+// Far from the target a purely Cartesian law falls into local minima: the
+// shoulder yaw runs into its limit when the straight tool path passes near the
+// yaw axis, the elbow stops at its limit, and a 4-DoF arm has no joint left to
+// turn its approach axis once the position is met (that axis is set by the
+// branch the position is reached in). So each target is first solved by the
+// damped least-squares IK (servo/ik.h, same task priorities) for a joint goal
+// q* whose straight joint path is allowed by the forbidden predicate; far from
+// q* the servo moves along that path (joint limits are a box, so a straight
+// joint path never leaves them), near it the PBVS law takes over and tracks the
+// target as vision updates it. q* follows a moving target by warm-started IK.
 #pragma once
 
 #include <Eigen/Geometry>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "core/arm_model.h"
 #include "servo/dls.h"
+#include "servo/ik.h"
 #include "servo/pbvs.h"
 
 namespace aerograsp {
@@ -20,13 +33,31 @@ struct ServoConfig {
   DampingOptions damping{};            ///< singular_threshold, max_damping: (0, 1]
   double speed_fraction{0.8};          ///< of each joint's URDF velocity limit, (0, 1]
   double max_accel_rad_s2{30.0};       ///< per joint, smoothing, (0, 1000] rad/s^2
-  double limit_zone_rad{0.15};         ///< joint-limit avoidance acts this close to a limit, [0, 1] rad
-  double limit_gain_per_s{2.0};        ///< strength of the avoidance, [0, 100] 1/s
+  double limit_zone_rad{0.15};         ///< a joint this close to a limit and moving toward it gets less weight in PBVS, [0, 1] rad
   /// Weights of the orientation error about the tool's x, y, z axes, [0, 1]
   /// each. The 4-DoF arm cannot reach every orientation: position always comes
   /// first, orientation is met within what position leaves free.
   Eigen::Vector3d orientation_weights{1.0, 1.0, 1.0};
   double stale_target_s{0.2};          ///< a target older than this is refused, (0, 10] s
+  /// Blend of the joint-space guide: weight guide_min of motion toward q* when
+  /// max_i |q*_i - q_i| is below guide_near_rad, pure motion toward q* above
+  /// guide_far_rad, linear between; PBVS has the rest.
+  double guide_near_rad{0.05};         ///< [0, 3] rad
+  double guide_far_rad{0.3};           ///< (guide_near_rad, 6] rad
+  double guide_min{0.5};               ///< [0, 1]
+  /// An unreachable target is searched again only once it has moved this far.
+  double retarget_m{0.005};            ///< [0, 1] m
+  double retarget_rad{0.05};           ///< [0, pi] rad
+  /// ... or once this long has passed (the other arm may have moved away).
+  double unreachable_retry_s{0.5};     ///< [0, 60] s
+  /// Joint configurations (rad) a goal may be reached through when the straight
+  /// joint path to it is forbidden; each of size dof() within the limits.
+  /// Empty: the zero configuration clamped into the limits (for the shipped
+  /// arms: hanging straight down, the farthest from the safe volume).
+  std::vector<Eigen::VectorXd> via_rad{};
+  /// Spacing of the forbidden-predicate checks along the straight path to q*.
+  double path_check_step_rad{0.02};    ///< (0, 1] rad
+  IkOptions ik{};                      ///< the joint-goal search
 
   /// @throws ConfigError "<source>: servo.<field>: ..." for out-of-range values.
   void Validate(const std::string& source) const;
@@ -39,6 +70,7 @@ enum class ServoStatus {
   kInvalidTarget,    ///< holding: the target has NaN/Inf or is not a rigid transform
   kInvalidState,     ///< holding: q has NaN/Inf or the wrong size
   kSafeVolume,       ///< holding: every scaled step would enter the forbidden region
+  kUnreachable,      ///< holding: no joint goal meets the target within limits and allowed
 };
 const char* ServoStatusName(ServoStatus status);
 
@@ -47,18 +79,22 @@ struct ServoCommand {
   Eigen::VectorXd q_target_rad;   ///< q + dq * dt: the joint targets to send
   double position_error_m = 0.0;  ///< |p_g - p_e|
   double rotation_error_rad = 0.0;
+  ApproachError error;            ///< position, approach axis and roll errors at q
+  Eigen::VectorXd q_goal_rad;     ///< the IK joint goal q* (empty while there is none)
+  double guide_weight = 0.0;      ///< guide_min..1: the share of the motion toward q*
   double damping = 0.0;           ///< lambda of the primary task
   double min_singular = 0.0;      ///< smallest singular value of the position Jacobian
   double step_scale = 1.0;        ///< < 1 when speed or safe-volume limits shortened the step
 };
 
 /// True when the arm at joint positions q must not be commanded (e.g. it would
-/// be inside the vehicle's safe volume). Supplied by the app (core/collision.h).
+/// be inside the vehicle's safe volume): see servo/collision_predicate.h.
 using ForbiddenPredicate = std::function<bool(const Eigen::VectorXd& q)>;
 
 class ArmServo {
  public:
-  /// `arm` must outlive the servo. @throws ConfigError when config is invalid.
+  /// `arm` must outlive the servo. @throws ConfigError when config is invalid
+  /// or a via configuration does not fit the arm.
   ArmServo(const ArmModel& arm, const ServoConfig& config, ForbiddenPredicate forbidden = {});
 
   /// Forget motion history: the next command starts from rest.
@@ -73,13 +109,26 @@ class ArmServo {
   /// good q when q itself is invalid).
   ServoStatus Step(const Eigen::VectorXd& q, double now_s, double dt_s, ServoCommand* out);
 
+  const ArmModel& arm() const { return arm_; }
+  const ServoConfig& config() const { return config_; }
+
  private:
   ServoStatus Hold(const Eigen::VectorXd& q, ServoStatus status, ServoCommand* out);
+  /// Updates q* (and the via point) for the current target; false when there
+  /// is none (unreachable).
+  bool UpdateJointGoal(const Eigen::VectorXd& q, double now_s);
+  /// dq scaled to the speed limits (*scale: the factor), then moved at most
+  /// max_accel * dt from the last command, then stopped at the joint limits.
+  Eigen::VectorXd Limit(const Eigen::VectorXd& q, Eigen::VectorXd dq, double dt_s,
+                        double* scale) const;
+  /// True when no point of the straight joint path (q_from, q_to] is forbidden.
+  bool PathAllowed(const Eigen::VectorXd& q_from, const Eigen::VectorXd& q_to) const;
 
   const ArmModel& arm_;
   ServoConfig config_;
   ForbiddenPredicate forbidden_;
   PbvsTask pbvs_;
+  ArmIk ik_;
   bool has_target_ = false;
   Eigen::Isometry3d bMg_ = Eigen::Isometry3d::Identity();
   double target_stamp_s_ = 0.0;
@@ -88,6 +137,16 @@ class ArmServo {
   bool switch_pending_ = false;   // a switch was declared; the blend starts at the next Step
   double switch_time_s_ = -1.0;   // < 0: no blend active
   Eigen::VectorXd last_good_q_;
+  // Joint goal q* and the target it solves; the last target no goal was found for.
+  bool has_goal_ = false;
+  Eigen::VectorXd q_goal_;
+  Eigen::Isometry3d goal_bMg_ = Eigen::Isometry3d::Identity();
+  bool has_via_ = false;
+  Eigen::VectorXd via_q_;
+  std::vector<Eigen::VectorXd> via_;
+  bool has_failed_ = false;
+  Eigen::Isometry3d failed_bMg_ = Eigen::Isometry3d::Identity();
+  double failed_at_s_ = 0.0;
 };
 
 }  // namespace aerograsp

@@ -16,7 +16,9 @@ using ::testing::HasSubstr;
 class CalibrateCommandTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    folder_ = (fs::temp_directory_path() / "aerograsp_calibrate_test").string();
+    folder_ = (fs::temp_directory_path() /
+               (std::string("aerograsp_calibrate_") + ::testing::UnitTest::GetInstance()->current_test_info()->name()))
+                  .string();  // one folder per test: ctest runs them in parallel
     fs::remove_all(folder_);
   }
   void TearDown() override { fs::remove_all(folder_); }

@@ -18,7 +18,9 @@ using ::testing::HasSubstr;
 class RecordCommandTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    folder_ = (fs::temp_directory_path() / "aerograsp_record_test").string();
+    folder_ = (fs::temp_directory_path() /
+               (std::string("aerograsp_record_") + ::testing::UnitTest::GetInstance()->current_test_info()->name()))
+                  .string();  // one folder per test: ctest runs them in parallel
     fs::remove_all(folder_);
     options_.out_dir = folder_;
     options_.frames = 4;

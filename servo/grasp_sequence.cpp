@@ -1,0 +1,109 @@
+#include "servo/grasp_sequence.h"
+
+#include "core/config.h"
+
+namespace aerograsp {
+
+void GraspSequenceConfig::Validate(const std::string& source) const {
+  CheckRange(source, "grasp_sequence.precatch_distance_m", precatch_distance_m, 1e-6, 0.5, "m");
+  precatch_tolerance.Validate(source, "grasp_sequence.precatch_tolerance");
+  grasp_tolerance.Validate(source, "grasp_sequence.grasp_tolerance");
+  CheckRange(source, "grasp_sequence.precatch_timeout_s", precatch_timeout_s, 1e-6, 600.0, "s");
+  CheckRange(source, "grasp_sequence.grasp_timeout_s", grasp_timeout_s, 1e-6, 600.0, "s");
+  CheckRange(source, "grasp_sequence.close_time_s", close_time_s, 1e-6, 10.0, "s");
+}
+
+const char* GraspPhaseName(GraspPhase phase) {
+  switch (phase) {
+    case GraspPhase::kPreCatch: return "pre-catch";
+    case GraspPhase::kGrasp: return "grasp";
+    case GraspPhase::kClose: return "close";
+    case GraspPhase::kDone: return "done";
+    case GraspPhase::kTimedOut: return "timed out";
+  }
+  return "?";
+}
+
+GraspSequence::GraspSequence(ArmServo* servo, const GraspSequenceConfig& config)
+    : servo_(servo), config_(config) {
+  config_.Validate("grasp sequence config");
+}
+
+void GraspSequence::Start(double now_s) {
+  servo_->Reset();
+  Enter(GraspPhase::kPreCatch, now_s);
+}
+
+void GraspSequence::Enter(GraspPhase phase, double now_s) {
+  phase_ = phase;
+  phase_start_s_ = now_s;
+}
+
+void GraspSequence::SetGrasp(const Eigen::Isometry3d& bMg, double stamp_s, bool is_switch) {
+  bMg_ = bMg;
+  grasp_stamp_s_ = stamp_s;
+  switch_pending_ = switch_pending_ || (is_switch && has_grasp_);
+  has_grasp_ = true;
+}
+
+Eigen::Isometry3d GraspSequence::PreCatchPose(const Eigen::Isometry3d& bMg) const {
+  return bMg * Eigen::Translation3d(0.0, 0.0, -config_.precatch_distance_m);
+}
+
+GraspPhase GraspSequence::Step(const Eigen::VectorXd& q, double now_s, double dt_s,
+                               GraspCommand* out) {
+  if (switch_pending_ && (phase_ == GraspPhase::kGrasp || phase_ == GraspPhase::kClose)) {
+    Enter(GraspPhase::kPreCatch, now_s);  // approach the new grasp along its own axis
+  }
+  const bool hold_only = phase_ == GraspPhase::kDone || phase_ == GraspPhase::kTimedOut;
+  if (has_grasp_ && !hold_only) {
+    servo_->SetTarget(phase_ == GraspPhase::kPreCatch ? PreCatchPose(bMg_) : bMg_, grasp_stamp_s_,
+                      switch_pending_);
+    switch_pending_ = false;
+  }
+  if (hold_only && q.allFinite()) {
+    // Holding after the end: no motion, the joints as they are as targets.
+    out->joints.dq_rad_s = Eigen::VectorXd::Zero(q.size());
+    out->joints.q_target_rad = q;
+    out->servo_status = ServoStatus::kMoving;
+  } else {  // (an invalid q while holding: the servo holds the last good one)
+    out->servo_status = servo_->Step(q, now_s, dt_s, &out->joints);
+  }
+  const double in_phase_s = now_s - phase_start_s_;
+  const bool moving = out->servo_status == ServoStatus::kMoving;
+  // A servoing phase ends when its pose is met, or in a timeout.
+  const auto advance = [&](const PoseTolerance& tolerance, double timeout_s, GraspPhase next) {
+    if (moving && tolerance.Met(out->joints.error)) {
+      Enter(next, now_s);
+    } else if (in_phase_s > timeout_s) {
+      Enter(GraspPhase::kTimedOut, now_s);
+    }
+  };
+  switch (phase_) {
+    case GraspPhase::kPreCatch:
+      advance(config_.precatch_tolerance, config_.precatch_timeout_s, GraspPhase::kGrasp);
+      break;
+    case GraspPhase::kGrasp:
+      advance(config_.grasp_tolerance, config_.grasp_timeout_s, GraspPhase::kClose);
+      break;
+    case GraspPhase::kClose:
+      if (in_phase_s >= config_.close_time_s) Enter(GraspPhase::kDone, now_s);
+      break;
+    case GraspPhase::kDone:
+    case GraspPhase::kTimedOut:
+      break;
+  }
+  if (phase_ == GraspPhase::kTimedOut && !hold_only && moving) {
+    out->joints.dq_rad_s = Eigen::VectorXd::Zero(q.size());
+    out->joints.q_target_rad = q;
+    servo_->Reset();
+  }
+  out->gripper = phase_ == GraspPhase::kClose || phase_ == GraspPhase::kDone
+                     ? GripperCommand::kClose
+                     : GripperCommand::kOpen;
+  out->phase = phase_;
+  out->phase_time_s = now_s - phase_start_s_;
+  return phase_;
+}
+
+}  // namespace aerograsp
