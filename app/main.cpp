@@ -9,6 +9,7 @@
 #include "app/record_command.h"
 #include "app/render_benchmark.h"
 #include "app/robot_command.h"
+#include "app/servo_bus_benchmark.h"
 #include "core/data_dir.h"
 
 #ifndef AEROGRASP_VERSION
@@ -64,6 +65,16 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100000));
   render_bench_cmd->add_option("--seed", render_bench.seed, "World seed")->capture_default_str();
   render_bench_cmd->add_option("--world", render_bench.world_config, "World YAML")->check(CLI::ExistingFile);
+  // ---- benchmark servo-bus: closed-loop cycle on the simulated SCS bus (issue 8) ----
+  aerograsp::ServoBusBenchmarkOptions servo_bus_bench;
+  CLI::App* servo_bus_bench_cmd = benchmark_cmd->add_subcommand(
+      "servo-bus", "Arm driver cycle (sync write to all servos, read every position) on the simulated bus (pty)");
+  servo_bus_bench_cmd->add_option("--out", servo_bus_bench.out_dir, "Folder for summary.json");
+  servo_bus_bench_cmd->add_option("--cycles", servo_bus_bench.cycles, "Bus cycles to time")
+      ->capture_default_str()
+      ->check(CLI::Range(10, 1000000));
+  servo_bus_bench_cmd->add_option("--world", servo_bus_bench.world_config, "World YAML")->check(CLI::ExistingFile);
+  // ---- end benchmark servo-bus ----
   // ---- plan: dual grasps of an object (issue 5) ----
   aerograsp::PlanCommandOptions plan;
   plan.config_path = aerograsp::DataPath("config/platform_4dof.yaml");
@@ -101,6 +112,7 @@ int main(int argc, char** argv) {
     if (*robot_cmd) aerograsp::RunRobotCommand(robot, std::cout);
     if (*record_cmd) aerograsp::RunRecordCommand(record, std::cout, std::cerr);
     if (*render_bench_cmd) aerograsp::RunRenderBenchmark(render_bench, std::cout);
+    if (*servo_bus_bench_cmd) aerograsp::RunServoBusBenchmark(servo_bus_bench, std::cout);
     if (*plan_cmd) {
       if (!plan_xyz.empty()) plan.object_xyz_m = Eigen::Vector3d(plan_xyz[0], plan_xyz[1], plan_xyz[2]);
       if (!plan_rpy.empty()) plan.object_rpy_deg = Eigen::Vector3d(plan_rpy[0], plan_rpy[1], plan_rpy[2]);
