@@ -3,6 +3,7 @@
 
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(Threads REQUIRED)
+find_package(OpenSSL REQUIRED)  # SHA-256 of MAVLink 2 packet signing
 find_package(yaml-cpp REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(spdlog REQUIRED)
