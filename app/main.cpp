@@ -5,6 +5,7 @@
 #include <iostream>
 #include <vector>
 
+#include "app/hardware_check_command.h"
 #include "app/plan_command.h"
 #include "app/record_command.h"
 #include "app/render_benchmark.h"
@@ -75,6 +76,15 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(10, 1000000));
   servo_bus_bench_cmd->add_option("--world", servo_bus_bench.world_config, "World YAML")->check(CLI::ExistingFile);
   // ---- end benchmark servo-bus ----
+  // ---- hardware-check: open each device of a hardware config (issue 8) ----
+  aerograsp::HardwareCheckOptions hardware_check;
+  CLI::App* hardware_check_cmd = app.add_subcommand(
+      "hardware-check", "Open each device of a hardware configuration and report it (nothing moves)");
+  hardware_check_cmd->add_option("--hardware", hardware_check.config_path, "Hardware YAML (e.g. data/config/hardware_sim.yaml)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  hardware_check_cmd->add_option("--seed", hardware_check.seed, "World seed of simulated devices")->capture_default_str();
+  // ---- end hardware-check ----
   // ---- plan: dual grasps of an object (issue 5) ----
   aerograsp::PlanCommandOptions plan;
   plan.config_path = aerograsp::DataPath("config/platform_4dof.yaml");
@@ -113,6 +123,7 @@ int main(int argc, char** argv) {
     if (*record_cmd) aerograsp::RunRecordCommand(record, std::cout, std::cerr);
     if (*render_bench_cmd) aerograsp::RunRenderBenchmark(render_bench, std::cout);
     if (*servo_bus_bench_cmd) aerograsp::RunServoBusBenchmark(servo_bus_bench, std::cout);
+    if (*hardware_check_cmd && aerograsp::RunHardwareCheck(hardware_check, std::cout) > 0) return 1;
     if (*plan_cmd) {
       if (!plan_xyz.empty()) plan.object_xyz_m = Eigen::Vector3d(plan_xyz[0], plan_xyz[1], plan_xyz[2]);
       if (!plan_rpy.empty()) plan.object_rpy_deg = Eigen::Vector3d(plan_rpy[0], plan_rpy[1], plan_rpy[2]);
