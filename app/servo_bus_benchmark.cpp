@@ -5,11 +5,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "app/summary_file.h"
 #include "core/data_dir.h"
 #include "hardware/scs/scs_arms_driver.h"
 #include "hardware/sim/sim_servo_bus.h"
@@ -75,7 +74,6 @@ void RunServoBusBenchmark(const ServoBusBenchmarkOptions& options, std::ostream&
   out << fmt::format("  wire alone: {:.3f} ms ({:.0f} Hz); failed reads {}\n", 1e3 * wire_s, 1.0 / wire_s,
                      failed_reads);
   if (!options.out_dir.empty()) {
-    std::filesystem::create_directories(options.out_dir);
     const BusCounters counters = driver.counters();
     const nlohmann::json summary = {
         {"stage", "servo-bus"},
@@ -92,10 +90,7 @@ void RunServoBusBenchmark(const ServoBusBenchmarkOptions& options, std::ostream&
         {"bus_bad_checksums", counters.bad_checksums},
         {"goal_hz", 100.0},
     };
-    const std::string path = (std::filesystem::path(options.out_dir) / "summary.json").string();
-    std::ofstream file(path);
-    file << summary.dump(2) << "\n";
-    if (!file) throw std::runtime_error(path + ": cannot be written");
+    const std::string path = WriteSummaryFile(options.out_dir, summary.dump(2));
     out << "  summary: " << path << "\n";
   }
 }

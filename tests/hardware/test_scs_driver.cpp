@@ -43,6 +43,21 @@ class ScsDriverTest : public ::testing::Test {
     }
   }
 
+  /// Keeps sending `target` (fresh every cycle, as a servo loop would) for `seconds`.
+  void Track(ScsArmsDriver* driver, Side side, const Eigen::VectorXd& target, double seconds) {
+    for (int i = 0; i < static_cast<int>(std::lround(seconds / kCycle_s)); ++i) {
+      driver->SetJointTargets(side, target);
+      Run(driver, kCycle_s);
+    }
+  }
+
+  /// The last command with joint `joint` moved by `by_rad`.
+  static Eigen::VectorXd Moved(const ScsArmsDriver& driver, Side side, int joint, double by_rad) {
+    Eigen::VectorXd q = driver.last_command(side);
+    q[joint] += by_rad;
+    return q;
+  }
+
   World world_;
   ScsArmsConfig servos_;
   std::unique_ptr<SimServoBus> bus_;
@@ -64,11 +79,7 @@ TEST_F(ScsDriverTest, JointsReachTheirTargetsThroughTheBus) {
   Eigen::VectorXd target = world_.platform().home(Side::kRight);
   target[0] += 0.3;
   target[1] -= 0.2;
-  driver->SetJointTargets(Side::kRight, target);
-  for (int i = 0; i < 150; ++i) {  // keep the target fresh, as a servo loop would
-    driver->SetJointTargets(Side::kRight, target);
-    Run(driver.get(), kCycle_s);
-  }
+  Track(driver.get(), Side::kRight, target, 1.5);
   const double quantum = world_.arm(Side::kRight).quantum_rad();
   EXPECT_LE((driver->JointPositions(Side::kRight) - target).cwiseAbs().maxCoeff(), 1.5 * quantum);
   EXPECT_LE((world_.arm(Side::kRight).q_true_rad() - target).cwiseAbs().maxCoeff(), 1.5 * quantum);
@@ -77,27 +88,21 @@ TEST_F(ScsDriverTest, JointsReachTheirTargetsThroughTheBus) {
 TEST_F(ScsDriverTest, CommandsMoveAtMostTwentyDegreesPerCycle) {
   auto driver = Open();
   const Eigen::VectorXd start = driver->last_command(Side::kLeft);
-  Eigen::VectorXd target = start;
-  target[0] = start[0] + 80.0 * kDeg;
-  driver->SetJointTargets(Side::kLeft, target);
+  driver->SetJointTargets(Side::kLeft, Moved(*driver, Side::kLeft, 0, 80.0 * kDeg));
   driver->Cycle();
   EXPECT_NEAR(driver->last_command(Side::kLeft)[0] - start[0], servos_.max_step_rad, 1e-12);
 }
 
 TEST_F(ScsDriverTest, TargetsOutsideTheLimitsAreClamped) {
   auto driver = Open();
-  Eigen::VectorXd target = driver->last_command(Side::kLeft);
-  target[2] = 10.0;
-  driver->SetJointTargets(Side::kLeft, target);
+  driver->SetJointTargets(Side::kLeft, Moved(*driver, Side::kLeft, 2, 10.0));
   for (int i = 0; i < 20; ++i) driver->Cycle();
   EXPECT_DOUBLE_EQ(driver->last_command(Side::kLeft)[2], world_.platform().arm(Side::kLeft).upper_limits()[2]);
 }
 
 TEST_F(ScsDriverTest, WatchdogHoldsTheLastCommandWhenTargetsGoStale) {
   auto driver = Open();
-  const Eigen::VectorXd start = driver->last_command(Side::kLeft);
-  Eigen::VectorXd target = start;
-  target[0] = start[0] + 60.0 * kDeg;
+  const Eigen::VectorXd target = Moved(*driver, Side::kLeft, 0, 60.0 * kDeg);
   driver->SetJointTargets(Side::kLeft, target);
   EXPECT_FALSE(driver->Cycle().stale);
   const Eigen::VectorXd after_one = driver->last_command(Side::kLeft);
@@ -112,12 +117,7 @@ TEST_F(ScsDriverTest, WatchdogHoldsTheLastCommandWhenTargetsGoStale) {
 
 TEST_F(ScsDriverTest, StopHoldsWhereTheArmsAre) {
   auto driver = Open();
-  Eigen::VectorXd target = driver->last_command(Side::kLeft);
-  target[0] += 0.5;
-  for (int i = 0; i < 10; ++i) {
-    driver->SetJointTargets(Side::kLeft, target);
-    Run(driver.get(), kCycle_s);
-  }
+  Track(driver.get(), Side::kLeft, Moved(*driver, Side::kLeft, 0, 0.5), 0.1);
   driver->Stop();
   const Eigen::VectorXd held = driver->JointPositions(Side::kLeft);
   Run(driver.get(), 0.5);
@@ -209,12 +209,7 @@ TEST_F(ScsDriverTest, GripperClosesAndOpensThroughTheBus) {
 TEST_F(ScsDriverTest, TorqueOffLeavesTheServosLimp) {
   auto driver = Open();
   EXPECT_EQ(driver->SetTorque(false), BusStatus::kOk);
-  Eigen::VectorXd target = driver->last_command(Side::kLeft);
-  target[0] += 0.4;
-  for (int i = 0; i < 30; ++i) {
-    driver->SetJointTargets(Side::kLeft, target);
-    Run(driver.get(), kCycle_s);
-  }
+  Track(driver.get(), Side::kLeft, Moved(*driver, Side::kLeft, 0, 0.4), 0.3);
   EXPECT_EQ(bus_->Registers(11)[scs::reg::kTorqueEnable], 0);
   EXPECT_NEAR(world_.arm(Side::kLeft).q_true_rad()[0], world_.platform().home(Side::kLeft)[0], 0.01);
 }
