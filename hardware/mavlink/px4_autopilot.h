@@ -68,6 +68,7 @@ class Px4Autopilot : public Autopilot {
   Px4Autopilot& operator=(const Px4Autopilot&) = delete;
 
   /// Sends heartbeats and waits (real time) for the autopilot's first one.
+  /// Call it before StartThread() (it reads the link itself).
   /// @throws HardwareError "autopilot (<link>): no heartbeat from system S component C within T s".
   void Connect();
 

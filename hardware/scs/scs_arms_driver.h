@@ -89,7 +89,7 @@ class ScsArmsDriver : public ArmsDriver {
   /// Runs Cycle() at rate_hz on a thread until StopThread() or destruction.
   void StartThread();
   void StopThread();
-  /// Torque of every servo on or off (one SYNC_WRITE).
+  /// Torque of every servo on or off (one SYNC_WRITE). Not while the driver's thread runs.
   BusStatus SetTorque(bool on);
 
   std::vector<ServoStatus> servo_statuses() const;

@@ -9,8 +9,9 @@
 // Threading: incoming frames are served on the peer's thread, because the
 // client blocks in a command until its COMMAND_ACK arrives and the owner (who
 // would otherwise pump the peer) is that same blocked caller. The thread
-// changes the vehicle only under the peer's lock and only while the client
-// waits for it, so commands land at a definite simulated time. The owner steps
+// changes the vehicle only under the peer's lock; commands land while the
+// client waits for their ACK, so at a definite simulated time, but an offboard
+// setpoint may be applied just before or just after the owner's next step. The owner steps
 // the world through StepWorld(), which takes the same lock and sends the
 // telemetry that is due on the simulated clock.
 #pragma once
