@@ -14,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "app/progress.h"
+#include "app/summary_file.h"
 #include "app/tag_board_mesh.h"
 #include "calib/hand_eye.h"
 #include "calib/tag_board.h"
@@ -346,7 +347,7 @@ void SolveAndReport(const std::string& folder, const std::string& platform_path,
     summary["error_to_truth_mm"] = 1e3 * e.translation_m;
     summary["error_to_truth_deg"] = kRadToDeg * e.rotation_rad;
   }
-  std::ofstream((fs::path(folder) / "summary.json").string()) << summary.dump(2) << "\n";
+  WriteSummaryFile(folder, summary.dump(2));
   DrawPoses(folder, samples, board, K, best);
   out << fmt::format("wrote {}, {}/summary.json, {}/poses.png\n", yaml_path, folder, folder);
 }

@@ -6,11 +6,13 @@
 #include <vector>
 
 #include "app/calibrate_command.h"
+#include "app/hardware_check_command.h"
 #include "app/plan_command.h"
 #include "app/record_command.h"
 #include "app/render_benchmark.h"
 #include "app/robot_command.h"
 #include "app/servo_benchmark.h"
+#include "app/servo_bus_benchmark.h"
 #include "core/data_dir.h"
 
 #ifndef AEROGRASP_VERSION
@@ -70,6 +72,25 @@ int main(int argc, char** argv) {
   CLI::App* servo_benchmark_cmd = benchmark_cmd->add_subcommand(
       "servo", "Dual-arm servo: convergence, iterations, step time, safe-volume entries; KDL IK on the same targets");
   aerograsp::AddServoBenchmarkOptions(servo_benchmark_cmd, &servo_benchmark);
+  // ---- benchmark servo-bus: closed-loop cycle on the simulated SCS bus (issue 8) ----
+  aerograsp::ServoBusBenchmarkOptions servo_bus_bench;
+  CLI::App* servo_bus_bench_cmd = benchmark_cmd->add_subcommand(
+      "servo-bus", "Arm driver cycle (sync write to all servos, read every position) on the simulated bus (pty)");
+  servo_bus_bench_cmd->add_option("--out", servo_bus_bench.out_dir, "Folder for summary.json");
+  servo_bus_bench_cmd->add_option("--cycles", servo_bus_bench.cycles, "Bus cycles to time")
+      ->capture_default_str()
+      ->check(CLI::Range(10, 1000000));
+  servo_bus_bench_cmd->add_option("--world", servo_bus_bench.world_config, "World YAML")->check(CLI::ExistingFile);
+  // ---- end benchmark servo-bus ----
+  // ---- hardware-check: open each device of a hardware config (issue 8) ----
+  aerograsp::HardwareCheckOptions hardware_check;
+  CLI::App* hardware_check_cmd = app.add_subcommand(
+      "hardware-check", "Open each device of a hardware configuration and report it (nothing moves)");
+  hardware_check_cmd->add_option("--hardware", hardware_check.config_path, "Hardware YAML (e.g. data/config/hardware_sim.yaml)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  hardware_check_cmd->add_option("--seed", hardware_check.seed, "World seed of simulated devices")->capture_default_str();
+  // ---- end hardware-check ----
   // ---- plan: dual grasps of an object (issue 5) ----
   aerograsp::PlanCommandOptions plan;
   plan.config_path = aerograsp::DataPath("config/platform_4dof.yaml");
@@ -123,6 +144,8 @@ int main(int argc, char** argv) {
     if (*record_cmd) aerograsp::RunRecordCommand(record, std::cout, std::cerr);
     if (*calibrate_cmd) aerograsp::RunCalibrateCommand(calibrate, std::cout, std::cerr);
     if (*render_bench_cmd) aerograsp::RunRenderBenchmark(render_bench, std::cout);
+    if (*servo_bus_bench_cmd) aerograsp::RunServoBusBenchmark(servo_bus_bench, std::cout);
+    if (*hardware_check_cmd && aerograsp::RunHardwareCheck(hardware_check, std::cout) > 0) return 1;
     if (*plan_cmd) {
       if (!plan_xyz.empty()) plan.object_xyz_m = Eigen::Vector3d(plan_xyz[0], plan_xyz[1], plan_xyz[2]);
       if (!plan_rpy.empty()) plan.object_rpy_deg = Eigen::Vector3d(plan_rpy[0], plan_rpy[1], plan_rpy[2]);

@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "app/grasp_plot.h"
+#include "app/summary_file.h"
 #include "core/config.h"
 #include "core/data_dir.h"
 #include "core/platform.h"
@@ -321,11 +322,7 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
                    {"right", GraspJson(d.right, contacts)}});
   }
   j["top"] = top;
-  const std::string summary = (fs::path(options.out_dir) / "summary.json").string();
-  std::ofstream file(summary);
-  file << j.dump(2) << "\n";
-  if (!file) throw std::runtime_error(summary + ": cannot write");
-  out << "Wrote " << summary << "\n";
+  out << "Wrote " << WriteSummaryFile(options.out_dir, j.dump(2)) << "\n";
 }
 
 }  // namespace aerograsp

@@ -5,11 +5,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "app/summary_file.h"
 #include "core/data_dir.h"
 #include "hardware/sim/d435_model.h"
 #include "hardware/sim/rgbd_renderer.h"
@@ -74,7 +73,6 @@ void RunRenderBenchmark(const RenderBenchmarkOptions& options, std::ostream& out
   out << fmt::format("  {:<22} {:>6.2f} ms {:>6.2f} ms\n", "wall time", Percentile(wall_ms, 0.5),
                      Percentile(wall_ms, 0.9));
   if (!options.out_dir.empty()) {
-    std::filesystem::create_directories(options.out_dir);
     nlohmann::json summary = {
         {"stage", "render"},
         {"frames", options.frames},
@@ -88,10 +86,7 @@ void RunRenderBenchmark(const RenderBenchmarkOptions& options, std::ostream& out
         {"wall_ms_median", Percentile(wall_ms, 0.5)},
         {"budget_ms", budget_ms},
     };
-    const std::string path = (std::filesystem::path(options.out_dir) / "summary.json").string();
-    std::ofstream file(path);
-    file << summary.dump(2) << "\n";
-    if (!file) throw std::runtime_error(path + ": cannot be written");
+    const std::string path = WriteSummaryFile(options.out_dir, summary.dump(2));
     out << "  summary: " << path << "\n";
   }
 }

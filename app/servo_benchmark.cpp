@@ -19,6 +19,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "app/summary_file.h"
 #include "core/collision.h"
 #include "core/data_dir.h"
 #include "core/platform.h"
@@ -412,12 +413,7 @@ void RunServoBenchmark(const ServoBenchmarkOptions& options, std::ostream& out) 
     nlohmann::json arm = RunConfig(config, options, out);
     summary["arms"][Platform::Load(config).config().arm_type] = arm;
   }
-  std::filesystem::create_directories(options.out_dir);
-  const std::string path = (std::filesystem::path(options.out_dir) / "summary.json").string();
-  std::ofstream file(path);
-  file << summary.dump(2) << "\n";
-  if (!file) throw std::runtime_error(path + ": cannot write the summary");
-  fmt::print(out, "wrote {}\n", path);
+  fmt::print(out, "wrote {}\n", WriteSummaryFile(options.out_dir, summary.dump(2)));
 }
 
 }  // namespace aerograsp

@@ -2,6 +2,11 @@
 # scripts/install_deps.sh installs them all on Debian 12.
 
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+find_package(Threads REQUIRED)
+find_package(OpenSSL REQUIRED)  # SHA-256 of MAVLink 2 packet signing
+# Optional: the RealSense backend (and .bag replay) is built only when librealsense2
+# is installed (it is not in Debian; README, Hardware, says how to add it).
+find_package(realsense2 QUIET)
 find_package(yaml-cpp REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(spdlog REQUIRED)

@@ -25,6 +25,7 @@ struct VehicleState {
   Eigen::Isometry3d wMd = Eigen::Isometry3d::Identity();  ///< body pose in w
   Eigen::Vector3d v_w = Eigen::Vector3d::Zero();           ///< body velocity in w, m/s
   Eigen::Vector3d w_d = Eigen::Vector3d::Zero();           ///< body angular velocity in d, rad/s
+  bool link_ok = true;  ///< false when the autopilot has gone silent (the rest is then stale)
 };
 
 /// The autopilot's answer to a command (COMMAND_ACK on PX4).

@@ -13,6 +13,8 @@ PACKAGES=(
   libembree-dev libqhull-dev liborocos-kdl-dev
   # configuration, CLI, logging, output
   libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev
+  # devices: SHA-256 for MAVLink 2 signing
+  libssl-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
 )
@@ -23,6 +25,12 @@ for p in "${PACKAGES[@]}"; do
     missing+=("$p")
   fi
 done
+# Node.js and npm run the MAVLink cross-check peer (tests/peers/mavlink). Any
+# node >= 18 will do (NodeSource's nodejs bundles npm), so Debian's packages are
+# installed only when the commands are missing.
+if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+  missing+=(nodejs npm)
+fi
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install_deps: all ${#PACKAGES[@]} packages present"

@@ -1,0 +1,24 @@
+// `aerograsp benchmark servo-bus`: the closed-loop cycle of the arm driver
+// (one SYNC_WRITE to all 10 servos, a READ of every present position, one
+// servo's status) against the simulated SCS bus on a pseudo-terminal, with
+// the wire's byte time and the servos' return delay simulated.
+#pragma once
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+
+namespace aerograsp {
+
+struct ServoBusBenchmarkOptions {
+  std::string out_dir;        ///< summary.json goes here (created); empty: print only
+  int cycles = 2000;          ///< bus cycles timed, [10, 1000000]
+  std::string world_config;   ///< default data/config/world_default.yaml
+};
+
+/// Runs the loop as fast as the bus allows and reports cycle_hz (cycles per
+/// second of wall time spent in the driver's cycle), median and p90 cycle
+/// time, and what the wire alone would allow.
+void RunServoBusBenchmark(const ServoBusBenchmarkOptions& options, std::ostream& out);
+
+}  // namespace aerograsp

@@ -1,0 +1,240 @@
+#include "hardware/sim/sim_servo_bus.h"
+
+#include <poll.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+
+namespace aerograsp {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+Clock::duration Seconds(double s) {
+  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
+}
+
+bool Contains(const std::vector<int>& ids, int id) { return std::find(ids.begin(), ids.end(), id) != ids.end(); }
+
+constexpr int kHoldingLoad = 600;  // PRESENT_LOAD of a gripper squeezing an object
+constexpr int kIdleLoad = 40;
+
+}  // namespace
+
+SimServoBus::SimServoBus(World* world, const ScsArmsConfig& servos, const SimServoBusConfig& config)
+    : world_(world), servos_config_(servos), config_(config), rng_(config.seed), bus_free_(Clock::now()) {
+  for (Side side : {Side::kLeft, Side::kRight}) {
+    const int s = static_cast<int>(side);
+    for (std::size_t i = 0; i < servos.joints[s].size(); ++i) {
+      servos_.push_back({servos.joints[s][i].id, side, static_cast<int>(i), servos.joints[s][i], {}});
+    }
+    const GripperServoConfig& g = servos.grippers[s];
+    // The gripper's "calibration" maps raw to the fraction open (0 closed, 1 open).
+    const double at_min = -double(g.raw_closed) / (g.raw_open - g.raw_closed);
+    servos_.push_back({g.id, side, -1, {g.id, at_min, at_min + double(kScsMaxRaw) / (g.raw_open - g.raw_closed)}, {}});
+  }
+  for (Servo& servo : servos_) {
+    servo.regs.assign(scs::reg::kCount, 0);
+    servo.regs[scs::reg::kId] = static_cast<std::uint8_t>(servo.id);
+    servo.regs[scs::reg::kBaudRate] = 0;  // 1 Mbaud
+    scs::PutU16(0, &servo.regs[scs::reg::kMinAngle]);
+    scs::PutU16(kScsMaxRaw, &servo.regs[scs::reg::kMaxAngle]);
+    scs::PutU16(1000, &servo.regs[scs::reg::kMaxTorque]);
+    servo.regs[scs::reg::kVoltage] = 74;  // 7.4 V
+    servo.regs[scs::reg::kTemperature] = 35;
+  }
+  SyncWithWorld();
+  // Goals start where the servos are (a powered servo holds its position).
+  for (Servo& servo : servos_) {
+    servo.regs[scs::reg::kGoalPosition] = servo.regs[scs::reg::kPresentPosition];
+    servo.regs[scs::reg::kGoalPosition + 1] = servo.regs[scs::reg::kPresentPosition + 1];
+  }
+  thread_ = std::thread([this] { Serve(); });
+}
+
+SimServoBus::~SimServoBus() {
+  running_ = false;
+  if (thread_.joinable()) thread_.join();
+}
+
+void SimServoBus::SetFaults(const SimServoBusConfig& config) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  config_ = config;
+}
+
+SimServoBusCounters SimServoBus::counters() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return counters_;
+}
+
+std::vector<std::uint8_t> SimServoBus::Registers(int id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const Servo& servo : servos_) {
+    if (servo.id == id) return servo.regs;
+  }
+  return {};
+}
+
+SimServoBus::Servo* SimServoBus::Find(int id) {
+  for (Servo& servo : servos_) {
+    if (servo.id == id) return &servo;
+  }
+  return nullptr;
+}
+
+void SimServoBus::SyncWithWorld() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (Side side : {Side::kLeft, Side::kRight}) {
+    SimArm& arm = world_->arm(side);
+    Eigen::VectorXd target = arm.target_rad();
+    bool any_torque = false;
+    for (Servo& servo : servos_) {
+      if (servo.side != side) continue;
+      const bool torque = servo.regs[scs::reg::kTorqueEnable] != 0;
+      const int goal = scs::GetU16(&servo.regs[scs::reg::kGoalPosition]);
+      if (servo.joint < 0) {
+        if (torque) {
+          const bool close = servo.calibration.AngleFromRaw(goal) < 0.5;
+          world_->SetGripper(side, close ? GripperCommand::kClose : GripperCommand::kOpen);
+        }
+        const GripperState g = world_->gripper(side);
+        const double open_fraction = g.aperture_m / world_->platform().config().gripper.max_aperture_m;
+        scs::PutU16(static_cast<std::uint16_t>(servo.calibration.RawFromAngle(open_fraction)),
+                    &servo.regs[scs::reg::kPresentPosition]);
+        scs::PutU16(g.holding ? kHoldingLoad : kIdleLoad, &servo.regs[scs::reg::kPresentLoad]);
+        servo.regs[scs::reg::kMoving] = g.moving ? 1 : 0;
+        continue;
+      }
+      const int i = servo.joint;
+      // A limp servo (torque off) stays where it is.
+      target[i] = torque ? servo.calibration.AngleFromRaw(goal) : arm.q_true_rad()[i];
+      any_torque = any_torque || torque;
+      const int present = servo.calibration.RawFromAngle(arm.q_true_rad()[i]);
+      scs::PutU16(static_cast<std::uint16_t>(present), &servo.regs[scs::reg::kPresentPosition]);
+      scs::PutU16(kIdleLoad, &servo.regs[scs::reg::kPresentLoad]);
+      servo.regs[scs::reg::kMoving] = std::abs(present - goal) > 1 && torque ? 1 : 0;
+    }
+    (void)any_torque;
+    arm.SetTarget(target);
+  }
+}
+
+void SimServoBus::Serve() {
+  scs::PacketParser parser;
+  std::uint8_t buffer[512];
+  std::size_t packet_bytes = 0;  // bytes of the packet being parsed, for the wire timing
+  while (running_.load()) {
+    pollfd p{pty_.master_fd(), POLLIN, 0};
+    if (::poll(&p, 1, 5) <= 0 || !(p.revents & POLLIN)) continue;
+    const ssize_t n = ::read(pty_.master_fd(), buffer, sizeof buffer);
+    if (n <= 0) {
+      if (n < 0 && errno != EAGAIN && errno != EINTR && errno != EIO) break;
+      continue;
+    }
+    for (ssize_t i = 0; i < n; ++i) {
+      ++packet_bytes;
+      const scs::PacketParser::Result r = parser.Push(buffer[i]);
+      if (r == scs::PacketParser::Result::kNeedMore) continue;
+      if (r == scs::PacketParser::Result::kPacket) {
+        Handle(parser.packet(), packet_bytes);
+      } else {
+        std::lock_guard<std::mutex> lock(mutex_);
+        ++counters_.bad_packets;
+      }
+      packet_bytes = 0;
+    }
+  }
+}
+
+void SimServoBus::Handle(const scs::Packet& packet, std::size_t wire_bytes) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  ++counters_.packets;
+  // The request occupied the wire for its bytes.
+  bus_free_ = std::max(bus_free_, Clock::now()) + Seconds(config_.byte_time_s * wire_bytes);
+  if (packet.id == scs::kBroadcastId) {
+    if (packet.code == scs::kSyncWrite && packet.params.size() >= 2) {
+      const std::size_t address = packet.params[0], length = packet.params[1];
+      for (std::size_t k = 2; k + 1 + length <= packet.params.size(); k += 1 + length) {
+        Servo* servo = Find(packet.params[k]);
+        if (!servo || Contains(config_.silent_ids, servo->id) || address + length > scs::reg::kCount) continue;
+        std::copy_n(packet.params.begin() + k + 1, length, servo->regs.begin() + address);
+      }
+    } else if (packet.code == scs::kWrite && !packet.params.empty()) {
+      const std::size_t address = packet.params[0], length = packet.params.size() - 1;
+      for (Servo& servo : servos_) {
+        if (address + length <= scs::reg::kCount) {
+          std::copy(packet.params.begin() + 1, packet.params.end(), servo.regs.begin() + address);
+        }
+      }
+    }
+    return;  // broadcasts are never answered
+  }
+  Servo* servo = Find(packet.id);
+  if (!servo || Contains(config_.silent_ids, servo->id)) return;
+  switch (packet.code) {
+    case scs::kPing:
+      Reply(*servo, 0, {}, wire_bytes);
+      return;
+    case scs::kRead: {
+      if (packet.params.size() != 2 || packet.params[0] + packet.params[1] > scs::reg::kCount) {
+        Reply(*servo, scs::kErrorRange, {}, wire_bytes);
+        return;
+      }
+      const auto from = servo->regs.begin() + packet.params[0];
+      Reply(*servo, 0, std::vector<std::uint8_t>(from, from + packet.params[1]), wire_bytes);
+      return;
+    }
+    case scs::kWrite: {
+      if (packet.params.empty() || packet.params[0] + packet.params.size() - 1 > scs::reg::kCount) {
+        Reply(*servo, scs::kErrorRange, {}, wire_bytes);
+        return;
+      }
+      std::copy(packet.params.begin() + 1, packet.params.end(), servo->regs.begin() + packet.params[0]);
+      Reply(*servo, 0, {}, wire_bytes);
+      return;
+    }
+    default:
+      Reply(*servo, scs::kErrorInstruction, {}, wire_bytes);
+      return;
+  }
+}
+
+void SimServoBus::Reply(const Servo& servo, std::uint8_t error, const std::vector<std::uint8_t>& params,
+                        std::size_t /*request_bytes*/) {
+  // Called with mutex_ held (from Handle): unlocks it while waiting for the
+  // reply's due time and writing, and locks it again before returning.
+  std::vector<std::uint8_t> bytes = scs::Encode({static_cast<std::uint8_t>(servo.id), error, params});
+  double delay = config_.return_delay_s + config_.byte_time_s * bytes.size();
+  if (Contains(config_.slow_ids, servo.id)) delay += config_.slow_extra_s;
+  for (std::uint8_t& b : bytes) {
+    if (config_.corrupt_probability > 0.0 && rng_.Uniform() < config_.corrupt_probability) {
+      b ^= static_cast<std::uint8_t>(1u << (rng_.Next() % 8));
+      ++counters_.corrupted_bytes;
+    }
+  }
+  const Clock::time_point due = bus_free_ + Seconds(delay);
+  bus_free_ = due;
+  ++counters_.replies;
+  mutex_.unlock();
+  std::this_thread::sleep_until(due);
+  const std::uint8_t* data = bytes.data();
+  std::size_t left = bytes.size();
+  while (left > 0) {
+    const ssize_t n = ::write(pty_.master_fd(), data, left);
+    if (n > 0) {
+      data += n;
+      left -= static_cast<std::size_t>(n);
+    } else if (n < 0 && (errno == EAGAIN || errno == EINTR)) {
+      pollfd p{pty_.master_fd(), POLLOUT, 0};
+      ::poll(&p, 1, 10);
+      if (!running_.load()) break;
+    } else {
+      break;
+    }
+  }
+  mutex_.lock();
+}
+
+}  // namespace aerograsp

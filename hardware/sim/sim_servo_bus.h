@@ -1,0 +1,95 @@
+// A simulated Feetech SCS bus on a pseudo-terminal: every servo of both arms
+// with its register map, answering PING / READ / WRITE / SYNC_WRITE as the
+// real ones do, with the wire's timing (byte time at 1 Mbaud, the servos'
+// return delay) and configurable faults (silent servos, corrupted reply
+// bytes, slow replies). The driver opens port_path() like a real adapter.
+//
+// Threading: the bus serves the pty on its own thread. It has to: the driver
+// blocks in a read with a timeout while the reply is due, exactly as on the
+// real bus, so the peer must answer concurrently. The thread touches only the
+// register map. The World is read and written by SyncWithWorld(), which the
+// owner calls on its own thread between World::Step calls, so the simulated
+// world stays deterministic on its simulated clock.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/random.h"
+#include "hardware/scs/scs_arms_driver.h"
+#include "hardware/scs/scs_protocol.h"
+#include "hardware/serial_port.h"
+#include "hardware/sim/world.h"
+
+namespace aerograsp {
+
+struct SimServoBusConfig {
+  double byte_time_s{10e-6};        ///< wire time of a byte (1 Mbaud, 8N1 = 10 bits), [0, 0.01] s; 0 = instant
+  double return_delay_s{20e-6};     ///< servo's delay before it replies, [0, 0.1] s
+  std::vector<int> silent_ids;      ///< servos that never answer (nor obey)
+  std::vector<int> slow_ids;        ///< servos that answer late
+  double slow_extra_s{0.02};        ///< how late, [0, 1] s
+  double corrupt_probability{0.0};  ///< chance that a reply byte has a bit flipped, [0, 1]
+  std::uint64_t seed{1};            ///< of the corruption
+};
+
+struct SimServoBusCounters {
+  std::int64_t packets = 0;     ///< well-formed packets received
+  std::int64_t replies = 0;     ///< status packets sent
+  std::int64_t bad_packets = 0; ///< checksum or length errors received
+  std::int64_t corrupted_bytes = 0;
+};
+
+class SimServoBus {
+ public:
+  /// The servos (ids, calibration = where the simulated servo's raw 0 and 1023
+  /// are) come from `servos`; ports and rates in it are not used.
+  /// Starts serving at once.
+  SimServoBus(World* world, const ScsArmsConfig& servos, const SimServoBusConfig& config);
+  ~SimServoBus();
+  SimServoBus(const SimServoBus&) = delete;
+  SimServoBus& operator=(const SimServoBus&) = delete;
+
+  /// The pty the driver opens.
+  const std::string& port_path() const { return pty_.slave_path(); }
+  /// Owner's thread, between world steps: goals to the arms and grippers,
+  /// positions, load, moving back into the registers.
+  void SyncWithWorld();
+  /// Replaces the faults (thread-safe).
+  void SetFaults(const SimServoBusConfig& config);
+  SimServoBusCounters counters() const;
+  /// A copy of one servo's registers (tests).
+  std::vector<std::uint8_t> Registers(int id) const;
+
+ private:
+  struct Servo {
+    int id;
+    Side side;
+    int joint;  // -1 for the gripper
+    ServoCalibration calibration;
+    std::vector<std::uint8_t> regs;
+  };
+  void Serve();
+  void Handle(const scs::Packet& packet, std::size_t wire_bytes);
+  Servo* Find(int id);
+  void Reply(const Servo& servo, std::uint8_t error, const std::vector<std::uint8_t>& params,
+             std::size_t request_bytes);
+
+  World* world_;
+  ScsArmsConfig servos_config_;
+  SimServoBusConfig config_;
+  PseudoTerminal pty_;
+  mutable std::mutex mutex_;
+  std::vector<Servo> servos_;
+  FastRandom rng_;
+  SimServoBusCounters counters_;
+  std::chrono::steady_clock::time_point bus_free_;
+  std::thread thread_;
+  std::atomic<bool> running_{true};
+};
+
+}  // namespace aerograsp
