@@ -106,7 +106,7 @@ bool ArmServo::UpdateJointGoal(const Eigen::VectorXd& q, double now_s) {
   if (has_goal_ && goal_bMg_.matrix() == bMg_.matrix()) return true;
   // A target that moved a little: refine q* from itself (a few iterations).
   if (has_goal_) {
-    const IkResult refined = ik_.SolveFrom(bMg_, q_goal_, config_.ik.iterations_per_seed);
+    const ApproachIkResult refined = ik_.SolveFrom(bMg_, q_goal_, config_.ik.iterations_per_seed);
     if (refined.converged &&
         ((refined.q - q_goal_).cwiseAbs().maxCoeff() <= config_.path_check_step_rad ||
          PathAllowed(has_via_ ? via_q_ : q, refined.q))) {
@@ -135,7 +135,7 @@ bool ArmServo::UpdateJointGoal(const Eigen::VectorXd& q, double now_s) {
     }
     return false;
   };
-  const IkResult found = ik_.Search(bMg_, seeds, 1u, reachable);
+  const ApproachIkResult found = ik_.Search(bMg_, seeds, 1u, reachable);
   has_goal_ = found.converged;
   if (has_goal_) {
     q_goal_ = found.q;

@@ -57,7 +57,7 @@ struct ServoConfig {
   std::vector<Eigen::VectorXd> via_rad{};
   /// Spacing of the forbidden-predicate checks along the straight path to q*.
   double path_check_step_rad{0.02};    ///< (0, 1] rad
-  IkOptions ik{};                      ///< the joint-goal search
+  ApproachIkOptions ik{};                      ///< the joint-goal search
 
   /// @throws ConfigError "<source>: servo.<field>: ..." for out-of-range values.
   void Validate(const std::string& source) const;
@@ -128,7 +128,7 @@ class ArmServo {
   ServoConfig config_;
   ForbiddenPredicate forbidden_;
   PbvsTask pbvs_;
-  ArmIk ik_;
+  ApproachIk ik_;
   bool has_target_ = false;
   Eigen::Isometry3d bMg_ = Eigen::Isometry3d::Identity();
   double target_stamp_s_ = 0.0;

@@ -32,7 +32,7 @@ void PoseTolerance::Validate(const std::string& source, const std::string& key) 
   CheckRange(source, key + ".roll_rad", roll_rad, 1e-9, M_PI, "rad");
 }
 
-void IkOptions::Validate(const std::string& source, const std::string& key) const {
+void ApproachIkOptions::Validate(const std::string& source, const std::string& key) const {
   CheckRange(source, key + ".iterations_per_seed", iterations_per_seed, 1, 10000, "");
   CheckRange(source, key + ".random_seeds", random_seeds, 0, 10000, "");
   CheckRange(source, key + ".max_step_rad", max_step_rad, 1e-6, 3.0, "rad");
@@ -41,13 +41,13 @@ void IkOptions::Validate(const std::string& source, const std::string& key) cons
   CheckRange(source, key + ".damping.max_damping", damping.max_damping, 1e-9, 1.0, "");
 }
 
-ArmIk::ArmIk(const ArmModel& arm, const IkOptions& options,
+ApproachIk::ApproachIk(const ArmModel& arm, const ApproachIkOptions& options,
              const Eigen::Vector3d& orientation_weights)
     : arm_(arm), options_(options), weights_(orientation_weights) {
   options_.Validate("ik options", "ik");
 }
 
-bool ArmIk::Converged(const ApproachError& error) const {
+bool ApproachIk::Converged(const ApproachError& error) const {
   const PoseTolerance& tol = options_.tolerance;
   if (error.position_b.norm() > tol.position_m) return false;
   if (weights_.head<2>().maxCoeff() > 0.0 && error.approach_rad > tol.approach_rad) return false;
@@ -66,10 +66,10 @@ double Badness(const ApproachError& e) {
 
 }  // namespace
 
-IkResult ArmIk::SolveFrom(const Eigen::Isometry3d& bMg, const Eigen::VectorXd& q_seed,
+ApproachIkResult ApproachIk::SolveFrom(const Eigen::Isometry3d& bMg, const Eigen::VectorXd& q_seed,
                           int max_iterations) const {
   const int n = arm_.dof();
-  IkResult best;
+  ApproachIkResult best;
   best.q = arm_.Clamp(q_seed);
   double best_badness = INFINITY;
   Eigen::VectorXd q = best.q;
@@ -140,11 +140,11 @@ IkResult ArmIk::SolveFrom(const Eigen::Isometry3d& bMg, const Eigen::VectorXd& q
   return best;
 }
 
-IkResult ArmIk::Search(const Eigen::Isometry3d& bMg, const std::vector<Eigen::VectorXd>& seeds,
+ApproachIkResult ApproachIk::Search(const Eigen::Isometry3d& bMg, const std::vector<Eigen::VectorXd>& seeds,
                        unsigned rng_seed,
                        const std::function<bool(const Eigen::VectorXd&)>& accept) const {
   const int n = arm_.dof();
-  IkResult best;
+  ApproachIkResult best;
   best.q = seeds.empty() ? arm_.Clamp(Eigen::VectorXd::Zero(n)) : arm_.Clamp(seeds.front());
   double best_badness = INFINITY;
   int iterations = 0;
@@ -161,7 +161,7 @@ IkResult ArmIk::Search(const Eigen::Isometry3d& bMg, const std::vector<Eigen::Ve
       }
     }
     if (seed.size() != n || !seed.allFinite()) continue;
-    IkResult result = SolveFrom(bMg, seed, options_.iterations_per_seed);
+    ApproachIkResult result = SolveFrom(bMg, seed, options_.iterations_per_seed);
     iterations += result.iterations;
     if (result.converged && (!accept || accept(result.q))) {
       result.iterations = iterations;

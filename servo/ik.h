@@ -43,7 +43,7 @@ struct PoseTolerance {
   void Validate(const std::string& source, const std::string& key) const;
 };
 
-struct IkOptions {
+struct ApproachIkOptions {
   int iterations_per_seed{60};      ///< damped Newton iterations from one seed, [1, 10000]
   int random_seeds{24};             ///< seeds drawn in the limits after the given ones, [0, 10000]
   double max_step_rad{0.4};         ///< largest joint change per iteration, (0, 3] rad
@@ -54,7 +54,7 @@ struct IkOptions {
   void Validate(const std::string& source, const std::string& key) const;
 };
 
-struct IkResult {
+struct ApproachIkResult {
   bool converged = false;
   Eigen::VectorXd q;        ///< the solution (rad), within limits; the best iterate when not converged
   ApproachError error;      ///< at q
@@ -67,22 +67,22 @@ struct IkResult {
 /// (so a joint at a limit does not stall the others). A solution must meet the
 /// position and the weighted orientation: a pose a 4-DoF arm can reach only in
 /// position is unreachable for it.
-class ArmIk {
+class ApproachIk {
  public:
   /// `arm` must outlive the solver. orientation_weights: of the error about the
   /// tool's x, y (approach) and z (roll) axes, [0, 1].
-  ArmIk(const ArmModel& arm, const IkOptions& options,
+  ApproachIk(const ArmModel& arm, const ApproachIkOptions& options,
         const Eigen::Vector3d& orientation_weights = Eigen::Vector3d::Ones());
 
   /// Iterates from one seed (clamped into the limits) toward bMg.
-  IkResult SolveFrom(const Eigen::Isometry3d& bMg, const Eigen::VectorXd& q_seed,
+  ApproachIkResult SolveFrom(const Eigen::Isometry3d& bMg, const Eigen::VectorXd& q_seed,
                      int max_iterations) const;
 
   /// Tries the `seeds` in order, then options.random_seeds seeds drawn uniformly
   /// in the limits from a generator seeded with `rng_seed` (so the search is
   /// repeatable). Returns the first converged solution q* that `accept(q*)`
   /// takes (an empty accept takes any), or the best non-converged iterate.
-  IkResult Search(const Eigen::Isometry3d& bMg, const std::vector<Eigen::VectorXd>& seeds,
+  ApproachIkResult Search(const Eigen::Isometry3d& bMg, const std::vector<Eigen::VectorXd>& seeds,
                   unsigned rng_seed, const std::function<bool(const Eigen::VectorXd&)>& accept) const;
 
   /// The error the solver drives to zero, with weights applied (for tests).
@@ -90,7 +90,7 @@ class ArmIk {
 
  private:
   const ArmModel& arm_;
-  IkOptions options_;
+  ApproachIkOptions options_;
   Eigen::Vector3d weights_;
 };
 

@@ -68,7 +68,7 @@ class ArmIkTest : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(ArmIkTest, SolvesTheForwardKinematicsOfRandomJointsFromFarSeeds) {
   const ArmModel arm = Arm(GetParam());
-  const ArmIk ik(arm, IkOptions{});
+  const ApproachIk ik(arm, ApproachIkOptions{});
   std::mt19937 rng(3);
   int solved = 0;
   for (int trial = 0; trial < 200; ++trial) {
@@ -76,7 +76,7 @@ TEST_P(ArmIkTest, SolvesTheForwardKinematicsOfRandomJointsFromFarSeeds) {
     for (int i = 0; i < arm.dof(); ++i) {
       q_goal[i] = std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(rng);
     }
-    const IkResult r = ik.Search(arm.ForwardKinematics(q_goal), {Eigen::VectorXd::Zero(arm.dof())},
+    const ApproachIkResult r = ik.Search(arm.ForwardKinematics(q_goal), {Eigen::VectorXd::Zero(arm.dof())},
                                  7u, nullptr);
     if (!r.converged) continue;
     ++solved;
@@ -92,28 +92,28 @@ INSTANTIATE_TEST_SUITE_P(Arms, ArmIkTest, ::testing::Values("arm4.urdf", "arm6.u
 
 TEST(ArmIkTest, AFourDofPoseWithAnUnreachableApproachAxisIsNotSolved) {
   const ArmModel arm = Arm("arm4.urdf");
-  const ArmIk ik(arm, IkOptions{});
+  const ApproachIk ik(arm, ApproachIkOptions{});
   Eigen::VectorXd q(4);
   q << 0.2, -0.6, 1.4, 0.3;
   // Same position, approach axis tilted sideways by 0.5 rad: the 4-DoF arm's
   // approach axis is set by its position, so no joints meet both.
   Eigen::Isometry3d bMg = arm.ForwardKinematics(q);
   bMg.linear() = bMg.linear() * Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  const IkResult r = ik.Search(bMg, {q}, 7u, nullptr);
+  const ApproachIkResult r = ik.Search(bMg, {q}, 7u, nullptr);
   EXPECT_FALSE(r.converged);
   EXPECT_TRUE(arm.WithinLimits(r.q));
   // With the approach and roll weights at zero only the position counts.
-  const ArmIk position_only(arm, IkOptions{}, Eigen::Vector3d::Zero());
+  const ApproachIk position_only(arm, ApproachIkOptions{}, Eigen::Vector3d::Zero());
   EXPECT_TRUE(position_only.Search(bMg, {q}, 7u, nullptr).converged);
 }
 
 TEST(ArmIkTest, AcceptRejectsSolutionsAndTheSearchGoesOn) {
   const ArmModel arm = Arm("arm4.urdf");
-  const ArmIk ik(arm, IkOptions{});
+  const ApproachIk ik(arm, ApproachIkOptions{});
   Eigen::VectorXd q(4);
   q << 0.2, -0.6, 1.4, 0.3;
   int asked = 0;
-  const IkResult r = ik.Search(arm.ForwardKinematics(q), {q}, 7u, [&](const Eigen::VectorXd&) {
+  const ApproachIkResult r = ik.Search(arm.ForwardKinematics(q), {q}, 7u, [&](const Eigen::VectorXd&) {
     ++asked;
     return false;
   });
