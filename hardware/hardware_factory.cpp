@@ -151,7 +151,10 @@ void Hardware::StepSimulation(double dt_s) {
   } else if (world_) {
     world_->Step(dt_s);
   }
-  if (px4_) px4_->Spin();
+  if (px4_) {
+    px4_->Spin();
+    if (sim_px4_) sim_px4_->WaitForSetpoints(px4_->setpoints_sent(), 0.2);  // each counts at its own time
+  }
 }
 
 void Hardware::StartDriverThreads() {

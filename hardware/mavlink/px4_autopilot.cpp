@@ -152,6 +152,7 @@ void Px4Autopilot::SendSetpoint() {
   sp.target_system = static_cast<std::uint8_t>(config_.target_system);
   sp.target_component = static_cast<std::uint8_t>(config_.target_component);
   Send(sp);
+  ++setpoints_sent_;
 }
 
 void Px4Autopilot::Spin() {

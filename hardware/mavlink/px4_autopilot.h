@@ -92,6 +92,8 @@ class Px4Autopilot : public Autopilot {
   mavlink::ParserCounters parser_counters() const;
   /// COMMAND_LONGs sent, retries included.
   std::int64_t commands_sent() const;
+  /// SET_POSITION_TARGET_LOCAL_NED frames sent (the offboard stream).
+  std::int64_t setpoints_sent() const { return setpoints_sent_; }
 
  private:
   struct Ack {
@@ -119,6 +121,7 @@ class Px4Autopilot : public Autopilot {
   std::map<std::uint16_t, Ack> acks_;
   std::int64_t ack_serial_ = 0;
   std::int64_t commands_sent_ = 0;
+  std::atomic<std::int64_t> setpoints_sent_{0};
   mavlink::ParserCounters counters_;
   bool armed_ = false;
   std::uint32_t custom_mode_ = 0;

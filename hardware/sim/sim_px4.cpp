@@ -1,5 +1,7 @@
 #include "hardware/sim/sim_px4.h"
 
+#include <chrono>
+
 #include <cmath>
 
 #include "hardware/rgbd_camera.h"  // HardwareError
@@ -90,13 +92,15 @@ void SimPx4::Handle(const mavlink::Frame& frame) {
   } else if (frame.msgid == mavlink::SetPositionTargetLocalNed::kId) {
     const auto sp = mavlink::Unpack<mavlink::SetPositionTargetLocalNed>(frame);
     if (sp.target_system != config_.system_id || sp.coordinate_frame != mavlink::kFrameLocalNed) return;
-    ++setpoints_received_;
-    std::lock_guard<std::mutex> lock(world_mutex_);
-    last_setpoint_s_ = world_->now_s();
-    last_setpoint_ = sp;
-    if (world_->vehicle().State().mode == FlightMode::kOffboard) {
-      world_->vehicle().SetPositionTarget(world_->now_s(), Eigen::Vector3d(sp.x, sp.y, sp.z), sp.yaw);
+    {
+      std::lock_guard<std::mutex> lock(world_mutex_);
+      last_setpoint_s_ = world_->now_s();
+      last_setpoint_ = sp;
+      if (world_->vehicle().State().mode == FlightMode::kOffboard) {
+        world_->vehicle().SetPositionTarget(world_->now_s(), Eigen::Vector3d(sp.x, sp.y, sp.z), sp.yaw);
+      }
     }
+    ++setpoints_received_;  // after the world has it: WaitForSetpoints relies on this order
   }
 }
 
@@ -155,6 +159,15 @@ void SimPx4::HandleCommand(const mavlink::CommandLong& command) {
   ack.result = result.accepted ? std::uint8_t{mavlink::kResultAccepted} : refusal;
   ack.target_system = 0;  // PX4 leaves it 0 for commands from the companion
   Send(ack);
+}
+
+bool SimPx4::WaitForSetpoints(std::int64_t count, double timeout_s) const {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (setpoints_received_ < count) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(std::chrono::microseconds(100));
+  }
+  return true;
 }
 
 void SimPx4::StepWorld(double dt_s) {

@@ -61,6 +61,11 @@ class SimPx4 {
   void DropNextCommands(int count) { drop_commands_ = count; }
   std::int64_t commands_received() const { return commands_received_; }
   std::int64_t setpoints_received() const { return setpoints_received_; }
+  /// Waits (wall clock, at most timeout_s) until `count` setpoints have been
+  /// handled. A simulated run calls it after the client's turn so that each
+  /// setpoint counts at the simulated time it was sent, however loaded the
+  /// machine is. Returns false on timeout.
+  bool WaitForSetpoints(std::int64_t count, double timeout_s) const;
   std::int64_t frames_rejected() const;
 
  private:
