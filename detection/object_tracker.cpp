@@ -1,19 +1,13 @@
 #include "detection/object_tracker.h"
 
-#include <time.h>
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
+#include "core/thread_clock.h"
+
 namespace aerograsp {
 namespace {
-
-double ThreadCpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
-}
 
 void Require(bool ok, const char* field, const char* what) {
   if (!ok) throw std::invalid_argument(std::string("perception.") + field + ": " + what);
@@ -111,7 +105,7 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color, co
   const double t0 = ThreadCpuMs();
   if (seed) {
     // Tracking: the prediction is close, a short slide search will do.
-    const double slide_m = ekf_.initialized() && monitor_.state() == TrackState::kFound ? 0.01 : 0.04;
+    const double slide_m = ekf_.initialized() && monitor_.state() == TrackState::kFound ? 0.004 : 0.04;
     const IcpResult icp = Register(cloud, color, depth, depth_scale_m, K, *seed, slide_m);
     report->icp = icp;
     if (icp.ok) {

@@ -35,7 +35,7 @@ struct SceneCloud {
 };
 
 struct SceneCloudOptions {
-  int target_points = 1500;       ///< subsample to about this many points, [50, 100000]
+  int target_points = 1000;       ///< subsample to about this many points, [50, 100000]
   double min_depth_m = 0.15;      ///< ignore nearer depth, m
   double max_depth_m = 3.0;       ///< ignore farther depth, m
   double normal_radius_m = 0.015; ///< neighbourhood of the normal fit, m

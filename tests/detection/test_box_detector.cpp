@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <unistd.h>
 
 namespace aerograsp {
 namespace {
@@ -88,7 +89,8 @@ TEST(BoxDecodingTest, BadMapsGiveNothing) {
 TEST(BoxDetectorTest, MissingOrCorruptModelIsAClearError) {
   EXPECT_THAT([] { BoxDetector d("/nonexistent/detector.onnx"); },
               ::testing::ThrowsMessage<std::runtime_error>(::testing::HasSubstr("no such detector model")));
-  const std::string path = (std::filesystem::temp_directory_path() / "aerograsp_corrupt.onnx").string();
+  const std::string path =
+      (std::filesystem::temp_directory_path() / ("aerograsp_corrupt_" + std::to_string(getpid()) + ".onnx")).string();
   std::ofstream(path) << "not an onnx file";
   EXPECT_THAT([&] { BoxDetector d(path); },
               ::testing::ThrowsMessage<std::runtime_error>(::testing::HasSubstr("cannot load the detector model")));
