@@ -73,7 +73,7 @@ void DrawMesh(const TriangleMesh& mesh, const Eigen::Isometry3d& dMo, const View
 
 }  // namespace
 
-void WriteGraspPlot(const ObjectModel& object, const ContactSet& contacts,
+void WriteGraspPlot(const GraspObject& object, const ContactSet& contacts,
                     const std::vector<DualGrasp>& ranked, int count, const Eigen::Isometry3d& dMo,
                     const std::string& png_path) {
   double radius = 0.0;

@@ -14,7 +14,7 @@ namespace aerograsp {
 /// with the object at dMo (the view looks along the body's forward axis from
 /// above and to the side). Writes a PNG.
 /// @throws std::runtime_error naming the path when it cannot be written.
-void WriteGraspPlot(const ObjectModel& object, const ContactSet& contacts,
+void WriteGraspPlot(const GraspObject& object, const ContactSet& contacts,
                     const std::vector<DualGrasp>& ranked, int count,
                     const Eigen::Isometry3d& dMo, const std::string& png_path);
 

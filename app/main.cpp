@@ -7,9 +7,11 @@
 
 #include "app/calibrate_command.h"
 #include "app/hardware_check_command.h"
+#include "app/dataset_command.h"
 #include "app/plan_command.h"
 #include "app/record_command.h"
 #include "app/render_benchmark.h"
+#include "app/replay_command.h"
 #include "app/robot_command.h"
 #include "app/servo_benchmark.h"
 #include "app/servo_bus_benchmark.h"
@@ -132,6 +134,32 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(4, 100));
   calibrate_cmd->add_option("--seed", calibrate.seed, "World and pose-planning seed")->capture_default_str();
   calibrate_cmd->add_option("--world", calibrate.world_config, "World YAML")->check(CLI::ExistingFile);
+  // ---- replay and dataset: perception (issue 4) ----
+  aerograsp::ReplayCommandOptions replay;
+  std::vector<double> replay_init;
+  CLI::App* replay_cmd = app.add_subcommand(
+      "replay", "Run perception on a recorded sequence: poses.csv, summary.json, plots; ViSP's tracker beside it");
+  replay_cmd->add_option("sequence", replay.sequence, "Sequence folder")->required()->check(CLI::ExistingDirectory);
+  replay_cmd->add_option("--out", replay.out_dir, "Output folder")->required();
+  replay_cmd->add_option("--object", replay.object, "Object (shipped name or model path) [from sequence.yaml]");
+  replay_cmd->add_option("--detector", replay.detector, "Detector ONNX [data/objects/NAME/detector.onnx]");
+  replay_cmd->add_flag("!--no-detector", replay.use_detector, "No CNN: global registration on the whole frame");
+  replay_cmd->add_option("--init-pose", replay_init, "Known first cMo: x y z (m) qw qx qy qz")->expected(7);
+  replay_cmd->add_flag("--init-from-truth", replay.init_from_truth, "Known first cMo from groundtruth.csv");
+  replay_cmd->add_flag("!--no-peer", replay.run_peer, "Do not run ViSP's vpMbGenericTracker beside ours");
+  replay_cmd->add_option("--frames", replay.max_frames, "Process at most this many frames (0: all)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+
+  aerograsp::DatasetCommandOptions dataset;
+  CLI::App* dataset_cmd = app.add_subcommand(
+      "dataset", "Render labelled detector training images of an object (160x120 PNG + labels.csv)");
+  dataset_cmd->add_option("--object", dataset.object, "Shipped object name or model path")->required();
+  dataset_cmd->add_option("--out", dataset.out_dir, "Output folder")->required();
+  dataset_cmd->add_option("--count", dataset.count, "Images")->capture_default_str()->check(CLI::Range(1, 1000000));
+  dataset_cmd->add_option("--seed", dataset.seed, "Seed (same seed, same images)")->capture_default_str();
+  dataset_cmd->add_flag("--overwrite", dataset.overwrite, "Replace a dataset already in --out");
+  // ---- end replay and dataset ----
 
   try {
     app.parse(argc, argv);
@@ -152,6 +180,11 @@ int main(int argc, char** argv) {
       aerograsp::RunPlanCommand(plan, std::cout);
     }
     if (*servo_benchmark_cmd) aerograsp::RunServoBenchmark(servo_benchmark, std::cout);
+    if (*replay_cmd) {
+      if (!replay_init.empty()) replay.init_cMo = aerograsp::PoseFromValues(replay_init);
+      aerograsp::RunReplayCommand(replay, std::cout, std::cerr);
+    }
+    if (*dataset_cmd) aerograsp::RunDatasetCommand(dataset, std::cout, std::cerr);
   } catch (const std::exception& e) {
     std::cerr << "aerograsp: error: " << e.what() << "\n";
     return 1;

@@ -38,8 +38,8 @@ double Median(std::vector<double> v) {
 }
 
 /// A shipped object by name (data/objects/NAME/object.yaml) or a mesh file.
-ObjectModel LoadObject(const PlanCommandOptions& options, std::string* source) {
-  ObjectModel object;
+GraspObject LoadObject(const PlanCommandOptions& options, std::string* source) {
+  GraspObject object;
   const std::string yaml = DataPath("objects/" + options.object + "/object.yaml");
   const bool is_name = options.object.find('/') == std::string::npos &&
                        fs::path(options.object).extension().empty();
@@ -153,7 +153,7 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
   const Platform platform = Platform::Load(options.config_path);
   const GripperConfig& gripper = platform.config().gripper;
   std::string mesh_source;
-  ObjectModel object = LoadObject(options, &mesh_source);
+  GraspObject object = LoadObject(options, &mesh_source);
   GraspPlannerConfig config;
   config.contacts.resolution_m = options.resolution_m;
   config.Validate("command line", gripper);

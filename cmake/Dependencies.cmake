@@ -15,7 +15,7 @@ find_package(nlohmann_json 3 REQUIRED)
 find_package(urdfdom REQUIRED)
 find_package(fcl REQUIRED)
 find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs dnn calib3d)
-find_package(VISP REQUIRED COMPONENTS visp_core visp_vision visp_vs visp_detection)
+find_package(VISP REQUIRED COMPONENTS visp_core visp_vision visp_vs visp_detection visp_mbt)
 find_package(apriltag REQUIRED)
 find_package(embree 3 REQUIRED)
 # Qhull's config exports Qhull::qhull_r (reentrant C library, used by grasp quality).

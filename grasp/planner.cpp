@@ -59,7 +59,7 @@ void GraspPlannerConfig::Validate(const std::string& source, const GripperConfig
   CheckRange(source, "switch_margin", switch_margin, 0.0, 10.0, "");
 }
 
-GraspPlanner::GraspPlanner(const Platform& platform, ObjectModel object, ContactSet contacts,
+GraspPlanner::GraspPlanner(const Platform& platform, GraspObject object, ContactSet contacts,
                            const GraspPlannerConfig& config)
     : dMb_{platform.dMb(Side::kLeft), platform.dMb(Side::kRight)},
       object_(std::move(object)),

@@ -53,7 +53,10 @@ struct GraspPlannerConfig {
 
 /// The object as the planner needs it (from data/objects/NAME/object.yaml or a
 /// bare mesh, whose centre of mass is then computed at uniform density).
-struct ObjectModel {
+/// Not named ObjectModel: core/object_model.h has that name, and two classes of
+/// one name in one program break the one-definition rule (the linker keeps one
+/// inline destructor for both, which corrupts the heap).
+struct GraspObject {
   std::string name;
   TriangleMesh mesh_o;                            ///< closed, metres, frame o
   double mass_kg = 0.0;
@@ -149,14 +152,14 @@ class GraspPlanner {
   /// support table, and builds the object's collision model.
   /// @throws ConfigError from config.Validate; std::invalid_argument when the
   /// platform's arms have different joint counts or the mesh is empty.
-  GraspPlanner(const Platform& platform, ObjectModel object, ContactSet contacts,
+  GraspPlanner(const Platform& platform, GraspObject object, ContactSet contacts,
                const GraspPlannerConfig& config);
   ~GraspPlanner();
   GraspPlanner(const GraspPlanner&) = delete;
   GraspPlanner& operator=(const GraspPlanner&) = delete;
 
   const ContactSet& contacts() const { return contacts_; }
-  const ObjectModel& object() const { return object_; }
+  const GraspObject& object() const { return object_; }
   const GraspPlannerConfig& config() const { return config_; }
   double torque_scale_m() const { return torque_scale_m_; }
 
@@ -181,7 +184,7 @@ class GraspPlanner {
 
  private:
   Eigen::Isometry3d dMb_[2];
-  ObjectModel object_;
+  GraspObject object_;
   ContactSet contacts_;
   GraspPlannerConfig config_;
   double torque_scale_m_ = 1.0;

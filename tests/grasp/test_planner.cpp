@@ -17,8 +17,8 @@ Platform LoadPlatform() {
   return Platform::Load(std::string(AEROGRASP_DATA_DIR) + "/config/platform_4dof.yaml");
 }
 
-ObjectModel Box(const Eigen::Vector3d& size) {
-  ObjectModel o;
+GraspObject Box(const Eigen::Vector3d& size) {
+  GraspObject o;
   o.name = "box";
   o.mesh_o = test::BoxMesh(size);
   o.mass_kg = 0.3;
@@ -36,7 +36,7 @@ Eigen::Isometry3d PlaceAtTool(const Platform& p, const Eigen::VectorXd& q_left, 
 
 TEST(GraspPlannerTest, ArmReachesABoxPlacedAtItsOwnTool) {
   const Platform platform = LoadPlatform();
-  const ObjectModel box = Box(Eigen::Vector3d(0.05, 0.05, 0.05));
+  const GraspObject box = Box(Eigen::Vector3d(0.05, 0.05, 0.05));
   ContactSet contacts = ComputeContactPairs(box.mesh_o, platform.config().gripper, ContactOptions{});
   const GraspPlanner planner(platform, box, contacts, GraspPlannerConfig{});
   Eigen::VectorXd q(4);
@@ -77,8 +77,8 @@ class ShippedPlanTest : public ::testing::Test {
     query_.q_left = platform_.home(Side::kLeft);
     query_.q_right = platform_.home(Side::kRight);
   }
-  static ObjectModel UShape() {
-    ObjectModel o;
+  static GraspObject UShape() {
+    GraspObject o;
     o.name = "u_shape";
     o.mesh_o = LoadClosedMesh(std::string(AEROGRASP_DATA_DIR) + "/objects/u_shape/u_shape.ply");
     o.mass_kg = 0.3;
@@ -86,7 +86,7 @@ class ShippedPlanTest : public ::testing::Test {
     return o;
   }
   Platform platform_;
-  ObjectModel object_;
+  GraspObject object_;
   GraspPlanner planner_;
   PlanQuery query_;
 };

@@ -1,0 +1,207 @@
+#include "app/dataset_command.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <climits>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+#include "app/progress.h"
+#include "core/data_dir.h"
+#include "core/object_model.h"
+#include "core/random.h"
+#include "core/shape_mesh.h"
+#include "core/transforms.h"
+#include "detection/box_detector.h"
+#include "hardware/sim/d435_model.h"
+#include "hardware/sim/rgbd_renderer.h"
+#include "hardware/sim/scene.h"
+#include "hardware/sim/world_config.h"
+
+namespace aerograsp {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr int kImagesPerScene = 200;  // a new static scene (clutter, ground) every so many images
+constexpr int kOccluders = 3;
+constexpr int kDistractors = 2;
+
+Eigen::Matrix3d RandomRotation(FastRandom* rng) {
+  Eigen::Quaterniond q(rng->Normal(), rng->Normal(), rng->Normal(), rng->Normal());
+  return q.normalized().toRotationMatrix();
+}
+
+/// wRc with the optical axis z along dir_w, image y as close to world down (+z, NED) as possible.
+Eigen::Matrix3d LookAlong(const Eigen::Vector3d& dir_w) {
+  const Eigen::Vector3d z = dir_w.normalized();
+  Eigen::Vector3d down(0, 0, 1);
+  Eigen::Vector3d y = down - down.dot(z) * z;
+  if (y.norm() < 1e-3) y = Eigen::Vector3d(1, 0, 0) - z.x() * z;
+  y.normalize();
+  Eigen::Matrix3d R;
+  R.col(0) = y.cross(z);
+  R.col(1) = y;
+  R.col(2) = z;
+  return R;
+}
+
+RenderMesh Tinted(const RenderMesh& mesh, FastRandom* rng) {
+  RenderMesh m = mesh;
+  for (int c = 0; c < 3; ++c) m.material.albedo[c] = static_cast<float>(rng->Uniform(0.8, 1.15));
+  return m;
+}
+
+}  // namespace
+
+void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out, std::ostream& progress) {
+  if (options.count < 1) throw std::invalid_argument("--count: must be at least 1");
+  const ObjectModel object = ObjectModel::Load(options.object);
+  const fs::path dir(options.out_dir);
+  if (fs::exists(dir / "labels.csv")) {
+    if (!options.overwrite) throw std::runtime_error(options.out_dir + ": holds a dataset already (use --overwrite)");
+    fs::remove_all(dir / "images");
+    fs::remove(dir / "labels.csv");
+  }
+  fs::create_directories(dir / "images");
+  std::ofstream labels(dir / "labels.csv");
+  if (!labels) throw std::runtime_error((dir / "labels.csv").string() + ": cannot be written");
+  labels << "index,visible,x0,y0,x1,y1,object_pixels\n";
+
+  const WorldConfig world = WorldConfig::Load(DataPath("config/world_default.yaml"));
+  const CameraIntrinsics K;  // the D435 colour stream at 640x480 (FACTS.md)
+  // Distractors: the other shipped objects.
+  std::vector<RenderMesh> distractor_meshes;
+  for (const std::string& name : ShippedObjectNames()) {
+    if (name == object.name) continue;
+    RenderMesh m;
+    m.mesh = ObjectModel::Load(name).mesh_o;
+    distractor_meshes.push_back(m);
+  }
+  RenderMesh object_mesh;
+  object_mesh.mesh = object.mesh_o;
+
+  FastRandom rng(options.seed * 0x9E3779B97F4A7C15ull + 17);
+  std::unique_ptr<RgbdRenderer> renderer;
+  int object_id = -1;
+  std::vector<int> occluder_ids, distractor_ids;
+  RenderBuffers truth;
+  RgbdFrame frame;
+  Progress bar(progress, "dataset", options.count, "images");
+  int visible_count = 0;
+  for (int i = 0; i < options.count; ++i) {
+    if (i % kImagesPerScene == 0) {
+      renderer = std::make_unique<RgbdRenderer>();
+      SceneConfig scene = world.scene;
+      scene.clutter_count = 10 + static_cast<int>(rng.Uniform(0.0, 30.0));
+      scene.clutter_radius_m = rng.Uniform(1.5, 5.0);
+      scene.pipe_radius_m = rng.Uniform(0.04, 0.15);
+      for (const RenderMesh& m : BuildStaticScene(scene, options.seed * 1000003ull + i)) {
+        renderer->AddMesh(m, RgbdRenderer::Motion::kStatic);
+      }
+      object_id = renderer->AddMesh(Tinted(object_mesh, &rng));
+      occluder_ids.clear();
+      distractor_ids.clear();
+      for (int k = 0; k < kOccluders; ++k) {
+        RenderMesh occluder;
+        occluder.mesh = k % 2 ? MakeBoxMesh(Eigen::Vector3d(rng.Uniform(0.03, 0.3), rng.Uniform(0.03, 0.3), rng.Uniform(0.02, 0.1)))
+                              : MakeCylinderMesh(rng.Uniform(0.01, 0.06), rng.Uniform(0.2, 0.8));
+        occluder.material.albedo = Eigen::Vector3f(rng.Uniform(0.1, 1.0), rng.Uniform(0.1, 1.0), rng.Uniform(0.1, 1.0));
+        occluder_ids.push_back(renderer->AddMesh(occluder));
+      }
+      for (const RenderMesh& d : distractor_meshes) distractor_ids.push_back(renderer->AddMesh(d));
+    }
+    // The object near the pipe, upright-ish most of the time.
+    const Eigen::Vector3d pipe = world.scene.pipe_center_w_m;
+    Eigen::Isometry3d wMo = Eigen::Isometry3d::Identity();
+    wMo.translation() = pipe + Eigen::Vector3d(rng.Uniform(-1.0, 1.0), rng.Uniform(-0.6, 0.6), rng.Uniform(-0.5, 1.0));
+    if (rng.Uniform() < 0.6) {
+      // z up in o is -z in NED: roll pi, then yaw and a small tilt.
+      wMo.linear() = RotationFromRpy(Eigen::Vector3d(M_PI + rng.Uniform(-0.3, 0.3), rng.Uniform(-0.3, 0.3),
+                                                     rng.Uniform(-M_PI, M_PI)));
+    } else {
+      wMo.linear() = RandomRotation(&rng);
+    }
+    renderer->SetPose(object_id, wMo);
+    // The camera: distance 0.3-2.5 m (more samples near), above the object.
+    const double distance = 0.3 + 2.2 * std::pow(rng.Uniform(), 1.3);
+    const double azimuth = rng.Uniform(-M_PI, M_PI), elevation = rng.Uniform(0.05, 1.45);
+    const Eigen::Vector3d to_camera(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                                    -std::sin(elevation));
+    Eigen::Isometry3d wMc = Eigen::Isometry3d::Identity();
+    wMc.translation() = wMo.translation() + distance * to_camera;
+    // Put the object at a random pixel (10 % of the images: out of view).
+    const bool out_of_view = rng.Uniform() < 0.1;
+    const double u = out_of_view ? (rng.Uniform() < 0.5 ? -400.0 : 1040.0) : rng.Uniform(-20.0, K.width + 20.0);
+    const double v = rng.Uniform(-20.0, K.height + 20.0);
+    const Eigen::Vector3d d_c = K.Unproject(u, v, 1.0).normalized();
+    const Eigen::Matrix3d Q = Eigen::Quaterniond::FromTwoVectors(d_c, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Matrix3d roll = Eigen::AngleAxisd(rng.Uniform(-0.4, 0.4), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    wMc.linear() = LookAlong(-to_camera) * roll * Q;
+    // Occluders between the camera and the object (sometimes), else far away.
+    for (int id : occluder_ids) {
+      Eigen::Isometry3d wMk = Eigen::Isometry3d::Identity();
+      wMk.linear() = RandomRotation(&rng);
+      if (rng.Uniform() < 0.3) {
+        const double f = rng.Uniform(0.3, 0.8);
+        wMk.translation() = wMc.translation() * (1.0 - f) + wMo.translation() * f +
+                            Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal()) * 0.08 * distance;
+      } else {
+        wMk.translation() = Eigen::Vector3d(0, 0, 100.0);
+      }
+      renderer->SetPose(id, wMk);
+    }
+    for (int id : distractor_ids) {
+      Eigen::Isometry3d wMk = Eigen::Isometry3d::Identity();
+      wMk.linear() = RandomRotation(&rng);
+      wMk.translation() = rng.Uniform() < 0.4 ? wMo.translation() + Eigen::Vector3d(rng.Uniform(-0.8, 0.8),
+                                                                                  rng.Uniform(-0.8, 0.8), rng.Uniform(-0.3, 0.3))
+                                              : Eigen::Vector3d(0, 0, 100.0);
+      renderer->SetPose(id, wMk);
+    }
+    Lighting lighting;
+    const double az = rng.Uniform(-M_PI, M_PI), el = rng.Uniform(0.3, 1.5);
+    lighting.to_light_w = Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), -std::sin(el));
+    lighting.intensity = rng.Uniform(0.3, 1.3);
+    lighting.ambient = rng.Uniform(0.15, 0.6);
+    lighting.background = Eigen::Vector3f(rng.Uniform(0.3, 0.95), rng.Uniform(0.3, 0.95), rng.Uniform(0.4, 1.0));
+    renderer->Render(wMc, K, lighting, &truth);
+    SimulateD435(world.camera.d435, K, truth, &rng, &frame);
+
+    PixelBox box{INT_MAX, INT_MAX, INT_MIN, INT_MIN};
+    int pixels = 0;
+    for (int y = 0; y < K.height; ++y) {
+      for (int x = 0; x < K.width; ++x) {
+        if (truth.object_id.at(x, y) != object_id) continue;
+        ++pixels;
+        box = {std::min(box.x0, x), std::min(box.y0, y), std::max(box.x1, x + 1), std::max(box.y1, y + 1)};
+      }
+    }
+    const bool visible = pixels >= options.min_object_pixels;
+    visible_count += visible;
+    const ColorImage input = DetectorInput(frame.color);
+    const cv::Mat rgb(input.height, input.width, CV_8UC3, const_cast<std::uint8_t*>(input.data.data()));
+    cv::Mat bgr;
+    cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+    const std::string path = (dir / "images" / fmt::format("{:06d}.png", i)).string();
+    if (!cv::imwrite(path, bgr)) throw std::runtime_error(path + ": cannot be written");
+    const double sx = double(kDetectorInputWidth) / K.width, sy = double(kDetectorInputHeight) / K.height;
+    if (visible) {
+      labels << fmt::format("{},1,{:.2f},{:.2f},{:.2f},{:.2f},{}\n", i, box.x0 * sx, box.y0 * sy, box.x1 * sx,
+                            box.y1 * sy, pixels);
+    } else {
+      labels << fmt::format("{},0,0,0,0,0,{}\n", i, pixels);
+    }
+    bar.Update(i + 1);
+  }
+  bar.Finish();
+  if (!labels) throw std::runtime_error((dir / "labels.csv").string() + ": cannot be written");
+  out << fmt::format("dataset: {} images of {} in {} ({} with the object visible), seed {}\n", options.count,
+                     object.name, options.out_dir, visible_count, options.seed);
+}
+
+}  // namespace aerograsp

@@ -1,0 +1,32 @@
+// `aerograsp dataset --object NAME --out DIR --count N --seed S`: labelled
+// training images for the object's detector, rendered by the simulator's
+// renderer with the D435 colour model: random camera pose around the object
+// (distance 0.3-2.5 m, the object anywhere in the image, sometimes cut by the
+// border or out of view), random object pose and tint, lighting, sky colour,
+// clutter, other objects as distractors, and occluders in front. Writes
+//   DIR/images/NNNNNN.png  the network input (160x120 RGB, DetectorInput())
+//   DIR/labels.csv         index, visible, x0, y0, x1, y1 (box of the visible
+//                          object pixels in the 160x120 image), object_pixels (640x480)
+// The label comes from the renderer's exact object-id mask.
+#pragma once
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+
+namespace aerograsp {
+
+struct DatasetCommandOptions {
+  std::string object;        ///< shipped name or model path
+  std::string out_dir;
+  int count = 1000;          ///< images, [1, 1e6]
+  std::uint64_t seed = 1;    ///< the same seed gives the same images
+  bool overwrite = false;    ///< replace an existing dataset in out_dir
+  int min_object_pixels = 60;  ///< fewer visible object pixels (640x480) count as "not visible"
+};
+
+/// @throws ConfigError / MeshError naming the object; std::runtime_error when
+/// DIR holds a dataset and overwrite is false, or cannot be written.
+void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out, std::ostream& progress);
+
+}  // namespace aerograsp

@@ -1,0 +1,23 @@
+// The replay's plot (paper Fig. 12): estimate vs ground truth over time for the
+// position x, y, z of cMo, the (symmetry-aware) rotation error, and the
+// found/lost timeline; drawn with OpenCV into a PNG.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace aerograsp {
+
+struct PoseTrace {
+  std::string name;                 ///< legend text
+  std::vector<double> stamp_s;
+  std::vector<double> x_m, y_m, z_m;  ///< NaN where there is no value
+  std::vector<double> rotation_error_deg;  ///< NaN where there is no truth or no estimate
+  std::vector<int> found;           ///< 1 found, 0 lost (optional: may be empty)
+};
+
+/// `truth` has positions only; every trace shares its time axis.
+/// @throws std::runtime_error when the file cannot be written.
+void WritePosePlot(const PoseTrace& truth, const std::vector<PoseTrace>& estimates, const std::string& path);
+
+}  // namespace aerograsp

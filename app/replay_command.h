@@ -1,0 +1,42 @@
+// `aerograsp replay SEQUENCE --out DIR`: runs the perception pipeline frame by
+// frame on a recorded sequence (hardware/sequence.h) and writes
+//   DIR/poses.csv      frame, stamp_s, cMo (t in m, q as w x y z), confidence, state, ...
+//   DIR/summary.json   frames, timings per stage, and accuracy against the
+//                      ground truth when the sequence has it
+//   DIR/pose_vs_truth.png  estimate vs truth per axis over time (paper Fig. 12)
+// Beside ours it runs ViSP's model-based tracker with dense depth features
+// (vpMbGenericTracker), initialised the same way, and reports it the same way.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace aerograsp {
+
+struct ReplayCommandOptions {
+  std::string sequence;          ///< sequence folder
+  std::string out_dir;           ///< created; poses.csv, summary.json, pose_vs_truth.png
+  std::string object;            ///< overrides the sequence's object (shipped name or model path)
+  std::string detector;          ///< ONNX path; "" = data/objects/NAME/detector.onnx when it exists
+  bool use_detector = true;      ///< false: whole-frame global registration, no CNN
+  std::optional<Eigen::Isometry3d> init_cMo;  ///< known first pose
+  bool init_from_truth = false;  ///< take the first frame's ground truth as the known first pose
+  bool run_peer = true;          ///< also run ViSP's vpMbGenericTracker (dense depth)
+  int max_frames = 0;            ///< 0 = all
+};
+
+/// Reads "x y z qw qx qy qz" (metres, unit quaternion w first) as cMo.
+/// @throws std::invalid_argument for a wrong count, non-numbers or a zero quaternion.
+Eigen::Isometry3d ParsePose(const std::string& text);
+/// The same from the seven numbers.
+Eigen::Isometry3d PoseFromValues(const std::vector<double>& xyz_qwxyz);
+
+/// @throws HardwareError / ConfigError / MeshError naming the file (missing or
+/// truncated sequence, unknown object, corrupt detector model), std::runtime_error
+/// when DIR cannot be written.
+void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, std::ostream& progress);
+
+}  // namespace aerograsp

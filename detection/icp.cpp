@@ -1,0 +1,145 @@
+#include "detection/icp.h"
+
+#include "core/transforms.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+namespace aerograsp {
+
+float ColorDistance(const Eigen::Vector3f& rgb_a, const Eigen::Vector3f& rgb_b) {
+  const Eigen::Vector3f a = rgb_a * (384.0f / std::max(rgb_a.sum(), 1.0f));
+  const Eigen::Vector3f b = rgb_b * (384.0f / std::max(rgb_b.sum(), 1.0f));
+  return (a - b).cwiseAbs().sum();
+}
+
+Rejection ClassifyPair(const Eigen::Vector3f& p, const Eigen::Vector3f& n_p, const Eigen::Vector3f& rgb_p,
+                       const Eigen::Vector3f& q, const Eigen::Vector3f& n_q, const Eigen::Vector3f& rgb_q,
+                       const RejectorThresholds& thresholds) {
+  // Eq. 1: Euclidean distance.
+  if ((p - q).squaredNorm() > thresholds.max_distance_m * thresholds.max_distance_m) return Rejection::kDistance;
+  // Eq. 2: cosine of the angle between the normals (a zero normal could not be fitted).
+  if (thresholds.min_normal_cos > -1.0 && !n_p.isZero() && n_p.dot(n_q) < thresholds.min_normal_cos) {
+    return Rejection::kNormal;
+  }
+  // Eq. 3: L1 colour distance.
+  if (thresholds.max_color_distance < 768.0 && ColorDistance(rgb_p, rgb_q) > thresholds.max_color_distance) {
+    return Rejection::kColor;
+  }
+  return Rejection::kNone;
+}
+
+namespace {
+
+struct PassStats {
+  int inliers = 0, no_model = 0, distance = 0, normal = 0, color = 0;
+  double sum_r2 = 0.0;
+  Eigen::Matrix3d normal_scatter = Eigen::Matrix3d::Zero();  // sum n n^T of the inliers (frame o)
+};
+
+/// One association pass at oMc: classifies every scene point and, when H and g
+/// are given, accumulates the point-to-plane normal equations in frame o.
+PassStats Associate(const ModelCloud& model, const SceneCloud& scene, const Eigen::Isometry3f& oMc,
+                    double max_distance_m, const IcpOptions& options, Eigen::Matrix<double, 6, 6>* H,
+                    Eigen::Matrix<double, 6, 1>* g) {
+  PassStats stats;
+  RejectorThresholds thresholds;
+  thresholds.min_normal_cos = options.min_normal_cos;
+  thresholds.max_color_distance = options.max_color_distance;
+  const Eigen::Matrix3f oRc = oMc.linear();
+  for (std::size_t i = 0; i < scene.points_c.size(); ++i) {
+    const Eigen::Vector3f p = oMc * scene.points_c[i];
+    const int j = model.Nearest(p);
+    if (j < 0) {
+      ++stats.no_model;
+      continue;
+    }
+    const double z = scene.points_c[i].z();
+    thresholds.max_distance_m = std::max(max_distance_m, 3.0 * options.depth_noise_per_m2 * z * z);
+    const Eigen::Vector3f& q = model.points_o[j];
+    const Eigen::Vector3f& n = model.normals_o[j];
+    switch (ClassifyPair(p, oRc * scene.normals_c[i], scene.colors[i], q, n, model.colors[j], thresholds)) {
+      case Rejection::kNone: break;
+      case Rejection::kNoModelPoint: ++stats.no_model; continue;
+      case Rejection::kDistance: ++stats.distance; continue;
+      case Rejection::kNormal: ++stats.normal; continue;
+      case Rejection::kColor: ++stats.color; continue;
+    }
+    ++stats.inliers;
+    const double r = (p - q).dot(n);
+    stats.sum_r2 += r * r;
+    if (!H) stats.normal_scatter += (n * n.transpose()).cast<double>();
+    if (H) {
+      Eigen::Matrix<double, 6, 1> J;
+      J.head<3>() = p.cross(n).cast<double>();
+      J.tail<3>() = n.cast<double>();
+      H->selfadjointView<Eigen::Upper>().rankUpdate(J);
+      *g += J * r;
+      if (options.point_to_point_weight > 0.0) {
+        // d(p + w x p + v - q) = [-[p]x, I] [w; v]: pins sliding along flat faces.
+        const Eigen::Vector3d pd = p.cast<double>(), e = (p - q).cast<double>();
+        Eigen::Matrix<double, 3, 6> Jp;
+        Jp.leftCols<3>() = -Skew(pd);
+        Jp.rightCols<3>().setIdentity();
+        H->noalias() += options.point_to_point_weight * Jp.transpose() * Jp;
+        *g += options.point_to_point_weight * Jp.transpose() * e;
+      }
+    }
+  }
+  return stats;
+}
+
+}  // namespace
+
+IcpResult RefinePoseIcp(const ModelCloud& model, const SceneCloud& scene, const Eigen::Isometry3d& cMo_init,
+                        const IcpOptions& options) {
+  IcpResult result;
+  result.cMo = cMo_init;
+  result.scene_points = static_cast<int>(scene.points_c.size());
+  if (scene.empty() || model.points_o.empty() || !cMo_init.matrix().allFinite()) return result;
+
+  Eigen::Isometry3d oMc = cMo_init.inverse();
+  const int n_it = std::max(1, options.max_iterations);
+  double distance_m = options.start_distance_m;
+  const double shrink = n_it > 1 ? std::pow(options.end_distance_m / options.start_distance_m, 1.0 / (n_it - 1)) : 1.0;
+  for (int it = 0; it < n_it; ++it, distance_m *= shrink) {
+    Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+    const PassStats stats = Associate(model, scene, oMc.cast<float>(), distance_m, options, &H, &g);
+    result.iterations = it + 1;
+    if (stats.inliers < options.min_inliers) return result;
+    H.triangularView<Eigen::Lower>() = H.transpose();
+    H.diagonal().array() += options.damping * H.trace() / 6.0;
+    const Eigen::Matrix<double, 6, 1> delta = -H.ldlt().solve(g);
+    if (!delta.allFinite()) return result;
+    // oMc <- Exp(delta) * oMc (delta = rotation, translation in o).
+    Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+    const double angle = delta.head<3>().norm();
+    if (angle > 1e-12) step.linear() = Eigen::AngleAxisd(angle, delta.head<3>() / angle).toRotationMatrix();
+    step.translation() = delta.tail<3>();
+    oMc = step * oMc;
+    if (delta.tail<3>().norm() + 0.1 * angle < options.converged_step_m && distance_m <= options.end_distance_m * 1.5) break;
+  }
+  oMc.linear() = Eigen::Quaterniond(oMc.linear()).normalized().toRotationMatrix();
+  const PassStats final_stats =
+      Associate(model, scene, oMc.cast<float>(), options.end_distance_m, options, nullptr, nullptr);
+  result.inliers = final_stats.inliers;
+  result.rejected_no_model = final_stats.no_model;
+  result.rejected_distance = final_stats.distance;
+  result.rejected_normal = final_stats.normal;
+  result.rejected_color = final_stats.color;
+  result.inlier_ratio = double(final_stats.inliers) / std::max(1, result.scene_points);
+  result.rmse_m = final_stats.inliers > 0 ? std::sqrt(final_stats.sum_r2 / final_stats.inliers) : 0.0;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(final_stats.normal_scatter);
+  if (eig.info() == Eigen::Success && eig.eigenvalues()[2] > 0.0) {
+    result.weak_direction_o = eig.eigenvectors().col(0);
+    result.weak_ratio = std::max(0.0, eig.eigenvalues()[0]) / eig.eigenvalues()[2];
+  }
+  result.cMo = oMc.inverse();
+  result.ok = final_stats.inliers >= options.min_inliers && result.cMo.matrix().allFinite();
+  return result;
+}
+
+}  // namespace aerograsp

@@ -1,0 +1,77 @@
+// Point-to-plane ICP of a scene cloud (frame c) onto the model cloud (frame o)
+// with the paper's three correspondence rejectors (Sect. 3, Eqs. 1-3): every
+// candidate pair (scene point, nearest model point) must pass
+//   Eq. 1  distance  |p - q| <= max_distance_m,
+//   Eq. 2  normals   cos(angle(n_p, n_q)) >= min_normal_cos,
+//   Eq. 3  colour    |R1-R2| + |G1-G2| + |B1-B2| <= max_color_distance
+// Each rejector is applied unconditionally when its threshold is set and
+// counts what it rejected, so a test can see that it ran. Colours are compared
+// after normalising their brightness (sum R+G+B scaled to 384), so shading by
+// the light does not look like a different colour.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "detection/model_cloud.h"
+#include "detection/scene_cloud.h"
+
+namespace aerograsp {
+
+/// Eq. 3 on brightness-normalised RGB (0..255 each): 0 for the same hue and
+/// saturation, up to 768.
+float ColorDistance(const Eigen::Vector3f& rgb_a, const Eigen::Vector3f& rgb_b);
+
+struct RejectorThresholds {
+  double max_distance_m = 0.02;     ///< Eq. 1, m, > 0
+  double min_normal_cos = 0.5;      ///< Eq. 2, [-1, 1]; -1 disables
+  double max_color_distance = 100;  ///< Eq. 3, (0, 768]; >= 768 disables
+};
+
+enum class Rejection { kNone, kNoModelPoint, kDistance, kNormal, kColor };
+
+/// Applies Eq. 1, then Eq. 2 (skipped for a zero scene normal), then Eq. 3 to
+/// one pair; both points and normals in the same frame.
+Rejection ClassifyPair(const Eigen::Vector3f& p, const Eigen::Vector3f& n_p, const Eigen::Vector3f& rgb_p,
+                       const Eigen::Vector3f& q, const Eigen::Vector3f& n_q, const Eigen::Vector3f& rgb_q,
+                       const RejectorThresholds& thresholds);
+
+struct IcpOptions {
+  int max_iterations = 12;               ///< [1, 100]
+  double start_distance_m = 0.03;        ///< Eq. 1 threshold at the first iteration, m
+  double end_distance_m = 0.008;         ///< ... shrinking geometrically to this at the last, m
+  double depth_noise_per_m2 = 0.0047;    ///< depth noise std = this * z^2 (D435: s/(f b)); floors Eq. 1 at 3 sigma
+  double min_normal_cos = 0.5;           ///< Eq. 2
+  double max_color_distance = 100.0;     ///< Eq. 3
+  /// Weight of a point-to-point term beside point-to-plane: without it a box seen
+  /// on two faces slides freely along their common edge. [0, 1]
+  double point_to_point_weight = 0.1;
+  double damping = 1e-4;                 ///< Levenberg damping on the 6x6 normal equations (pins unobservable spins)
+  double converged_step_m = 2e-5;        ///< stop when the step is below this (translation + rotation * 0.1 m)
+  int min_inliers = 30;                  ///< fewer pairs than this: failure
+};
+
+struct IcpResult {
+  Eigen::Isometry3d cMo = Eigen::Isometry3d::Identity();
+  bool ok = false;               ///< enough inliers and a finite pose
+  int iterations = 0;
+  int scene_points = 0;
+  int inliers = 0;               ///< pairs that passed all rejectors at the last iteration
+  double inlier_ratio = 0.0;     ///< inliers / scene points
+  double rmse_m = 0.0;           ///< point-to-plane RMS of the inliers at the last iteration
+  /// The translation the point-to-plane pairs constrain least (unit, frame o),
+  /// and how weakly: smallest / largest eigenvalue of sum(n n^T) over the
+  /// inliers. Near 0 when the object could slide (a box seen on two faces,
+  /// a pipe along its axis); only the object's outline fixes it then.
+  Eigen::Vector3d weak_direction_o = Eigen::Vector3d::UnitX();
+  double weak_ratio = 1.0;
+  /// Pairs rejected at the last iteration by each rejector.
+  int rejected_no_model = 0, rejected_distance = 0, rejected_normal = 0, rejected_color = 0;
+};
+
+/// Refines cMo starting from cMo_init. Never throws; `ok` is false when too few
+/// pairs survive or the solution is not finite.
+IcpResult RefinePoseIcp(const ModelCloud& model, const SceneCloud& scene, const Eigen::Isometry3d& cMo_init,
+                        const IcpOptions& options = {});
+
+}  // namespace aerograsp

@@ -1,0 +1,210 @@
+#include "detection/model_cloud.h"
+
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_types.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "core/random.h"
+#include "core/transforms.h"
+#include "detection/icp.h"
+
+namespace aerograsp {
+namespace {
+
+Eigen::Matrix3d AxisRotation(int axis, double angle_rad) {
+  return Eigen::AngleAxisd(angle_rad, Eigen::Vector3d::Unit(axis)).toRotationMatrix();
+}
+
+/// True when rotating the model by oRo' maps it onto itself.
+bool IsSymmetry(const ModelCloud& model, const Eigen::Matrix3d& R, double tolerance_m) {
+  const Eigen::Matrix3f Rf = R.cast<float>();
+  const std::size_t n = model.points_o.size();
+  const std::size_t step = std::max<std::size_t>(1, n / 800);
+  std::size_t tested = 0, good = 0;
+  for (std::size_t i = 0; i < n; i += step) {
+    const Eigen::Vector3f p = Rf * model.points_o[i];
+    const Eigen::Vector3f normal = Rf * model.normals_o[i];
+    ++tested;
+    const int j = model.Nearest(p);
+    if (j < 0) continue;
+    const float plane = std::abs((p - model.points_o[j]).dot(model.normals_o[j]));
+    const float dist = (p - model.points_o[j]).norm();
+    if (plane < tolerance_m && dist < 3.0 * tolerance_m + model.cell_m && normal.dot(model.normals_o[j]) > 0.8f &&
+        ColorDistance(model.colors[i], model.colors[j]) < 60.0f) {
+      ++good;
+    }
+  }
+  // True symmetries lose ~5-10 % at edges and colour seams (approximate nearest points);
+  // other rotations lose more than half.
+  return tested > 0 && good >= 0.85 * tested;
+}
+
+}  // namespace
+
+ModelCloud BuildModelCloud(const TriangleMesh& mesh_o, const ModelCloudOptions& options) {
+  if (!(options.spacing_m >= 0.001 && options.spacing_m <= 0.05) ||
+      !(options.cell_m >= 0.001 && options.cell_m <= 0.05) || !(options.margin_m > 0.0 && options.margin_m <= 0.5)) {
+    throw std::invalid_argument("BuildModelCloud: spacing_m, cell_m or margin_m out of range");
+  }
+  const std::size_t nt = mesh_o.triangles.size();
+  std::vector<double> cumulative_area(nt, 0.0);
+  double area = 0.0;
+  for (std::size_t i = 0; i < nt; ++i) {
+    const Eigen::Vector3i& t = mesh_o.triangles[i];
+    area += 0.5 * (mesh_o.vertices[t[1]] - mesh_o.vertices[t[0]])
+                      .cross(mesh_o.vertices[t[2]] - mesh_o.vertices[t[0]])
+                      .norm();
+    cumulative_area[i] = area;
+  }
+  if (!(area > 0.0)) throw std::invalid_argument("BuildModelCloud: the mesh has no area");
+  const std::size_t count =
+      std::min<std::size_t>(200000, static_cast<std::size_t>(area / (options.spacing_m * options.spacing_m)) + 1);
+
+  ModelCloud model;
+  FastRandom rng(options.seed);
+  const bool has_colors = mesh_o.colors.size() == mesh_o.vertices.size();
+  for (std::size_t k = 0; k < count; ++k) {
+    const double pick = rng.Uniform(0.0, area);
+    const std::size_t i = std::min<std::size_t>(
+        nt - 1, std::lower_bound(cumulative_area.begin(), cumulative_area.end(), pick) - cumulative_area.begin());
+    const Eigen::Vector3d normal = mesh_o.TriangleNormal(i);
+    if (normal.isZero()) continue;
+    double a = rng.Uniform(), b = rng.Uniform();
+    if (a + b > 1.0) {
+      a = 1.0 - a;
+      b = 1.0 - b;
+    }
+    const Eigen::Vector3i& t = mesh_o.triangles[i];
+    const Eigen::Vector3d p = (1.0 - a - b) * mesh_o.vertices[t[0]] + a * mesh_o.vertices[t[1]] + b * mesh_o.vertices[t[2]];
+    Eigen::Vector3f color(180.0f, 180.0f, 180.0f);
+    if (has_colors) {
+      color.setZero();
+      const double w[3] = {1.0 - a - b, a, b};
+      for (int c = 0; c < 3; ++c) {
+        for (int v = 0; v < 3; ++v) color[c] += static_cast<float>(w[v] * mesh_o.colors[t[v]][c]);
+      }
+    }
+    model.points_o.push_back(p.cast<float>());
+    model.normals_o.push_back(normal.cast<float>());
+    model.colors.push_back(color);
+  }
+
+  // Diameter from a subsample (exact enough for a 10 % threshold).
+  const std::size_t n = model.points_o.size();
+  const std::size_t step = std::max<std::size_t>(1, n / 1500);
+  float d2 = 0.0f;
+  for (std::size_t i = 0; i < n; i += step) {
+    for (std::size_t j = i + step; j < n; j += step) d2 = std::max(d2, (model.points_o[i] - model.points_o[j]).squaredNorm());
+  }
+  model.diameter_m = std::sqrt(d2);
+
+  // Nearest-point grid.
+  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
+  cloud->reserve(n);
+  Eigen::Vector3f lo = model.points_o[0], hi = model.points_o[0];
+  for (const Eigen::Vector3f& p : model.points_o) {
+    cloud->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(cloud);
+  model.cell_m = static_cast<float>(options.cell_m);
+  model.margin_m = static_cast<float>(options.margin_m);
+  model.grid_min_o = lo - Eigen::Vector3f::Constant(model.margin_m);
+  const Eigen::Vector3f extent = hi - lo + Eigen::Vector3f::Constant(2.0f * model.margin_m);
+  model.grid_size = (extent / model.cell_m).array().ceil().cast<int>();
+  model.grid.assign(static_cast<std::size_t>(model.grid_size.prod()), -1);
+  std::vector<int> index(1);
+  std::vector<float> dist2(1);
+  const float margin2 = model.margin_m * model.margin_m;
+  std::size_t cell = 0;
+  for (int z = 0; z < model.grid_size.z(); ++z) {
+    for (int y = 0; y < model.grid_size.y(); ++y) {
+      for (int x = 0; x < model.grid_size.x(); ++x, ++cell) {
+        const Eigen::Vector3f c = model.grid_min_o + model.cell_m * Eigen::Vector3f(x + 0.5f, y + 0.5f, z + 0.5f);
+        if (tree.nearestKSearch(pcl::PointXYZ(c.x(), c.y(), c.z()), 1, index, dist2) == 1 && dist2[0] <= margin2) {
+          model.grid[cell] = index[0];
+        }
+      }
+    }
+  }
+  model.symmetry = FindSymmetries(model);
+  return model;
+}
+
+ObjectSymmetry FindSymmetries(const ModelCloud& model, double tolerance_m) {
+  ObjectSymmetry symmetry;
+  symmetry.rotations.push_back(Eigen::Matrix3d::Identity());
+  for (int axis = 0; axis < 3; ++axis) {
+    if (IsSymmetry(model, AxisRotation(axis, 0.61), tolerance_m) &&
+        IsSymmetry(model, AxisRotation(axis, 1.93), tolerance_m)) {
+      symmetry.continuous_axis_o = Eigen::Vector3d::Unit(axis);
+      break;
+    }
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    if (symmetry.continuous_axis_o && symmetry.continuous_axis_o->dot(Eigen::Vector3d::Unit(axis)) > 0.5) continue;
+    const bool quarter = IsSymmetry(model, AxisRotation(axis, M_PI / 2), tolerance_m);
+    for (int k = 1; k < 4; ++k) {
+      if (k != 2 && !quarter) continue;
+      const Eigen::Matrix3d R = AxisRotation(axis, k * M_PI / 2);
+      if (k == 2 && !quarter && !IsSymmetry(model, R, tolerance_m)) continue;
+      symmetry.rotations.push_back(R);
+    }
+  }
+  return symmetry;
+}
+
+namespace {
+
+/// cRo * Rot(a, phi) with phi maximising trace(cRo_ref^T * cRo * Rot(a, phi)).
+Eigen::Matrix3d SpinToMatch(const Eigen::Matrix3d& cRo, const Eigen::Matrix3d& cRo_ref, const Eigen::Vector3d& a) {
+  const Eigen::Matrix3d M = cRo_ref.transpose() * cRo;
+  const double along = a.dot(M * a);
+  const double c = M.trace() - along;
+  const double s = (M * Skew(a)).trace();
+  const double phi = std::atan2(s, c);
+  return cRo * Eigen::AngleAxisd(phi, a).toRotationMatrix();
+}
+
+}  // namespace
+
+double SymmetricRotationError(const Eigen::Matrix3d& cRo_est, const Eigen::Matrix3d& cRo_true,
+                              const ObjectSymmetry& symmetry) {
+  double best = M_PI;
+  for (const Eigen::Matrix3d& S : symmetry.rotations) {
+    const Eigen::Matrix3d R = cRo_est * S;
+    double error;
+    if (symmetry.continuous_axis_o) {
+      const Eigen::Vector3d& a = *symmetry.continuous_axis_o;
+      error = std::acos(std::clamp((R * a).dot(cRo_true * a), -1.0, 1.0));
+    } else {
+      error = RotationAngle(cRo_true.transpose() * R);
+    }
+    best = std::min(best, error);
+  }
+  return best;
+}
+
+Eigen::Matrix3d ClosestSymmetricRotation(const Eigen::Matrix3d& cRo_meas, const Eigen::Matrix3d& cRo_ref,
+                                         const ObjectSymmetry& symmetry) {
+  Eigen::Matrix3d best = cRo_meas;
+  double best_angle = 10.0;
+  for (const Eigen::Matrix3d& S : symmetry.rotations) {
+    Eigen::Matrix3d R = cRo_meas * S;
+    if (symmetry.continuous_axis_o) R = SpinToMatch(R, cRo_ref, *symmetry.continuous_axis_o);
+    const double angle = RotationAngle(cRo_ref.transpose() * R);
+    if (angle < best_angle) {
+      best_angle = angle;
+      best = R;
+    }
+  }
+  return best;
+}
+
+}  // namespace aerograsp

@@ -1,0 +1,275 @@
+#include "detection/object_tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "core/thread_clock.h"
+
+namespace aerograsp {
+namespace {
+
+void Require(bool ok, const char* field, const char* what) {
+  if (!ok) throw std::invalid_argument(std::string("perception.") + field + ": " + what);
+}
+
+}  // namespace
+
+void PerceptionOptions::Validate() const {
+  track.Validate();
+  Require(min_detection_score > 0.0f && min_detection_score < 1.0f, "min_detection_score", "must be in (0, 1)");
+  Require(box_margin >= 0.0 && box_margin <= 2.0, "box_margin", "must be in [0, 2]");
+  Require(min_support_ratio > 0.0 && min_support_ratio <= 1.0, "min_support_ratio", "must be in (0, 1]");
+  Require(min_coverage > 0.0 && min_coverage <= 1.0, "min_coverage", "must be in (0, 1]");
+  Require(min_cloud_points >= 10, "min_cloud_points", "must be >= 10");
+  Require(measurement_position_std_m > 0.0, "measurement_position_std_m", "must be > 0");
+  Require(measurement_rotation_std_rad > 0.0, "measurement_rotation_std_rad", "must be > 0");
+  Require(icp.max_iterations >= 1 && icp.max_iterations <= 100, "icp.max_iterations", "must be in [1, 100]");
+  Require(icp.start_distance_m >= icp.end_distance_m && icp.end_distance_m > 0.0, "icp.end_distance_m",
+          "must be in (0, start_distance_m]");
+  Require(icp.start_distance_m < model.margin_m, "icp.start_distance_m", "must be below model.margin_m");
+  Require(icp.min_normal_cos >= -1.0 && icp.min_normal_cos <= 1.0, "icp.min_normal_cos", "must be in [-1, 1]");
+  Require(icp.max_color_distance > 0.0, "icp.max_color_distance", "must be > 0");
+  Require(cloud.target_points >= 50, "cloud.target_points", "must be >= 50");
+  Require(cloud.min_depth_m > 0.0 && cloud.max_depth_m > cloud.min_depth_m, "cloud.max_depth_m",
+          "must be above cloud.min_depth_m > 0");
+  Require(ekf.gate_nis > 0.0, "ekf.gate_nis", "must be > 0");
+  Require(gated_frames_to_reset >= 1, "gated_frames_to_reset", "must be >= 1");
+}
+
+ObjectTracker::ObjectTracker(const ObjectModel& object, const PerceptionOptions& options,
+                             std::unique_ptr<BoxDetector> detector)
+    : options_(options), detector_(std::move(detector)), ekf_(options.ekf), monitor_(options.track) {
+  options_.Validate();
+  model_ = BuildModelCloud(object.mesh_o, options_.model);
+  min_half_extent_m_ = 0.5 * object.dimensions_m.minCoeff();
+  if (!(min_half_extent_m_ > 0.0)) min_half_extent_m_ = 0.5 * (object.mesh_o.BoundsMax() - object.mesh_o.BoundsMin()).minCoeff();
+  global_ = std::make_unique<GlobalRegistration>(model_, options_.global);
+}
+
+ObjectTracker::~ObjectTracker() = default;
+
+void ObjectTracker::SetInitialPose(const Eigen::Isometry3d& cMo) {
+  initial_cMo_ = cMo;
+  ekf_.Reset();
+}
+
+std::optional<Eigen::Vector3d> ObjectTracker::EstimateCentre(const PixelBox& box, const DepthImage& depth,
+                                                             double depth_scale_m, const CameraIntrinsics& K) const {
+  // The median depth of the box's inner half is on the object's near surface;
+  // the centre lies about the smallest half-extent behind it.
+  const PixelBox inner = box.Grown(-0.25).Clipped(depth.width, depth.height);
+  std::vector<std::uint16_t> values;
+  for (int y = inner.y0; y < inner.y1; y += 2) {
+    for (int x = inner.x0; x < inner.x1; x += 2) {
+      if (depth.at(x, y) > 0) values.push_back(depth.at(x, y));
+    }
+  }
+  if (values.size() < 10) return std::nullopt;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  const double z = values[values.size() / 2] * depth_scale_m;
+  const Eigen::Vector3d ray = K.Unproject(0.5 * (box.x0 + box.x1), 0.5 * (box.y0 + box.y1), 1.0).normalized();
+  return ray * (z / ray.z() + min_half_extent_m_);
+}
+
+IcpResult ObjectTracker::Register(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth,
+                                  double depth_scale_m, const CameraIntrinsics& K, const Eigen::Isometry3d& cMo,
+                                  double slide_range_m) const {
+  IcpResult icp = RefinePoseIcp(model_, cloud, cMo, options_.icp);
+  if (icp.ok && icp.weak_ratio < options_.weak_direction_ratio) {
+    // The pairs leave a sliding direction: let the outline in the depth image decide it.
+    const Eigen::Isometry3d slid = SlideToBestSupport(model_, icp.cMo, icp.weak_direction_o, color, depth,
+                                                      depth_scale_m, K, SupportOptions(), slide_range_m);
+    if (!slid.isApprox(icp.cMo)) {
+      const IcpResult again = RefinePoseIcp(model_, cloud, slid, options_.icp);
+      if (again.ok) icp = again;
+    }
+  }
+  return icp;
+}
+
+PoseSupportOptions ObjectTracker::SupportOptions() const {
+  PoseSupportOptions support;
+  support.depth_noise_per_m2 = options_.icp.depth_noise_per_m2;
+  support.max_color_distance = options_.icp.max_color_distance;
+  return support;
+}
+
+bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth, double depth_scale_m,
+                            const CameraIntrinsics& K, const std::optional<Eigen::Isometry3d>& seed,
+                            const std::vector<Eigen::Vector3d>& centres_c, bool allow_global,
+                            FrameReport* report) {
+  auto passes = [&](const PoseSupport& s) {
+    return s.projected >= 20 && s.ratio() >= options_.min_support_ratio && s.coverage() >= options_.min_coverage;
+  };
+  const double t0 = ThreadCpuMs();
+  if (seed) {
+    // Tracking: the prediction is close, a short slide search will do.
+    const double slide_m = ekf_.initialized() && monitor_.state() == TrackState::kFound ? 0.004 : 0.04;
+    const IcpResult icp = Register(cloud, color, depth, depth_scale_m, K, *seed, slide_m);
+    report->icp = icp;
+    if (icp.ok) {
+      report->support = ScorePoseSupport(model_, icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
+      if (passes(report->support)) {
+        report->times.icp_ms = ThreadCpuMs() - t0;
+        return true;
+      }
+    }
+  }
+  const double t1 = ThreadCpuMs();
+  report->times.icp_ms = t1 - t0;
+  if (!allow_global) return false;
+  report->global_init = true;
+  bool found = false;
+  double best_score = -1.0;
+  for (const IcpResult& coarse : global_->Candidates(cloud, options_.icp, centres_c)) {
+    const IcpResult candidate = Register(cloud, color, depth, depth_scale_m, K, coarse.cMo, 0.04);
+    if (!candidate.ok) continue;
+    const PoseSupport support = ScorePoseSupport(model_, candidate.cMo, color, depth, depth_scale_m, K, SupportOptions());
+    const double score = support.ratio() * support.agree;
+    if (passes(support) && score > best_score) {
+      best_score = score;
+      report->icp = candidate;
+      report->support = support;
+      found = true;
+    }
+  }
+  report->times.global_ms = ThreadCpuMs() - t1;
+  return found;
+}
+
+FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& depth, double stamp_s,
+                                   const CameraIntrinsics& K, double depth_scale_m) {
+  FrameReport report;
+  const double t_start = ThreadCpuMs();
+  const bool input_ok = !color.empty() && !depth.empty() && color.width == depth.width &&
+                        color.height == depth.height && depth.width == K.width && depth.height == K.height &&
+                        depth_scale_m > 0.0 && std::isfinite(stamp_s);
+  if (ekf_.initialized()) ekf_.Predict(stamp_s);
+
+  // Detection.
+  double t = ThreadCpuMs();
+  if (detector_ && input_ok) {
+    const std::vector<Detection> detections = detector_->Detect(color, options_.min_detection_score);
+    if (!detections.empty()) report.detection = detections.front();
+  }
+  report.times.detect_ms = ThreadCpuMs() - t;
+
+  // The prior: the filter's prediction, else a given first pose, else the last good pose.
+  std::optional<Eigen::Isometry3d> prior;
+  if (ekf_.initialized()) {
+    prior = ekf_.cMo();
+  } else if (initial_cMo_) {
+    prior = initial_cMo_;
+  } else if (last_good_cMo_) {
+    prior = last_good_cMo_;
+  }
+
+  // Crop and cloud.
+  t = ThreadCpuMs();
+  SceneCloud cloud;
+  if (input_ok) {
+    if (report.detection) {
+      report.crop = report.detection->box.Grown(options_.box_margin);
+    } else if (ekf_.initialized()) {
+      report.crop = ScorePoseSupport(model_, *prior, {}, depth, depth_scale_m, K).box.Grown(options_.box_margin);
+    } else if (!detector_ || initial_cMo_) {
+      report.crop = initial_cMo_ ? ScorePoseSupport(model_, *initial_cMo_, {}, depth, depth_scale_m, K)
+                                       .box.Grown(options_.box_margin)
+                                 : PixelBox{0, 0, depth.width, depth.height};
+    }
+    report.crop = report.crop.Clipped(depth.width, depth.height);
+    SceneCloudOptions cloud_options = options_.cloud;
+    if (report.crop.width() == depth.width && report.crop.height() == depth.height) {
+      // The whole frame (no detector, no prior): denser, the object is a small part of it.
+      cloud_options.target_points = std::max(cloud_options.target_points, options_.whole_frame_points);
+    }
+    if (!report.crop.empty()) cloud = BuildSceneCloud(color, depth, depth_scale_m, K, report.crop, cloud_options);
+  }
+  report.cloud_points = static_cast<int>(cloud.points_c.size());
+  report.times.cloud_ms = ThreadCpuMs() - t;
+
+  // Pose measurement.
+  if (report.cloud_points >= options_.min_cloud_points) {
+    const bool allow_global = !initial_cMo_ && (!ekf_.initialized() || monitor_.state() == TrackState::kLost);
+    // Where the object may be, for the global registration's orientation hypotheses.
+    std::vector<Eigen::Vector3d> centres_c;
+    if (report.detection) {
+      if (auto c = EstimateCentre(report.detection->box, depth, depth_scale_m, K)) centres_c.push_back(*c);
+    } else if (prior) {
+      centres_c.push_back(prior->translation());
+    } else {
+      // No detector and no prior: a grid of boxes over the crop.
+      const int nx = 6, ny = 4;
+      for (int j = 0; j < ny; ++j) {
+        for (int i = 0; i < nx; ++i) {
+          const int w = report.crop.width() / nx, h = report.crop.height() / ny;
+          const PixelBox cell{report.crop.x0 + i * w, report.crop.y0 + j * h, report.crop.x0 + (i + 1) * w,
+                              report.crop.y0 + (j + 1) * h};
+          if (auto c = EstimateCentre(cell.Grown(0.5), depth, depth_scale_m, K)) centres_c.push_back(*c);
+        }
+      }
+    }
+    report.measured = Measure(cloud, color, depth, depth_scale_m, K, prior, centres_c, allow_global, &report);
+  }
+
+  // Filter.
+  t = ThreadCpuMs();
+  if (report.measured) {
+    Eigen::Isometry3d meas = report.icp.cMo;
+    const double z = std::max(0.1, meas.translation().z());
+    const double sp = options_.measurement_position_std_m * std::max(0.25, z * z);
+    const double sr = options_.measurement_rotation_std_rad * std::max(0.5, z);
+    Eigen::Matrix<double, 6, 6> R = Eigen::Matrix<double, 6, 6>::Zero();
+    R.diagonal() << sp * sp, sp * sp, sp * sp, sr * sr, sr * sr, sr * sr;
+    if (!ekf_.initialized()) {
+      ekf_.Initialize(meas, stamp_s);
+      gated_in_a_row_ = 0;
+    } else {
+      meas.linear() = ClosestSymmetricRotation(meas.linear(), ekf_.cMo().linear(), model_.symmetry);
+      const EkfUpdate update = ekf_.Update(meas, R);
+      report.nis = update.nis;
+      if (update.accepted) {
+        gated_in_a_row_ = 0;
+      } else {
+        report.gated = true;
+        if (++gated_in_a_row_ >= options_.gated_frames_to_reset) {
+          ekf_.Initialize(meas, stamp_s);
+          gated_in_a_row_ = 0;
+        }
+      }
+    }
+    initial_cMo_.reset();
+    last_good_cMo_ = ekf_.cMo();
+  }
+  const double confidence =
+      report.measured ? std::min(1.0, report.support.ratio()) * std::min(1.0, report.support.coverage() / 0.5) *
+                            (report.gated ? 0.5 : 1.0)
+                      : 0.0;
+  const TrackState state = monitor_.Update(confidence);
+  if (state == TrackState::kLost && !report.measured && ekf_.initialized()) {
+    // Lost and nothing seen: drop the filter (a stale velocity must not carry the
+    // pose away); the last good pose seeds the next attempt.
+    if (monitor_.state() == TrackState::kLost && confidence == 0.0) ekf_.Reset();
+  }
+  report.times.filter_ms = ThreadCpuMs() - t;
+
+  ObjectEstimate& e = report.estimate;
+  e.stamp_s = stamp_s;
+  e.confidence = confidence;
+  e.state = state;
+  if (ekf_.initialized()) {
+    e.valid = true;
+    e.cMo = ekf_.cMo();
+    e.covariance = ekf_.covariance().topLeftCorner<6, 6>();
+    e.v_c = ekf_.v_c();
+    e.w_c = ekf_.w_c();
+  } else if (last_good_cMo_) {
+    e.valid = true;
+    e.cMo = *last_good_cMo_;
+  }
+  report.times.total_ms = ThreadCpuMs() - t_start;
+  return report;
+}
+
+}  // namespace aerograsp

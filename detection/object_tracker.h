@@ -1,0 +1,127 @@
+// The perception pipeline of one object (DESIGN.md, Modules): detector box ->
+// crop -> local cloud -> (global init when there is no prior) -> ICP seeded by
+// the EKF prediction -> depth support check -> EKF update with gating ->
+// confidence and found / lost. One call per frame; no threads, no files (the
+// detector's model is loaded by the caller).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <optional>
+
+#include "core/camera_model.h"
+#include "core/image.h"
+#include "core/object_model.h"
+#include "detection/box_detector.h"
+#include "detection/global_registration.h"
+#include "detection/icp.h"
+#include "detection/model_cloud.h"
+#include "detection/pose_ekf.h"
+#include "detection/pose_support.h"
+#include "detection/scene_cloud.h"
+#include "detection/track_monitor.h"
+
+namespace aerograsp {
+
+struct PerceptionOptions {
+  ModelCloudOptions model;
+  SceneCloudOptions cloud;
+  IcpOptions icp;
+  GlobalRegistrationOptions global;
+  PoseEkfOptions ekf;
+  TrackMonitorOptions track;
+  float min_detection_score = 0.3f;  ///< detector peaks below this are ignored, (0, 1)
+  double box_margin = 0.15;          ///< the crop is the box grown by this fraction per side
+  double min_support_ratio = 0.9;    ///< a pose must explain this fraction of the compared depth, (0, 1]
+  double min_coverage = 0.4;         ///< ... and this fraction of the visible model, (0, 1]
+  int min_cloud_points = 60;         ///< fewer points in the crop: no measurement
+  int whole_frame_points = 8000;     ///< cloud size when the crop is the whole frame (no detector, no prior)
+  double measurement_position_std_m = 0.002;   ///< ICP position noise at 1 m (grows with z^2), m
+  double measurement_rotation_std_rad = 0.02;  ///< ICP rotation noise, rad
+  int gated_frames_to_reset = 3;
+  double weak_direction_ratio = 0.08;  ///< ICP's weak_ratio below this: slide along it to the best outline, [0, 1]     ///< consecutive gated but well-supported poses restart the filter
+  /// @throws std::invalid_argument naming the field that is out of range.
+  void Validate() const;
+};
+
+/// What the pipeline knows about the object after a frame.
+struct ObjectEstimate {
+  double stamp_s = 0.0;
+  bool valid = false;  ///< a pose exists (the filter has been initialised at some time)
+  Eigen::Isometry3d cMo = Eigen::Isometry3d::Identity();
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();  ///< position m^2, rotation rad^2
+  Eigen::Vector3d v_c = Eigen::Vector3d::Zero();  ///< m/s, in c
+  Eigen::Vector3d w_c = Eigen::Vector3d::Zero();  ///< rad/s, in c
+  double confidence = 0.0;  ///< [0, 1]
+  TrackState state = TrackState::kLost;
+};
+
+/// Milliseconds of thread CPU time per stage of one frame.
+struct StageTimes {
+  double detect_ms = 0, cloud_ms = 0, global_ms = 0, icp_ms = 0, filter_ms = 0, total_ms = 0;
+};
+
+/// Everything about one frame, for reports and tests.
+struct FrameReport {
+  ObjectEstimate estimate;
+  std::optional<Detection> detection;  ///< the best box, when the detector found one
+  PixelBox crop;                       ///< the crop used (empty: no measurement attempted)
+  int cloud_points = 0;
+  bool measured = false;               ///< a pose passed ICP and the support check
+  bool global_init = false;            ///< global registration ran this frame
+  bool gated = false;                  ///< the measurement was rejected by the EKF gate
+  IcpResult icp;
+  PoseSupport support;
+  double nis = 0.0;
+  StageTimes times;
+};
+
+class ObjectTracker {
+ public:
+  /// `detector` may be null: then every crop is the whole frame (global
+  /// registration on the whole frame when there is no prior).
+  /// @throws std::invalid_argument for options out of range.
+  ObjectTracker(const ObjectModel& object, const PerceptionOptions& options, std::unique_ptr<BoxDetector> detector);
+  ~ObjectTracker();
+  ObjectTracker(const ObjectTracker&) = delete;
+  ObjectTracker& operator=(const ObjectTracker&) = delete;
+
+  /// A known first pose (e.g. --init-pose): used as the prior of the next frame.
+  void SetInitialPose(const Eigen::Isometry3d& cMo);
+
+  /// Processes one aligned colour + depth frame. Bad data (empty or all-zero
+  /// depth, wrong sizes, no object) yields a lost or unmeasured estimate; never throws.
+  FrameReport Process(const ColorImage& color, const DepthImage& depth, double stamp_s, const CameraIntrinsics& K,
+                      double depth_scale_m);
+
+  const ModelCloud& model() const { return model_; }
+  bool has_detector() const { return detector_ != nullptr; }
+
+ private:
+  /// The best pose (ICP from `seed`, else global registration when allowed) for the crop.
+  bool Measure(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
+               const std::optional<Eigen::Isometry3d>& seed, const std::vector<Eigen::Vector3d>& centres_c,
+               bool allow_global, FrameReport* report);
+  /// A rough object centre (m, in c) from a detector box and the depth inside it.
+  std::optional<Eigen::Vector3d> EstimateCentre(const PixelBox& box, const DepthImage& depth, double depth_scale_m,
+                                                const CameraIntrinsics& K) const;
+
+  PoseSupportOptions SupportOptions() const;
+  /// ICP from cMo, then, when the pairs leave a sliding direction, the slide the
+  /// depth outline supports best and ICP again.
+  IcpResult Register(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth, double depth_scale_m,
+                     const CameraIntrinsics& K, const Eigen::Isometry3d& cMo, double slide_range_m) const;
+
+  PerceptionOptions options_;
+  ModelCloud model_;
+  std::unique_ptr<BoxDetector> detector_;
+  std::unique_ptr<GlobalRegistration> global_;
+  PoseEkf ekf_;
+  TrackMonitor monitor_;
+  std::optional<Eigen::Isometry3d> last_good_cMo_;
+  std::optional<Eigen::Isometry3d> initial_cMo_;
+  int gated_in_a_row_ = 0;
+  double min_half_extent_m_ = 0.05;
+};
+
+}  // namespace aerograsp

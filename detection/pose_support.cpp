@@ -1,0 +1,89 @@
+#include "detection/pose_support.h"
+
+#include "detection/icp.h"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+
+namespace aerograsp {
+
+PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo, const ColorImage& color,
+                             const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
+                             const PoseSupportOptions& options) {
+  const bool check_color = options.max_color_distance < 768.0 && color.width == depth.width &&
+                           color.height == depth.height && !color.empty();
+  PoseSupport support;
+  support.box = {INT_MAX, INT_MAX, INT_MIN, INT_MIN};
+  if (model.points_o.empty() || depth.empty() || !cMo.matrix().allFinite() || !(depth_scale_m > 0.0)) {
+    support.box = {};
+    return support;
+  }
+  const Eigen::Isometry3f cMo_f = cMo.cast<float>();
+  const Eigen::Matrix3f cRo = cMo_f.linear();
+  const std::size_t n = model.points_o.size();
+  const std::size_t step = std::max<std::size_t>(1, n / std::max(1, 2 * options.max_points));  // about half face the camera
+  for (std::size_t i = 0; i < n; i += step) {
+    const Eigen::Vector3f p = cMo_f * model.points_o[i];
+    if (p.z() < 0.05f || (cRo * model.normals_o[i]).dot(p) >= 0.0f) continue;
+    const Eigen::Vector2d uv = K.Project(p.cast<double>());
+    const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+    if (u < 0 || v < 0 || u >= depth.width || v >= depth.height) continue;
+    support.box.x0 = std::min(support.box.x0, u);
+    support.box.y0 = std::min(support.box.y0, v);
+    support.box.x1 = std::max(support.box.x1, u + 1);
+    support.box.y1 = std::max(support.box.y1, v + 1);
+    const std::uint16_t d = depth.at(u, v);
+    if (d == 0) continue;
+    ++support.projected;
+    const double z_obs = d * depth_scale_m;
+    const double tolerance =
+        std::max(options.min_tolerance_m, 3.0 * options.depth_noise_per_m2 * p.z() * p.z());
+    if (std::abs(z_obs - p.z()) <= tolerance) {
+      const bool color_ok =
+          !check_color ||
+          ColorDistance(Eigen::Vector3f(color.at(u, v, 0), color.at(u, v, 1), color.at(u, v, 2)), model.colors[i]) <=
+              options.max_color_distance;
+      ++(color_ok ? support.agree : support.see_through);
+    } else if (z_obs > p.z()) {
+      ++support.see_through;
+    } else {
+      ++support.occluded;
+    }
+  }
+  if (support.box.x0 == INT_MAX) support.box = {};
+  return support;
+}
+
+Eigen::Isometry3d SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo,
+                                     const Eigen::Vector3d& direction_o, const ColorImage& color,
+                                     const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
+                                     const PoseSupportOptions& options, double range_m, double step_m) {
+  // Coarse (4 fine steps) over the whole range, then fine around the best, with
+  // many points: a slide of a few mm moves only the points at the ends.
+  PoseSupportOptions dense = options;
+  dense.max_points = std::max(options.max_points, 2000);
+  const double fine_m = std::max(1e-4, step_m), coarse_m = 4.0 * fine_m;
+  Eigen::Isometry3d best = cMo;
+  double best_offset_m = 0.0;
+  auto search = [&](double centre_m, double step, int steps) {
+    int best_score = INT_MIN;
+    // Offsets centre, +1, -1, +2, -2, ... steps: ties go to the smaller slide.
+    for (int i = 0; i <= 2 * steps; ++i) {
+      const double offset_m = centre_m + (i + 1) / 2 * (i % 2 ? 1 : -1) * step;
+      Eigen::Isometry3d candidate = cMo;
+      candidate.translation() += cMo.linear() * (direction_o * offset_m);
+      const PoseSupport s = ScorePoseSupport(model, candidate, color, depth, depth_scale_m, K, dense);
+      if (s.agree - s.see_through > best_score) {
+        best_score = s.agree - s.see_through;
+        best = candidate;
+        best_offset_m = offset_m;
+      }
+    }
+  };
+  search(0.0, coarse_m, static_cast<int>(std::lround(range_m / coarse_m)));
+  search(best_offset_m, fine_m, 3);
+  return best;
+}
+
+}  // namespace aerograsp

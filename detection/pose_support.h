@@ -1,0 +1,55 @@
+// How well a pose explains the depth image: the model's points that face the
+// camera are projected at cMo and compared with the measured depth. A point
+// agrees when the depth matches; it contradicts the pose when the camera sees
+// through it (measured depth well behind it: free space where the model says
+// there is surface); a nearer measurement is an occlusion and counts for
+// nothing. Where the depth agrees the colour must agree too (ColorDistance,
+// the ICP's Eq. 3), else the point contradicts the pose: a plain wall at the
+// right depth does not pass for the object. A wrong pose contradicts; a right
+// pose behind an occluder does not.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include "core/camera_model.h"
+#include "core/image.h"
+#include "detection/model_cloud.h"
+#include "detection/scene_cloud.h"
+
+namespace aerograsp {
+
+struct PoseSupport {
+  int projected = 0;   ///< front-facing model points inside the image with measured depth
+  int agree = 0;
+  int see_through = 0;  ///< the camera sees through the model, or the colour disagrees
+  int occluded = 0;
+  /// agree / (agree + see_through); 0 when nothing was compared.
+  double ratio() const { return agree + see_through > 0 ? double(agree) / (agree + see_through) : 0.0; }
+  /// agree / projected: how much of the visible model is explained.
+  double coverage() const { return projected > 0 ? double(agree) / projected : 0.0; }
+  PixelBox box;        ///< bounding box of the projected front-facing points
+};
+
+struct PoseSupportOptions {
+  int max_points = 400;               ///< model points tested (strided over the model)
+  double depth_noise_per_m2 = 0.0047; ///< depth tolerance max(min_tolerance_m, 3 * this * z^2)
+  double min_tolerance_m = 0.01;
+  double max_color_distance = 100.0;  ///< colour check (ColorDistance); >= 768 disables it
+};
+
+/// `color` may be empty (no colour check). Never throws; bad input gives an empty support.
+PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo, const ColorImage& color,
+                             const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
+                             const PoseSupportOptions& options = {});
+
+/// Slides cMo along `direction_o` (unit, frame o) by up to +-range_m (coarse
+/// steps of 4 * step_m, then step_m around the best) and returns the offset whose pose the depth and colour support best
+/// (agreeing minus contradicting points): the outline fixes what ICP's
+/// point-to-plane pairs cannot when the object could slide along a face.
+Eigen::Isometry3d SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo,
+                                     const Eigen::Vector3d& direction_o, const ColorImage& color,
+                                     const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
+                                     const PoseSupportOptions& options = {}, double range_m = 0.04,
+                                     double step_m = 0.001);
+
+}  // namespace aerograsp

@@ -1,0 +1,38 @@
+#include "detection/track_monitor.h"
+
+#include <stdexcept>
+
+namespace aerograsp {
+
+const char* ToString(TrackState state) { return state == TrackState::kFound ? "found" : "lost"; }
+
+void TrackMonitorOptions::Validate() const {
+  if (!(find_confidence > keep_confidence && find_confidence <= 1.0)) {
+    throw std::invalid_argument("track.find_confidence: must be in (keep_confidence, 1]");
+  }
+  if (!(keep_confidence >= 0.0)) throw std::invalid_argument("track.keep_confidence: must be >= 0");
+  if (frames_to_find < 1) throw std::invalid_argument("track.frames_to_find: must be >= 1");
+  if (frames_to_lose < 1) throw std::invalid_argument("track.frames_to_lose: must be >= 1");
+}
+
+TrackMonitor::TrackMonitor(const TrackMonitorOptions& options) : options_(options) { options_.Validate(); }
+
+TrackState TrackMonitor::Update(double confidence) {
+  if (!(confidence == confidence)) confidence = 0.0;  // NaN counts as nothing
+  if (state_ == TrackState::kLost) {
+    good_ = confidence >= options_.find_confidence ? good_ + 1 : 0;
+    if (good_ >= options_.frames_to_find) {
+      state_ = TrackState::kFound;
+      good_ = bad_ = 0;
+    }
+  } else {
+    bad_ = confidence < options_.keep_confidence ? bad_ + 1 : 0;
+    if (bad_ >= options_.frames_to_lose) {
+      state_ = TrackState::kLost;
+      good_ = bad_ = 0;
+    }
+  }
+  return state_;
+}
+
+}  // namespace aerograsp

@@ -1,0 +1,40 @@
+// Found / lost with hysteresis on the per-frame confidence: a track is found
+// after `frames_to_find` consecutive frames at or above `find_confidence`, and
+// lost after `frames_to_lose` consecutive frames below `keep_confidence`
+// (keep < find, so a confidence wobbling between them changes nothing).
+#pragma once
+
+#include <string>
+
+namespace aerograsp {
+
+enum class TrackState { kLost, kFound };
+const char* ToString(TrackState state);
+
+struct TrackMonitorOptions {
+  double find_confidence = 0.6;  ///< (keep_confidence, 1]
+  double keep_confidence = 0.3;  ///< [0, find_confidence)
+  int frames_to_find = 2;        ///< >= 1
+  int frames_to_lose = 3;        ///< >= 1
+  /// @throws std::invalid_argument naming the field that is out of range.
+  void Validate() const;
+};
+
+class TrackMonitor {
+ public:
+  explicit TrackMonitor(const TrackMonitorOptions& options = {});
+  /// Feeds one frame's confidence, returns the state after it.
+  TrackState Update(double confidence);
+  TrackState state() const { return state_; }
+  void Reset() {
+    state_ = TrackState::kLost;
+    good_ = bad_ = 0;
+  }
+
+ private:
+  TrackMonitorOptions options_;
+  TrackState state_ = TrackState::kLost;
+  int good_ = 0, bad_ = 0;
+};
+
+}  // namespace aerograsp

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Reproduces the shipped detectors data/objects/NAME/detector.onnx: renders the
+# labelled training set with `aerograsp dataset` (C++, the simulator's renderer),
+# trains with Debian's python3-torch on one thread, exports ONNX (opset 11).
+# Fixed seeds: the same build gives the same training set; torch training is
+# seeded too (single thread, deterministic algorithms).
+# Usage: scripts/train_detectors.sh [--install-only] [OBJECT...]   (default: crawler u_shape pipe)
+# Environment: BUILD_DIR (default build), WORK_DIR (default /tmp/aerograsp_train),
+#              COUNT (training images per object, default 3000), EPOCHS (default 15).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+# Training packages only here: not needed to build, test or run aerograsp.
+TRAIN_PACKAGES=(python3-torch python3-onnx python3-numpy python3-opencv)
+missing=()
+for p in "${TRAIN_PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  echo "train_detectors: installing ${missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+[ "${1:-}" = "--install-only" ] && exit 0
+
+BUILD_DIR=${BUILD_DIR:-build}
+WORK_DIR=${WORK_DIR:-/tmp/aerograsp_train}
+COUNT=${COUNT:-3000}
+EPOCHS=${EPOCHS:-15}
+OBJECTS=("$@")
+[ ${#OBJECTS[@]} -eq 0 ] && OBJECTS=(crawler u_shape pipe)
+for object in "${OBJECTS[@]}"; do
+  "$BUILD_DIR/app/aerograsp" dataset --object "$object" --out "$WORK_DIR/$object/train" \
+    --count "$COUNT" --seed 1000 --overwrite
+  "$BUILD_DIR/app/aerograsp" dataset --object "$object" --out "$WORK_DIR/$object/val" \
+    --count 300 --seed 2000 --overwrite
+  # /usr/bin/python3: Debian's interpreter sees python3-torch (a pyenv python3 on PATH does not).
+  /usr/bin/python3 tools/train_detector.py --data "$WORK_DIR/$object" --epochs "$EPOCHS" --seed 7 \
+    --out "data/objects/$object/detector.onnx"
+done

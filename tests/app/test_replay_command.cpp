@@ -1,0 +1,134 @@
+#include "app/replay_command.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <unistd.h>
+
+#include "app/record_command.h"
+#include "core/transforms.h"
+#include "hardware/rgbd_camera.h"
+
+namespace aerograsp {
+namespace {
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+/// Records a few frames of the default world once for all tests here.
+class ReplayCommandTest : public ::testing::Test {
+ protected:
+  // Folders named by process: ctest runs each test in its own process, in parallel.
+  static void SetUpTestSuite() {
+    sequence_ = (fs::temp_directory_path() / ("aerograsp_replay_test_seq_" + std::to_string(getpid()))).string();
+    fs::remove_all(sequence_);
+    RecordCommandOptions record;
+    record.out_dir = sequence_;
+    record.frames = 8;
+    record.seed = 23;
+    record.motion = "crawl";
+    std::ostringstream out, progress;
+    RunRecordCommand(record, out, progress);
+  }
+  static void TearDownTestSuite() { fs::remove_all(sequence_); }
+  void SetUp() override {
+    out_dir_ = (fs::temp_directory_path() / ("aerograsp_replay_test_out_" + std::to_string(getpid()))).string();
+    fs::remove_all(out_dir_);
+    options_.sequence = sequence_;
+    options_.out_dir = out_dir_;
+  }
+  void TearDown() override { fs::remove_all(out_dir_); }
+  nlohmann::json Run() {
+    std::ostringstream out, progress;
+    RunReplayCommand(options_, out, progress);
+    std::ifstream file(fs::path(out_dir_) / "summary.json");
+    return nlohmann::json::parse(file);
+  }
+  static std::string sequence_;
+  std::string out_dir_;
+  ReplayCommandOptions options_;
+};
+std::string ReplayCommandTest::sequence_;
+
+TEST_F(ReplayCommandTest, TracksTheRecordedObjectAndWritesTheReport) {
+  const nlohmann::json s = Run();
+  EXPECT_EQ(s["frames"], 8);
+  EXPECT_EQ(s["object"], "crawler");
+  for (const char* key : {"detection_recall", "translation_rmse_m", "rotation_rmse_deg", "add_s_recall",
+                          "frame_ms_median", "frame_ms_p95", "stage_ms", "visp_peer"}) {
+    EXPECT_TRUE(s.contains(key)) << key;
+  }
+  EXPECT_GE(s["frames_found"].get<int>(), 6);  // found from the second frame (hysteresis)
+  ASSERT_TRUE(s["translation_rmse_m"].is_number());
+  EXPECT_LT(s["translation_rmse_m"].get<double>(), 0.01);
+  EXPECT_LT(s["rotation_rmse_deg"].get<double>(), 3.0);
+  EXPECT_TRUE(s["stage_ms"]["crop_cloud_normals"]["median"].is_number());
+  EXPECT_TRUE(s["visp_peer"]["initialised"].get<bool>());
+  EXPECT_TRUE(fs::exists(fs::path(out_dir_) / "pose_vs_truth.png"));
+  std::ifstream poses(fs::path(out_dir_) / "poses.csv");
+  std::string line;
+  int lines = 0;
+  while (std::getline(poses, line)) ++lines;
+  EXPECT_EQ(lines, 9);
+}
+
+TEST_F(ReplayCommandTest, AKnownFirstPoseNeedsNoGlobalRegistration) {
+  options_.init_from_truth = true;
+  options_.run_peer = false;
+  options_.max_frames = 4;
+  const nlohmann::json s = Run();
+  EXPECT_EQ(s["frames"], 4);
+  EXPECT_EQ(s["global_inits"], 0);
+  EXPECT_FALSE(s.contains("visp_peer"));
+  EXPECT_LT(s["translation_rmse_m"].get<double>(), 0.01);
+}
+
+TEST_F(ReplayCommandTest, ATruncatedSequenceIsReportedNotFatal) {
+  const std::string copy =
+      (fs::temp_directory_path() / ("aerograsp_replay_test_trunc_" + std::to_string(getpid()))).string();
+  fs::remove_all(copy);
+  fs::copy(sequence_, copy, fs::copy_options::recursive);
+  // Frame 3's colour image cut short, as by a full disk.
+  const fs::path png = fs::path(copy) / "color" / "000003.png";
+  fs::resize_file(png, 100);
+  options_.sequence = copy;
+  options_.run_peer = false;
+  const nlohmann::json s = Run();
+  EXPECT_EQ(s["frames"], 3);
+  ASSERT_TRUE(s.contains("stopped_early"));
+  EXPECT_THAT(s["stopped_early"].get<std::string>(), HasSubstr("000003.png"));
+  // A missing image is found when the sequence is opened.
+  fs::remove(png);
+  EXPECT_THROW(Run(), HardwareError);
+  fs::remove_all(copy);
+}
+
+TEST_F(ReplayCommandTest, AMissingOrCorruptModelIsAClearError) {
+  options_.object = "no_such_object";
+  EXPECT_THAT([&] { Run(); }, ::testing::Throws<std::exception>());
+  options_.object = "";
+  options_.detector =
+      (fs::temp_directory_path() / ("aerograsp_bad_detector_" + std::to_string(getpid()) + ".onnx")).string();
+  std::ofstream(options_.detector) << "garbage";
+  EXPECT_THAT([&] { Run(); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("cannot load the detector model")));
+  fs::remove(options_.detector);
+}
+
+TEST(ParsePoseTest, ReadsSevenNumbersAndRejectsTheRest) {
+  const Eigen::Isometry3d cMo = ParsePose("0.1 -0.2 0.7 0 1 0 0");
+  EXPECT_TRUE(cMo.translation().isApprox(Eigen::Vector3d(0.1, -0.2, 0.7)));
+  EXPECT_NEAR(RotationAngle(cMo.linear()), M_PI, 1e-12);
+  EXPECT_THAT([] { ParsePose("0 0 1 1 0 0"); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("expected 7 numbers")));
+  EXPECT_THAT([] { ParsePose("0 0 1 0 0 0 0"); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("quaternion is zero")));
+  EXPECT_THAT([] { ParsePose("0 0 x 1 0 0 0"); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("'x' is not a number")));
+}
+
+}  // namespace
+}  // namespace aerograsp

@@ -1,0 +1,155 @@
+#include "detection/icp.h"
+
+#include <gtest/gtest.h>
+
+#include "core/transforms.h"
+#include "test_helpers.h"
+
+namespace aerograsp {
+namespace {
+using testing::CrawlerModel;
+using testing::Perturbed;
+using testing::TypicalCMo;
+using testing::VisibleScene;
+
+const Eigen::Vector3f kUp(0, 0, 1), kYellow(230, 180, 20), kGrey(40, 40, 40);
+
+TEST(IcpRejectorTest, DistanceRejectsFarPairsOnly) {
+  RejectorThresholds t;
+  t.max_distance_m = 0.01;
+  EXPECT_EQ(ClassifyPair({0, 0, 0.009f}, kUp, kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kNone);
+  EXPECT_EQ(ClassifyPair({0, 0, 0.011f}, kUp, kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kDistance);
+}
+
+TEST(IcpRejectorTest, NormalRejectsDisagreeingNormalsOnly) {
+  RejectorThresholds t;
+  t.min_normal_cos = 0.7;  // 45.6 deg
+  const Eigen::Vector3f tilted40 = Eigen::AngleAxisf(0.70f, Eigen::Vector3f::UnitX()) * kUp;
+  const Eigen::Vector3f tilted50 = Eigen::AngleAxisf(0.87f, Eigen::Vector3f::UnitX()) * kUp;
+  EXPECT_EQ(ClassifyPair({0, 0, 0}, tilted40, kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kNone);
+  EXPECT_EQ(ClassifyPair({0, 0, 0}, tilted50, kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kNormal);
+  // A scene normal that could not be fitted (zero) is not judged.
+  EXPECT_EQ(ClassifyPair({0, 0, 0}, Eigen::Vector3f::Zero(), kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kNone);
+  t.min_normal_cos = -1.0;  // disabled
+  EXPECT_EQ(ClassifyPair({0, 0, 0}, -kUp, kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kNone);
+}
+
+TEST(IcpRejectorTest, ColorRejectsOtherHuesButNotShading) {
+  RejectorThresholds t;
+  t.max_color_distance = 150;
+  // The same yellow at half the light is the same colour.
+  EXPECT_EQ(ClassifyPair({0, 0, 0}, kUp, kYellow * 0.5f, {0, 0, 0}, kUp, kYellow, t), Rejection::kNone);
+  EXPECT_EQ(ClassifyPair({0, 0, 0}, kUp, kGrey, {0, 0, 0}, kUp, kYellow, t), Rejection::kColor);
+  EXPECT_GT(ColorDistance(kGrey, kYellow), 150.0f);
+  EXPECT_NEAR(ColorDistance(kYellow, kYellow * 0.3f), 0.0f, 1e-3f);
+  t.max_color_distance = 768;  // disabled
+  EXPECT_EQ(ClassifyPair({0, 0, 0}, kUp, kGrey, {0, 0, 0}, kUp, kYellow, t), Rejection::kNone);
+}
+
+TEST(IcpRejectorTest, EachRejectorIsAppliedInOrder) {
+  RejectorThresholds t;
+  // Fails all three: reported as distance (Eq. 1 first).
+  EXPECT_EQ(ClassifyPair({0, 0, 1}, -kUp, kGrey, {0, 0, 0}, kUp, kYellow, t), Rejection::kDistance);
+  // Fails normal and colour: normal (Eq. 2 before Eq. 3).
+  EXPECT_EQ(ClassifyPair({0, 0, 0}, -kUp, kGrey, {0, 0, 0}, kUp, kYellow, t), Rejection::kNormal);
+}
+
+TEST(IcpTest, ConvergesFromAPerturbedPose) {
+  const ModelCloud& model = CrawlerModel();
+  const Eigen::Isometry3d truth = TypicalCMo();
+  const SceneCloud scene = VisibleScene(model, truth);
+  const IcpResult r = RefinePoseIcp(model, scene, Perturbed(truth, {0.01, -0.008, 0.006}, {0.05, -0.04, 0.06}));
+  ASSERT_TRUE(r.ok);
+  const PoseError e = ComparePoses(truth, r.cMo);
+  EXPECT_LT(e.translation_m, 0.001);
+  EXPECT_LT(e.rotation_rad, 0.2 * M_PI / 180);
+  EXPECT_GT(r.inlier_ratio, 0.95);
+  EXPECT_LE(r.rejected_color, r.scene_points / 100);  // only at colour seams
+}
+
+// A slab of the wrong colour hugging the yellow body 6 mm above it, with the
+// body's normals: only the colour rejector can tell it from the object. With the
+// rejector it counts the slab's pairs and the pose stays put; disabled, the slab
+// drags the pose towards itself.
+TEST(IcpTest, ColorRejectorRunsAndRemovesAWrongColouredSurface) {
+  const ModelCloud& model = CrawlerModel();
+  const Eigen::Isometry3d truth = TypicalCMo();
+  SceneCloud scene = VisibleScene(model, truth);
+  const Eigen::Isometry3f T = truth.cast<float>();
+  int slab = 0;
+  for (std::size_t i = 0; i < model.points_o.size(); ++i) {
+    const Eigen::Vector3f& p = model.points_o[i];
+    if (model.normals_o[i].z() > 0.9f && std::abs(p.y()) < 0.045f && model.colors[i].x() > 200) {
+      scene.points_c.push_back(T * (p + Eigen::Vector3f(0, 0, 0.006f)));
+      scene.normals_c.push_back(T.linear() * model.normals_o[i]);
+      scene.colors.push_back(Eigen::Vector3f(30, 60, 220));  // blue
+      ++slab;
+    }
+  }
+  ASSERT_GT(slab, 100);
+  const Eigen::Isometry3d start = Perturbed(truth, {0.003, 0.0, 0.0}, {0.0, 0.02, 0.0});
+  IcpOptions with;
+  const IcpResult r_with = RefinePoseIcp(model, scene, start, with);
+  IcpOptions without = with;
+  without.max_color_distance = 768.0;
+  const IcpResult r_without = RefinePoseIcp(model, scene, start, without);
+  ASSERT_TRUE(r_with.ok);
+  ASSERT_TRUE(r_without.ok);
+  EXPECT_GE(r_with.rejected_color, slab * 8 / 10);
+  EXPECT_EQ(r_without.rejected_color, 0);
+  EXPECT_LT(ComparePoses(truth, r_with.cMo).translation_m, 0.001);
+  EXPECT_GT(ComparePoses(truth, r_without.cMo).translation_m, 0.0015);
+}
+
+// Points on the surface whose normals are turned 90 deg (a bristle of wrong
+// normals): the normal rejector counts them.
+TEST(IcpTest, NormalRejectorRunsOnWrongNormals) {
+  const ModelCloud& model = CrawlerModel();
+  const Eigen::Isometry3d truth = TypicalCMo();
+  SceneCloud scene = VisibleScene(model, truth);
+  const std::size_t n = scene.points_c.size();
+  for (std::size_t i = 0; i < n; i += 4) {
+    const Eigen::Vector3f& normal = scene.normals_c[i];
+    scene.normals_c[i] = normal.unitOrthogonal();
+  }
+  IcpOptions options;
+  const IcpResult r = RefinePoseIcp(model, scene, truth, options);
+  ASSERT_TRUE(r.ok);
+  EXPECT_GE(r.rejected_normal, static_cast<int>(n / 4) * 9 / 10);
+  options.min_normal_cos = -1.0;
+  EXPECT_EQ(RefinePoseIcp(model, scene, truth, options).rejected_normal, 0);
+}
+
+// Background points 3 cm behind the object (the support pipe, the ground).
+TEST(IcpTest, DistanceRejectorRunsOnBackground) {
+  const ModelCloud& model = CrawlerModel();
+  const Eigen::Isometry3d truth = TypicalCMo();
+  SceneCloud scene = VisibleScene(model, truth);
+  const std::size_t n = scene.points_c.size();
+  for (std::size_t i = 0; i < n; i += 2) {
+    scene.points_c.push_back(scene.points_c[i] * 1.045f);  // along the ray, ~3 cm behind
+    scene.normals_c.push_back(scene.normals_c[i]);
+    scene.colors.push_back(scene.colors[i]);
+  }
+  const IcpResult r = RefinePoseIcp(model, scene, Perturbed(truth, {0.004, 0, 0}, {0, 0, 0.03}));
+  ASSERT_TRUE(r.ok);
+  // Behind the front faces some land near the object's inner faces, where the
+  // normals (Eq. 2) catch them; the rest is too far (Eq. 1).
+  EXPECT_GT(r.rejected_distance + r.rejected_no_model, static_cast<int>(n / 2) * 4 / 10);
+  EXPECT_GT(r.rejected_distance + r.rejected_no_model + r.rejected_normal, static_cast<int>(n / 2) * 9 / 10);
+  EXPECT_LT(ComparePoses(truth, r.cMo).translation_m, 0.0015);
+}
+
+TEST(IcpTest, EmptyOrTinySceneFailsWithoutThrowing) {
+  const ModelCloud& model = CrawlerModel();
+  EXPECT_FALSE(RefinePoseIcp(model, SceneCloud{}, TypicalCMo()).ok);
+  SceneCloud few = VisibleScene(model, TypicalCMo(), 400);
+  EXPECT_LT(few.points_c.size(), 30u);
+  EXPECT_FALSE(RefinePoseIcp(model, few, TypicalCMo()).ok);
+  Eigen::Isometry3d nan_pose = TypicalCMo();
+  nan_pose.translation().x() = std::nan("");
+  EXPECT_FALSE(RefinePoseIcp(model, VisibleScene(model, TypicalCMo()), nan_pose).ok);
+}
+
+}  // namespace
+}  // namespace aerograsp

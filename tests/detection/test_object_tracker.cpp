@@ -1,0 +1,180 @@
+#include "detection/object_tracker.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/shape_mesh.h"
+#include "core/transforms.h"
+#include "hardware/sim/d435_model.h"
+#include "hardware/sim/rgbd_renderer.h"
+#include "test_helpers.h"
+
+namespace aerograsp {
+namespace {
+
+/// A crawler in front of a green wall 1.3 m away, rendered with the D435 model.
+/// (A wall the grey of the crawler's tracks, seen face-on, is a crawler seen
+/// face-on as far as depth and colour go: without a detector that is ambiguous.)
+class RenderedScene {
+ public:
+  RenderedScene() : rng_(5) {
+    RenderMesh wall;
+    wall.mesh = MakeBoxMesh(Eigen::Vector3d(4.0, 4.0, 0.05));
+    wall.material.albedo = Eigen::Vector3f(0.3f, 0.6f, 0.25f);
+    for (Eigen::Vector3d& v : wall.mesh.vertices) v.z() += 1.3;  // static meshes are given in w (= c here)
+    renderer_.AddMesh(wall, RgbdRenderer::Motion::kStatic);
+    RenderMesh object;
+    object.mesh = ObjectModel::Load("crawler").mesh_o;
+    object_id_ = renderer_.AddMesh(object);
+  }
+  /// Renders the scene with the object at cMo (hidden when !visible).
+  void Render(const Eigen::Isometry3d& cMo, bool visible, ColorImage* color, DepthImage* depth) {
+    renderer_.SetVisible(object_id_, visible);
+    renderer_.SetPose(object_id_, cMo);
+    RenderBuffers truth;
+    Lighting light;
+    light.to_light_w = Eigen::Vector3d(0.2, -0.5, -1.0);
+    renderer_.Render(Eigen::Isometry3d::Identity(), K_, light, &truth);
+    RgbdFrame frame;
+    SimulateD435(D435Config{}, K_, truth, &rng_, &frame);
+    *color = frame.color;
+    *depth = frame.depth;
+  }
+  const CameraIntrinsics& K() const { return K_; }
+
+ private:
+  RgbdRenderer renderer_;
+  FastRandom rng_;
+  CameraIntrinsics K_;
+  int object_id_ = -1;
+};
+
+RenderedScene& Scene() {
+  static RenderedScene scene;
+  return scene;
+}
+
+Eigen::Isometry3d TruthAt(int k) {
+  Eigen::Isometry3d cMo = testing::TypicalCMo();
+  cMo.translation() += Eigen::Vector3d(0.002 * k, -0.001 * k, 0.0);
+  return cMo;
+}
+
+TEST(ObjectTrackerTest, FindsAndTracksWithoutADetector) {
+  ObjectTracker tracker(ObjectModel::Load("crawler"), PerceptionOptions{}, nullptr);
+  ColorImage color;
+  DepthImage depth;
+  TrackState state = TrackState::kLost;
+  FrameReport r;
+  for (int k = 0; k < 6; ++k) {
+    Scene().Render(TruthAt(k), true, &color, &depth);
+    r = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001);
+    state = r.estimate.state;
+    if (k == 0) {
+      EXPECT_TRUE(r.global_init);
+    }
+  }
+  ASSERT_EQ(state, TrackState::kFound);
+  EXPECT_FALSE(r.global_init);
+  EXPECT_LT(ComparePoses(TruthAt(5), r.estimate.cMo).translation_m, 0.005);
+  EXPECT_LT(SymmetricRotationError(r.estimate.cMo.linear(), TruthAt(5).linear(), tracker.model().symmetry),
+            2.0 * M_PI / 180);
+  EXPECT_GT(r.estimate.confidence, 0.6);
+}
+
+TEST(ObjectTrackerTest, KnownFirstPoseSkipsGlobalRegistration) {
+  ObjectTracker tracker(ObjectModel::Load("crawler"), PerceptionOptions{}, nullptr);
+  tracker.SetInitialPose(testing::Perturbed(TruthAt(0), {0.005, 0.0, -0.004}, {0.0, 0.03, 0.0}));
+  ColorImage color;
+  DepthImage depth;
+  for (int k = 0; k < 3; ++k) {
+    Scene().Render(TruthAt(k), true, &color, &depth);
+    const FrameReport r = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001);
+    EXPECT_FALSE(r.global_init) << k;
+    EXPECT_TRUE(r.measured) << k;
+    if (k == 2) {
+      EXPECT_EQ(r.estimate.state, TrackState::kFound);
+      EXPECT_LT(ComparePoses(TruthAt(k), r.estimate.cMo).translation_m, 0.004);
+    }
+  }
+}
+
+TEST(ObjectTrackerTest, LosesAHiddenObjectAndReacquiresItWithinFiveFrames) {
+  ObjectTracker tracker(ObjectModel::Load("crawler"), PerceptionOptions{}, nullptr);
+  tracker.SetInitialPose(TruthAt(0));
+  ColorImage color;
+  DepthImage depth;
+  int k = 0;
+  for (; k < 3; ++k) {
+    Scene().Render(TruthAt(k), true, &color, &depth);
+    tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001);
+  }
+  TrackState state = TrackState::kFound;
+  for (; k < 10; ++k) {
+    Scene().Render(TruthAt(k), false, &color, &depth);
+    const FrameReport r = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001);
+    EXPECT_FALSE(r.measured) << "frame " << k << ": a pose was measured on the bare wall";
+    state = r.estimate.state;
+  }
+  EXPECT_EQ(state, TrackState::kLost);
+  int frames_to_find = 0;
+  for (; k < 16 && state != TrackState::kFound; ++k, ++frames_to_find) {
+    Scene().Render(TruthAt(k), true, &color, &depth);
+    const FrameReport r = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001);
+    state = r.estimate.state;
+    if (state == TrackState::kFound) {
+      EXPECT_LT(ComparePoses(TruthAt(k), r.estimate.cMo).translation_m, 0.005);
+    }
+  }
+  EXPECT_EQ(state, TrackState::kFound);
+  EXPECT_LE(frames_to_find, 5);
+}
+
+TEST(ObjectTrackerTest, AFrameWithoutTheObjectIsNeverFound) {
+  ObjectTracker tracker(ObjectModel::Load("crawler"), PerceptionOptions{}, nullptr);
+  ColorImage color;
+  DepthImage depth;
+  for (int k = 0; k < 3; ++k) {
+    Scene().Render(TruthAt(0), false, &color, &depth);
+    const FrameReport r = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001);
+    EXPECT_FALSE(r.measured);
+    EXPECT_EQ(r.estimate.state, TrackState::kLost);
+    EXPECT_FALSE(r.estimate.valid);
+  }
+}
+
+TEST(ObjectTrackerTest, BadInputsGiveALostStateNotACrash) {
+  ObjectTracker tracker(ObjectModel::Load("crawler"), PerceptionOptions{}, nullptr);
+  tracker.SetInitialPose(TruthAt(0));
+  const CameraIntrinsics K;
+  const ColorImage color(640, 480, 128);
+  const DepthImage zero_depth(640, 480, 0);
+  const std::vector<std::pair<const char*, FrameReport>> cases = {
+      {"empty images", tracker.Process(ColorImage{}, DepthImage{}, 0.0, K, 0.001)},
+      {"all-zero depth", tracker.Process(color, zero_depth, 0.1, K, 0.001)},
+      {"size mismatch", tracker.Process(ColorImage(320, 240, 0), zero_depth, 0.2, K, 0.001)},
+      {"NaN stamp", tracker.Process(color, DepthImage(640, 480, 700), std::nan(""), K, 0.001)},
+      {"zero depth scale", tracker.Process(color, DepthImage(640, 480, 700), 0.3, K, 0.0)},
+      {"flat depth", tracker.Process(color, DepthImage(640, 480, 700), 0.4, K, 0.001)},
+  };
+  for (const auto& [name, r] : cases) {
+    EXPECT_FALSE(r.measured) << name;
+    EXPECT_EQ(r.estimate.state, TrackState::kLost) << name;
+    EXPECT_TRUE(r.estimate.cMo.matrix().allFinite()) << name;
+  }
+}
+
+TEST(ObjectTrackerTest, BadOptionsAreRejectedByName) {
+  PerceptionOptions options;
+  options.icp.start_distance_m = 0.2;  // beyond the model grid's margin
+  try {
+    ObjectTracker tracker(ObjectModel::Load("crawler"), options, nullptr);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("icp.start_distance_m"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace aerograsp

@@ -1,0 +1,54 @@
+#include "detection/track_monitor.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace aerograsp {
+namespace {
+
+TEST(TrackMonitorTest, FoundNeedsConsecutiveGoodFrames) {
+  TrackMonitor m;  // find at 0.6 for 2 frames, lose below 0.3 for 3 frames
+  EXPECT_EQ(m.Update(0.9), TrackState::kLost);
+  EXPECT_EQ(m.Update(0.5), TrackState::kLost);  // resets the count
+  EXPECT_EQ(m.Update(0.9), TrackState::kLost);
+  EXPECT_EQ(m.Update(0.9), TrackState::kFound);
+}
+
+TEST(TrackMonitorTest, HysteresisKeepsATrackThroughWobbles) {
+  TrackMonitor m;
+  m.Update(1.0);
+  m.Update(1.0);
+  ASSERT_EQ(m.state(), TrackState::kFound);
+  for (int i = 0; i < 10; ++i) EXPECT_EQ(m.Update(i % 2 ? 0.35 : 0.1), TrackState::kFound);  // never 3 bad in a row
+  EXPECT_EQ(m.Update(0.2), TrackState::kFound);
+  EXPECT_EQ(m.Update(0.0), TrackState::kFound);
+  EXPECT_EQ(m.Update(0.29), TrackState::kLost);
+  // Between the thresholds does not find it again.
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(m.Update(0.5), TrackState::kLost);
+}
+
+TEST(TrackMonitorTest, NanCountsAsNothing) {
+  TrackMonitor m;
+  m.Update(1.0);
+  m.Update(1.0);
+  for (int i = 0; i < 3; ++i) m.Update(std::nan(""));
+  EXPECT_EQ(m.state(), TrackState::kLost);
+}
+
+TEST(TrackMonitorTest, BadOptionsAreRejectedByName) {
+  TrackMonitorOptions o;
+  o.keep_confidence = 0.7;
+  EXPECT_THROW({ TrackMonitor m(o); }, std::invalid_argument);
+  o = {};
+  o.frames_to_lose = 0;
+  try {
+    o.Validate();
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("frames_to_lose"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace aerograsp
