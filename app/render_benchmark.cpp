@@ -1,7 +1,6 @@
 #include "app/render_benchmark.h"
 
 #include <fmt/format.h>
-#include <time.h>
 
 #include <algorithm>
 #include <chrono>
@@ -10,18 +9,13 @@
 
 #include "app/summary_file.h"
 #include "core/data_dir.h"
+#include "core/thread_clock.h"
 #include "hardware/sim/d435_model.h"
 #include "hardware/sim/rgbd_renderer.h"
 #include "hardware/sim/world.h"
 
 namespace aerograsp {
 namespace {
-
-double ThreadCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 double Percentile(std::vector<double> values, double p) {
   std::sort(values.begin(), values.end());
@@ -49,16 +43,16 @@ void RunRenderBenchmark(const RenderBenchmarkOptions& options, std::ostream& out
   for (int i = 0; i < options.frames; ++i) {
     world.StepTo(i / config.camera.frame_rate_hz);
     const auto wall0 = std::chrono::steady_clock::now();
-    const double t0 = ThreadCpuSeconds();
+    const double t0 = ThreadCpuMs();
     renderer.SetPose(object_id, world.wMo());
     renderer.Render(world.wMc(), K, Lighting{}, &truth);
-    const double t1 = ThreadCpuSeconds();
+    const double t1 = ThreadCpuMs();
     SimulateD435(config.camera.d435, K, truth, &rng, &frame);
-    const double t2 = ThreadCpuSeconds();
+    const double t2 = ThreadCpuMs();
     wall_ms.push_back(1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
-    raycast_ms.push_back(1e3 * (t1 - t0));
-    model_ms.push_back(1e3 * (t2 - t1));
-    total_ms.push_back(1e3 * (t2 - t0));
+    raycast_ms.push_back(t1 - t0);
+    model_ms.push_back(t2 - t1);
+    total_ms.push_back(t2 - t0);
   }
   const double budget_ms = 20.0;
   out << fmt::format("render benchmark: {} frames {}x{}, world {}, seed {} (CPU time of one thread)\n",
