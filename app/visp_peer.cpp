@@ -12,6 +12,7 @@
 #include <visp3/mbt/vpMbGenericTracker.h>
 
 #include "core/conversions.h"
+#include "core/stdout_capture.h"
 #include "core/thread_clock.h"
 
 namespace aerograsp {
@@ -41,7 +42,10 @@ VispPeerTracker::VispPeerTracker(const ObjectModel& object, const CameraIntrinsi
   WriteCaoModel(object.mesh_o, cao);
   impl_->K = K;
   try {
-    impl_->tracker.loadModel(cao);
+    {
+      const StdoutCapture quiet;  // ViSP lists what it parsed on stdout
+      impl_->tracker.loadModel(cao);
+    }
     impl_->tracker.setCameraParameters(vpCameraParameters(K.fx, K.fy, K.cx, K.cy));
     impl_->tracker.setDepthDenseSamplingStep(4, 4);
     impl_->tracker.setNearClippingDistance(0.1);
