@@ -31,7 +31,7 @@ void RunRenderBenchmark(const RenderBenchmarkOptions& options, std::ostream& out
   WorldConfig config = WorldConfig::Load(world_path);
   config.object.motion = "crawl";
   World world(config, options.seed);
-  // The same setup as SimCamera, timed stage by stage.
+  // SimCamera's scene without the arms (out of view while hovering), timed stage by stage.
   RgbdRenderer renderer;
   for (const RenderMesh& mesh : world.static_scene()) renderer.AddMesh(mesh, RgbdRenderer::Motion::kStatic);
   const int object_id = renderer.AddMesh(world.object_render_mesh());

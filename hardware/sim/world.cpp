@@ -121,9 +121,9 @@ void World::SetGripper(Side side, GripperCommand command) {
   Gripper& g = grippers_[static_cast<int>(side)];
   if (g.command == command) return;
   g.command = command;
-  if (command == GripperCommand::kOpen && g.holding) {
-    g.holding = false;
-    const bool still_held = grippers_[0].holding || grippers_[1].holding;
+  if (command == GripperCommand::kOpen && g.state.holding) {
+    g.state.holding = false;
+    const bool still_held = grippers_[0].state.holding || grippers_[1].state.holding;
     if (!still_held) {
       // Released: the object falls upright to the ground below it (no physics).
       object_free_ = true;
@@ -172,7 +172,7 @@ void World::UpdateGripper(Side side, double dt_s) {
     g.state.holding = false;
     return;
   }
-  if (g.holding) {  // fingers rest on the object
+  if (g.state.holding) {  // fingers rest on the object
     g.state.moving = false;
     return;
   }
@@ -180,8 +180,6 @@ void World::UpdateGripper(Side side, double dt_s) {
   const double contact = ClosingWidth(side, &spans);
   const double next = std::max(0.0, g.state.aperture_m - rate * dt_s);
   if (spans && next <= contact && g.state.aperture_m >= contact) {
-    g.state.aperture_m = contact;
-    g.holding = true;
     g.eMo = wMe(side).inverse() * wMo_;
     object_free_ = true;
     g.state = {contact, false, true, true};
@@ -198,9 +196,9 @@ void World::PhysicsStep(double dt_s) {
   for (Side side : {Side::kLeft, Side::kRight}) UpdateGripper(side, dt_s);
   now_s_ += dt_s;
   // The object: carried by a gripper, else crawling or resting.
-  if (grippers_[0].holding) {
+  if (grippers_[0].state.holding) {
     wMo_ = wMe(Side::kLeft) * grippers_[0].eMo;
-  } else if (grippers_[1].holding) {
+  } else if (grippers_[1].state.holding) {
     wMo_ = wMe(Side::kRight) * grippers_[1].eMo;
   } else if (!object_free_ && config_.object.motion == "crawl" && config_.object.travel_m > 0.0) {
     // Back and forth between start and start + travel at constant speed.

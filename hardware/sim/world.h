@@ -75,7 +75,7 @@ class World {
   /// The tool point of an arm in the world, at the arm's true joint positions.
   Eigen::Isometry3d wMe(Side side) const;
   /// Which gripper holds the object (both may); the object moves with the left one first.
-  bool held_by(Side side) const { return grippers_[static_cast<int>(side)].holding; }
+  bool held_by(Side side) const { return grippers_[static_cast<int>(side)].state.holding; }
 
   /// The static scene (ground, pipe and its posts, clutter), in w, for rendering.
   const std::vector<RenderMesh>& static_scene() const { return static_scene_; }
@@ -109,7 +109,6 @@ class World {
   struct Gripper {
     GripperCommand command = GripperCommand::kOpen;
     GripperState state;
-    bool holding = false;
     Eigen::Isometry3d eMo = Eigen::Isometry3d::Identity();
   };
   void PhysicsStep(double dt_s);
