@@ -30,6 +30,9 @@ struct GripperConfig {
   double close_time_s{0.8};         ///< full open to closed, (0, 10] s
 };
 
+/// What a gripper is told: the servo layer decides it, the arms driver carries it out.
+enum class GripperCommand { kOpen, kClose };
+
 struct PlatformConfig {
   std::string source;                      ///< the file it was read from (for messages)
   std::string arm_type{"4dof"};            ///< "4dof" or "6dof"

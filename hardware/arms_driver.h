@@ -9,7 +9,6 @@
 
 namespace aerograsp {
 
-enum class GripperCommand { kOpen, kClose };
 
 struct GripperState {
   double aperture_m = 0.0;  ///< current opening between the finger pads

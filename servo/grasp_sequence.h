@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <string>
 
+#include "core/platform.h"
 #include "servo/arm_servo.h"
 #include "servo/ik.h"
 
@@ -34,7 +35,6 @@ enum class GraspPhase {
 };
 const char* GraspPhaseName(GraspPhase phase);
 
-enum class GripperCommand { kOpen, kClose };
 
 struct GraspCommand {
   ServoCommand joints;                        ///< the arm's command (zero dq on hold)
