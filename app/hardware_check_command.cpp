@@ -95,7 +95,7 @@ int RunHardwareCheck(const HardwareCheckOptions& options, std::ostream& out) {
       const std::size_t servos = scs->servo_statuses().size();
       for (std::size_t i = 0; i < servos; ++i) scs->Cycle();
       out << fmt::format("  {:<10} ok: {}: {} servos answer (torque left off)\n", "arms", Where(config.arms), servos);
-      for (const ServoStatus& s : scs->servo_statuses()) {
+      for (const ScsServoStatus& s : scs->servo_statuses()) {
         out << fmt::format("             {:<14} id {:>3}  raw {:>4}  load {:>5}  {:.1f} V  {} C{}\n", s.name, s.id,
                            s.raw_position, s.load, s.voltage_v, s.temperature_c,
                            s.error ? "  errors: " + scs::ErrorBitsText(s.error) : "");

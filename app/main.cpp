@@ -7,6 +7,7 @@
 
 #include "app/calibrate_command.h"
 #include "app/hardware_check_command.h"
+#include "app/mission_command.h"
 #include "app/dataset_command.h"
 #include "app/plan_command.h"
 #include "app/record_command.h"
@@ -161,6 +162,14 @@ int main(int argc, char** argv) {
   dataset_cmd->add_flag("--overwrite", dataset.overwrite, "Replace a dataset already in --out");
   // ---- end replay and dataset ----
 
+  // ---- mission: the simulated mission end to end (issue 7) ----
+  aerograsp::MissionCommandOptions mission;
+  CLI::App* mission_cmd = app.add_subcommand(
+      "mission", "Fly a full grasping mission in the simulator: take-off, approach, detect, grasp with both arms, "
+                 "lift, home, land; report in DIR");
+  aerograsp::AddMissionOptions(mission_cmd, &mission);
+  // ---- end mission ----
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -185,6 +194,7 @@ int main(int argc, char** argv) {
       aerograsp::RunReplayCommand(replay, std::cout, std::cerr);
     }
     if (*dataset_cmd) aerograsp::RunDatasetCommand(dataset, std::cout, std::cerr);
+    if (*mission_cmd) aerograsp::RunMissionCommand(mission, std::cout, std::cerr);
   } catch (const std::exception& e) {
     std::cerr << "aerograsp: error: " << e.what() << "\n";
     return 1;

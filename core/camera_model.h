@@ -19,6 +19,18 @@ struct CameraIntrinsics {
   Eigen::Vector2d Project(const Eigen::Vector3d& p_c) const {
     return {fx * p_c.x() / p_c.z() + cx, fy * p_c.y() / p_c.z() + cy};
   }
+  /// The same camera at `scale` times the resolution (pixel centres kept:
+  /// c' = (c + 0.5) * scale - 0.5), e.g. 0.5 for 640x480 -> 320x240.
+  CameraIntrinsics Scaled(double scale) const {
+    CameraIntrinsics k = *this;
+    k.width = static_cast<int>(width * scale + 0.5);
+    k.height = static_cast<int>(height * scale + 0.5);
+    k.fx = fx * scale;
+    k.fy = fy * scale;
+    k.cx = (cx + 0.5) * scale - 0.5;
+    k.cy = (cy + 0.5) * scale - 0.5;
+    return k;
+  }
   /// The point at depth z (m) seen at pixel (u, v), in the camera frame.
   Eigen::Vector3d Unproject(double u, double v, double z) const {
     return {(u - cx) * z / fx, (v - cy) * z / fy, z};

@@ -112,11 +112,16 @@ std::unique_ptr<ArmsDriver> OpenArms(const ArmsHardwareConfig& config, const Pla
   return std::make_unique<ScsArmsDriver>(platform, scs, clock);
 }
 
-std::unique_ptr<Hardware> Hardware::Open(const HardwareConfig& config, std::uint64_t seed) {
+std::unique_ptr<Hardware> Hardware::Open(const HardwareConfig& config, std::uint64_t seed,
+                                         const std::function<void(WorldConfig*)>& adjust_world) {
   std::unique_ptr<Hardware> hw(new Hardware());
   if (config.NeedsWorld()) {
     WorldConfig world_config = WorldConfig::Load(config.world);
     world_config.platform = config.platform;
+    if (adjust_world) {
+      adjust_world(&world_config);
+      world_config.Validate();
+    }
     hw->world_ = std::make_unique<World>(world_config, seed);
     hw->platform_ = std::make_unique<Platform>(hw->world_->platform());
   } else {

@@ -17,6 +17,7 @@
 namespace aerograsp {
 
 class World;
+struct WorldConfig;
 class SimServoBus;
 class SimPx4;
 class ScsArmsDriver;
@@ -33,7 +34,10 @@ class Hardware {
   /// device stops the run before anything moves.
   /// @throws HardwareError naming the device and its port or path; ConfigError /
   /// MeshError from the platform and world files.
-  static std::unique_ptr<Hardware> Open(const HardwareConfig& config, std::uint64_t seed);
+  /// `adjust_world`, when given, may change the world's settings after they are
+  /// read and before the world is built (a mission's object, motion, sway).
+  static std::unique_ptr<Hardware> Open(const HardwareConfig& config, std::uint64_t seed,
+                                        const std::function<void(WorldConfig*)>& adjust_world = {});
   ~Hardware();
   Hardware(const Hardware&) = delete;
   Hardware& operator=(const Hardware&) = delete;

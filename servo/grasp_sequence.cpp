@@ -79,9 +79,14 @@ GraspPhase GraspSequence::Step(const Eigen::VectorXd& q, double now_s, double dt
       Enter(GraspPhase::kTimedOut, now_s);
     }
   };
+  at_precatch_ = phase_ == GraspPhase::kPreCatch && moving && config_.precatch_tolerance.Met(out->joints.error);
   switch (phase_) {
     case GraspPhase::kPreCatch:
-      advance(config_.precatch_tolerance, config_.precatch_timeout_s, GraspPhase::kGrasp);
+      if (at_precatch_ && hold_at_precatch_) {
+        phase_start_s_ = now_s;  // waiting for the other arm does not count against the timeout
+      } else {
+        advance(config_.precatch_tolerance, config_.precatch_timeout_s, GraspPhase::kGrasp);
+      }
       break;
     case GraspPhase::kGrasp:
       advance(config_.grasp_tolerance, config_.grasp_timeout_s, GraspPhase::kClose);

@@ -63,6 +63,12 @@ class GraspSequence {
   GraspPhase Step(const Eigen::VectorXd& q, double now_s, double dt_s, GraspCommand* out);
 
   GraspPhase phase() const { return phase_; }
+  /// While `hold` is set the sequence stays at the pre-catch pose once it is
+  /// reached (tracking it, its phase clock paused) instead of moving in: the
+  /// two arms go in together (paper Fig. 7b, "approaching pose").
+  void HoldAtPreCatch(bool hold) { hold_at_precatch_ = hold; }
+  /// True while in the pre-catch phase with the pre-catch pose met.
+  bool at_precatch() const { return at_precatch_; }
   /// The pre-catch pose for a grasp: bMg moved back precatch_distance_m along z_g.
   Eigen::Isometry3d PreCatchPose(const Eigen::Isometry3d& bMg) const;
 
@@ -77,6 +83,8 @@ class GraspSequence {
   Eigen::Isometry3d bMg_ = Eigen::Isometry3d::Identity();
   double grasp_stamp_s_ = 0.0;
   bool switch_pending_ = false;  // passed to the servo with the next target
+  bool hold_at_precatch_ = false;
+  bool at_precatch_ = false;
 };
 
 }  // namespace aerograsp

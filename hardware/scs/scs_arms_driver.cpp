@@ -55,7 +55,7 @@ ScsArmsDriver::ScsArmsDriver(const Platform& platform, const ScsArmsConfig& conf
                                   config.reply_timeout_s, config.local_echo);
   // Every servo must answer before anything moves.
   std::vector<std::string> missing;
-  for (ServoStatus& servo : servos_) {
+  for (ScsServoStatus& servo : servos_) {
     std::vector<std::uint8_t> data;
     BusStatus status = BusStatus::kTimeout;
     for (int attempt = 0; attempt < 3 && status != BusStatus::kOk; ++attempt) {
@@ -133,7 +133,7 @@ Eigen::VectorXd ScsArmsDriver::last_command(Side side) const {
   return arms_[static_cast<int>(side)].command;
 }
 
-std::vector<ServoStatus> ScsArmsDriver::servo_statuses() const {
+std::vector<ScsServoStatus> ScsArmsDriver::servo_statuses() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return servos_;
 }
@@ -145,7 +145,7 @@ BusCounters ScsArmsDriver::counters() const {
 
 BusStatus ScsArmsDriver::SetTorque(bool on) {
   std::vector<scs::SyncEntry> entries;
-  for (const ServoStatus& servo : servos_) {
+  for (const ScsServoStatus& servo : servos_) {
     entries.push_back({static_cast<std::uint8_t>(servo.id), {static_cast<std::uint8_t>(on ? 1 : 0)}});
   }
   return bus_->SyncWrite(scs::reg::kTorqueEnable, 1, entries);
@@ -234,7 +234,7 @@ CycleReport ScsArmsDriver::Cycle() {
     servos_[k].failed_reads = 0;
   }
   if (status_ok) {
-    ServoStatus& servo = servos_[status_index];
+    ScsServoStatus& servo = servos_[status_index];
     servo.load = SignedLoad(scs::GetU16(status_data.data()));
     servo.voltage_v = 0.1 * status_data[2];
     servo.temperature_c = status_data[3];

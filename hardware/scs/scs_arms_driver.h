@@ -49,7 +49,7 @@ struct ScsArmsConfig {
 };
 
 /// What the driver knows of one servo.
-struct ServoStatus {
+struct ScsServoStatus {
   int id = 0;
   std::string name;        ///< "left j2", "right gripper"
   int raw_position = -1;   ///< last good PRESENT_POSITION; -1 before the first
@@ -92,7 +92,7 @@ class ScsArmsDriver : public ArmsDriver {
   /// Torque of every servo on or off (one SYNC_WRITE). Not while the driver's thread runs.
   BusStatus SetTorque(bool on);
 
-  std::vector<ServoStatus> servo_statuses() const;
+  std::vector<ScsServoStatus> servo_statuses() const;
   BusCounters counters() const;
   /// The commands last sent (rad), after limits and step limiting.
   Eigen::VectorXd last_command(Side side) const;
@@ -120,7 +120,7 @@ class ScsArmsDriver : public ArmsDriver {
   mutable std::mutex mutex_;
   std::array<ArmState, 2> arms_;
   BusCounters counters_;             // copy of the bus's, taken each cycle
-  std::vector<ServoStatus> servos_;  // left joints, left gripper, right joints, right gripper
+  std::vector<ScsServoStatus> servos_;  // left joints, left gripper, right joints, right gripper
   std::size_t next_status_ = 0;
   std::thread thread_;
   std::atomic<bool> running_{false};

@@ -14,7 +14,9 @@ constexpr double kLightPeriod_s = 23.0;  // slow change of the light (clouds)
 }  // namespace
 
 SimCamera::SimCamera(World* world)
-    : world_(world), rng_(world->seed() * 0x9E3779B97F4A7C15ull + kCameraStream) {
+    : world_(world),
+      K_(world->platform().camera().Scaled(world->config().camera.image_scale)),
+      rng_(world->seed() * 0x9E3779B97F4A7C15ull + kCameraStream) {
   for (const RenderMesh& mesh : world->static_scene()) renderer_.AddMesh(mesh, RgbdRenderer::Motion::kStatic);
   object_id_ = renderer_.AddMesh(world->object_render_mesh());
   for (Side side : {Side::kLeft, Side::kRight}) {
@@ -26,7 +28,7 @@ SimCamera::SimCamera(World* world)
 
 SimCamera::~SimCamera() = default;
 
-const CameraIntrinsics& SimCamera::intrinsics() const { return world_->platform().camera(); }
+const CameraIntrinsics& SimCamera::intrinsics() const { return K_; }
 
 double SimCamera::depth_scale_m() const { return world_->config().camera.d435.depth_scale_m; }
 

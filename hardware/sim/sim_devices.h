@@ -35,6 +35,7 @@ class SimCamera : public RgbdCamera {
 
  private:
   World* world_;
+  CameraIntrinsics K_;  // the platform's, scaled by the world's camera.image_scale
   RgbdRenderer renderer_;
   FastRandom rng_;
   int object_id_ = -1;

@@ -88,10 +88,11 @@ WorldConfig WorldConfig::Load(const std::string& path) {
   }
   if (root.Has("camera")) {
     const ConfigNode n = root.Child("camera");
-    n.RequireOnlyKeys({"frame_rate_hz", "d435", "light_azimuth_deg", "light_elevation_deg",
+    n.RequireOnlyKeys({"frame_rate_hz", "image_scale", "d435", "light_azimuth_deg", "light_elevation_deg",
                        "light_intensity", "ambient", "light_variation"});
     CameraSimConfig& k = c.camera;
     k.frame_rate_hz = n.GetDouble("frame_rate_hz", k.frame_rate_hz);
+    k.image_scale = n.GetDouble("image_scale", k.image_scale);
     if (n.Has("d435")) k.d435 = D435Config::FromNode(n.Child("d435"));
     k.light_azimuth_deg = n.GetDouble("light_azimuth_deg", k.light_azimuth_deg);
     k.light_elevation_deg = n.GetDouble("light_elevation_deg", k.light_elevation_deg);
@@ -150,6 +151,10 @@ void WorldConfig::Validate() const {
   CheckRange(src, "arms.position_range_deg", arms.position_range_deg, 1.0, 360.0, "deg");
 
   CheckRange(src, "camera.frame_rate_hz", camera.frame_rate_hz, 0.1, 300.0, "Hz");
+  if (camera.image_scale != 1.0 && camera.image_scale != 0.5) {
+    throw ConfigError(src + ": camera.image_scale: " + std::to_string(camera.image_scale) +
+                      " is not 1 or 0.5 (the D435 streams 640x480 and 320x240)");
+  }
   camera.d435.Validate(src, "camera.d435.");
   CheckRange(src, "camera.light_elevation_deg", camera.light_elevation_deg, 1.0, 90.0, "deg");
   CheckRange(src, "camera.light_intensity", camera.light_intensity, 0.0, 2.0, "");

@@ -34,7 +34,7 @@ struct ObjectMotionConfig {
 
 struct VehicleSimConfig {
   std::string start{"hover"};            ///< "hover" (at start_w_m, flying) | "ground" (disarmed at the origin)
-  Eigen::Vector3d start_w_m{-0.65, 0.0, -2.0};  ///< hover start (NED), m
+  Eigen::Vector3d start_w_m{-0.163, -0.15, -2.197};  ///< hover start (NED), m
   double start_yaw_rad{0.0};             ///< heading, rad
   Eigen::Vector3d sway_amplitude_m{0.03, 0.03, 0.02};  ///< per axis, each [0, 1] m
   Eigen::Vector3d sway_frequency_hz{0.31, 0.23, 0.4};  ///< per axis, each [0, 5] Hz
@@ -59,6 +59,9 @@ struct ArmsSimConfig {
 
 struct CameraSimConfig {
   double frame_rate_hz{30.0};       ///< (0, 300] Hz
+  /// Image size relative to the platform's camera XML: 1, or 0.5 for the D435's
+  /// 320x240 colour stream with depth aligned to it (intrinsics halved).
+  double image_scale{1.0};
   D435Config d435;
   double light_azimuth_deg{30.0};   ///< direction towards the sun, from north, deg
   double light_elevation_deg{55.0}; ///< above the horizon, (0, 90] deg

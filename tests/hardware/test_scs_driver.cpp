@@ -161,7 +161,7 @@ TEST_F(ScsDriverTest, AServoFallingSilentKeepsItsLastPositionAndIsCounted) {
   const CycleReport report = driver->Cycle();
   EXPECT_EQ(report.failed_reads, 1);
   EXPECT_EQ(driver->JointPositions(Side::kRight)[1], before);
-  for (const ServoStatus& s : driver->servo_statuses()) EXPECT_EQ(s.failed_reads, s.id == 22 ? 1 : 0) << s.name;
+  for (const ScsServoStatus& s : driver->servo_statuses()) EXPECT_EQ(s.failed_reads, s.id == 22 ? 1 : 0) << s.name;
 }
 
 TEST_F(ScsDriverTest, CorruptedRepliesAreRejectedNotBelieved) {
@@ -217,7 +217,7 @@ TEST_F(ScsDriverTest, TorqueOffLeavesTheServosLimp) {
 TEST_F(ScsDriverTest, StatusRegistersArriveRoundRobin) {
   auto driver = Open();
   Run(driver.get(), 0.2);  // 20 cycles, 10 servos: each read twice
-  for (const ServoStatus& s : driver->servo_statuses()) {
+  for (const ScsServoStatus& s : driver->servo_statuses()) {
     EXPECT_NEAR(s.voltage_v, 7.4, 1e-9) << s.name;
     EXPECT_EQ(s.temperature_c, 35) << s.name;
   }

@@ -1,0 +1,43 @@
+// The mission's settings (data/config/mission_default.yaml is the reference):
+// the simulated world it flies in, its waypoints, where the object should sit
+// in the body frame for the grasp, loop rates, tolerances and time limits.
+// Frame w is NED with its origin at the take-off point; d is FRD.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+
+namespace aerograsp {
+
+struct MissionConfig {
+  std::string source;                            ///< the file (for messages)
+  std::string world{"world_mission.yaml"};       ///< simulated world, resolved against the file's folder
+  double takeoff_altitude_m{2.0};                ///< above the take-off point, [0.5, 20] m
+  Eigen::Vector3d approach_w_m{2.90, 0.0, -2.2}; ///< waypoint near the object (NED), each [-100, 100] m
+  double yaw_rad{0.0};                           ///< heading held through the mission, [-pi, pi] rad
+  /// Where the object should sit in the body frame while the arms grasp it
+  /// (FRD: ahead, right, below), each [-1, 1] m.
+  Eigen::Vector3d grasp_dto_m{0.10, 0.0, 0.46};
+  double arrive_tolerance_m{0.15};      ///< a waypoint counts as reached within this, (0, 5] m
+  double near_tolerance_m{0.06};        ///< the object is "near" within this of grasp_dto_m, (0, 1] m
+  double lift_m{0.5};                   ///< climb after the grasp, [0, 10] m
+  double servo_rate_hz{100.0};          ///< arm servo loop, [10, 1000] Hz
+  double setpoint_rate_hz{10.0};        ///< autopilot position setpoints, [2, 100] Hz
+  double reevaluate_rate_hz{5.0};       ///< background grasp re-evaluation, (0, 100] Hz
+  double object_filter_s{0.5};          ///< low-pass time constant of the tracked object position, (0, 10] s
+  double settle_s{0.2};                 ///< both arms at their pre-catch poses this long before moving in, [0, 5] s
+  int max_attempts{4};                  ///< grasp attempts (plans) before giving up, [1, 100]
+  double lost_timeout_s{2.0};           ///< object lost this long while grasping: plan again, (0, 60] s
+  double search_timeout_s{20.0};        ///< at the waypoint without finding the object: give up, (0, 600] s
+  double planning_timeout_s{10.0};      ///< near the object without a feasible grasp: give up, (0, 600] s
+  double timeout_s{180.0};              ///< the whole mission, (0, 3600] s
+  double servo_margin_m{0.005};         ///< arms' clearance to the safe volume and each other, [0, 0.05] m
+
+  /// Reads a mission YAML; absent keys keep their defaults.
+  /// @throws ConfigError "<file>: <key>: ..." for unknown keys, wrong types or values out of range.
+  static MissionConfig Load(const std::string& path);
+  /// @throws ConfigError naming `source`, the key and the bound.
+  void Validate() const;
+};
+
+}  // namespace aerograsp

@@ -1,0 +1,744 @@
+#include "app/mission_runner.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <future>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include "app/mission_config.h"
+#include "core/collision.h"
+#include "core/data_dir.h"
+#include "core/object_model.h"
+#include "core/thread_clock.h"
+#include "detection/object_tracker.h"
+#include "grasp/planner.h"
+#include "hardware/hardware_factory.h"
+#include "hardware/sim/sim_devices.h"
+#include "hardware/sim/world.h"
+#include "hardware/sim/world_config.h"
+#include "mission/state_machines.h"
+#include "servo/collision_predicate.h"
+#include "servo/grasp_sequence.h"
+
+namespace aerograsp {
+namespace {
+
+namespace fs = std::filesystem;
+using WallClock = std::chrono::steady_clock;
+
+constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
+const char* const kArmNames[2] = {"left", "right"};
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+/// The estimate moved on to t_s with its velocity (at most 0.2 s ahead).
+Eigen::Isometry3d PredictCmo(const ObjectEstimate& e, double t_s) {
+  Eigen::Isometry3d cMo = e.cMo;
+  cMo.translation() += e.v_c * std::clamp(t_s - e.stamp_s, 0.0, 0.2);
+  return cMo;
+}
+
+HardwareConfig SimulatedHardware(const std::string& platform_path, const std::string& world_path) {
+  HardwareConfig c;
+  c.source = "built-in simulation";
+  c.platform = platform_path;
+  c.world = world_path;
+  c.arms.backend = "sim";
+  c.autopilot.backend = "sim";
+  c.camera.backend = "sim";
+  return c;
+}
+
+/// One frame's result with the truth at its stamp (NaN without a world).
+struct Perceived {
+  FrameReport report;
+  Eigen::Isometry3d dMo_truth = Eigen::Isometry3d::Identity();
+  bool has_truth = false;
+  std::shared_ptr<RgbdFrame> frame;
+};
+
+/// Everything the loop needs, built before take-off.
+class Mission {
+ public:
+  Mission(const MissionOptions& options, MissionRecord* record, std::ostream* log);
+  MissionResult Run();
+
+ private:
+  void Log(double t_s, const std::string& line);
+  void OnTransition(const StateTransition& t);
+  double Now() const;
+  /// Advances the clock by one servo period (simulated) or waits for it (real).
+  void Tick();
+  void Emergency(const std::string& cause);
+
+  void Perception();
+  void HandlePerceived(Perceived p);
+  void Vehicle();
+  void Planner();
+  void Reevaluate();
+  void Servo();
+  void Safety();
+  void SendSetpoint(const Eigen::Vector3d& p_w);
+  bool StartPlan();
+  void StopArms(const std::string& cause);
+  Eigen::Isometry3d dMoNow() const;
+  PlanQuery Query() const;
+
+  MissionOptions options_;
+  MissionConfig config_;
+  MissionRecord* record_;
+  std::ostream* log_;
+  MissionResult result_;
+
+  std::unique_ptr<Hardware> hw_;
+  World* world_ = nullptr;
+  std::unique_ptr<ObjectModel> object_;
+  std::unique_ptr<ObjectTracker> tracker_;
+  std::unique_ptr<GraspPlanner> planner_;
+  std::unique_ptr<PlatformCollision> collision_;
+  Eigen::VectorXd q_[2];  // measured joints, read by the other arm's forbidden predicate
+  std::unique_ptr<ArmServo> servo_[2];
+  std::unique_ptr<GraspSequence> sequence_[2];
+
+  GlobalMachine global_;
+  VehicleMachine vehicle_;
+  VisionMachine vision_;
+  PlannerMachine planner_sm_;
+  ArmsMachine arms_;
+
+  // Clock and rates.
+  double dt_s_ = 0.01;
+  double t0_wall_s_ = 0.0;
+  double next_frame_s_ = 0.0, frame_period_s_ = 1.0 / 30.0;
+  double next_setpoint_s_ = 0.0;
+  double next_reevaluate_s_ = 0.0;
+
+  // Perception in flight: started at a frame, collected at the next.
+  std::future<Perceived> perceiving_;
+  ObjectEstimate estimate_;
+  double lost_since_s_ = -1.0;
+  double last_found_stamp_s_ = 0.0;
+  bool have_object_w_ = false;
+  Eigen::Vector3d object_w_filtered_ = Eigen::Vector3d::Zero();
+  std::vector<double> perception_ms_, render_ms_;
+  double sq_position_ = 0.0, sq_rotation_ = 0.0;
+  int truth_frames_ = 0;
+
+  // Vehicle.
+  Eigen::Vector3d waypoint_w_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d setpoint_w_ = Eigen::Vector3d::Zero();
+  enum class Leg { kApproach, kTrack, kLift, kHome } leg_ = Leg::kApproach;
+  double hover_since_s_ = -1.0;
+
+  // Planner and grasp.
+  std::future<SwitchDecision> reevaluating_;
+  Eigen::Isometry3d reevaluate_dMo_ = Eigen::Isometry3d::Identity();
+  SwitchState choice_;
+  Eigen::Isometry3d oMg_[2];
+  bool switch_pending_[2] = {false, false};
+  double planning_since_s_ = -1.0;
+  bool logged_no_grasp_ = false;
+  bool holding_ = false;
+
+  // Safety.
+  bool in_safe_volume_[2] = {false, false};
+  bool stopped_ = false;
+  int snapshot_priority_ = 0;
+};
+
+Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostream* log)
+    : options_(options),
+      record_(record),
+      log_(log),
+      global_([this](const StateTransition& t) { OnTransition(t); }),
+      vehicle_([this](const StateTransition& t) { OnTransition(t); }),
+      vision_([this](const StateTransition& t) { OnTransition(t); }),
+      planner_sm_(1, {}),
+      arms_([this](const StateTransition& t) { OnTransition(t); }) {
+  const std::string config_path =
+      options.config_path.empty() ? DataPath("config/mission_default.yaml") : options.config_path;
+  config_ = MissionConfig::Load(config_path);
+  if (options.timeout_s > 0) config_.timeout_s = options.timeout_s;
+  planner_sm_ = PlannerMachine(config_.max_attempts, [this](const StateTransition& t) { OnTransition(t); });
+  if (options.arm_type != "4dof" && options.arm_type != "6dof") {
+    throw ConfigError("--arm: '" + options.arm_type + "' is not one of 4dof, 6dof");
+  }
+  const std::string platform_path = DataPath("config/platform_" + options.arm_type + ".yaml");
+  HardwareConfig hw_config;
+  if (options.hardware_path.empty()) {
+    hw_config = SimulatedHardware(platform_path, config_.world);
+  } else {
+    hw_config = HardwareConfig::Load(options.hardware_path);
+    hw_config.world = config_.world;  // simulated devices fly the mission's world
+  }
+  const auto adjust = [&](WorldConfig* w) {
+    if (!options.object.empty()) w->object.name = options.object;
+    if (!options.motion.empty()) w->object.motion = options.motion;
+    if (options.object_speed_mps >= 0) w->object.speed_mps = options.object_speed_mps;
+    if (options.sway_amplitude_m >= 0) {
+      w->vehicle.sway_amplitude_m = Eigen::Vector3d(1.0, 1.0, 2.0 / 3.0) * options.sway_amplitude_m;
+    }
+    if (options.sway_frequency_hz >= 0) w->vehicle.sway_frequency_hz.setConstant(options.sway_frequency_hz);
+  };
+  hw_ = Hardware::Open(hw_config, options.seed, adjust);
+  world_ = hw_->world();
+  const Platform& platform = hw_->platform();
+
+  object_ = std::make_unique<ObjectModel>(world_ ? world_->object()
+                                                 : ObjectModel::Load(options.object.empty() ? "crawler"
+                                                                                            : options.object));
+  std::unique_ptr<BoxDetector> detector;
+  const fs::path onnx = fs::path(object_->source).parent_path() / "detector.onnx";
+  if (fs::exists(onnx)) detector = std::make_unique<BoxDetector>(onnx.string());
+  tracker_ = std::make_unique<ObjectTracker>(*object_, PerceptionOptions{}, std::move(detector));
+
+  GraspPlannerConfig planner_config;
+  planner_config.Validate(config_.source, platform.config().gripper);
+  GraspObject grasp_object{object_->name, object_->mesh_o, object_->mass_kg, object_->center_of_mass_o};
+  ContactSet contacts = ComputeContactPairs(object_->mesh_o, platform.config().gripper, planner_config.contacts);
+  planner_ = std::make_unique<GraspPlanner>(platform, std::move(grasp_object), std::move(contacts), planner_config);
+
+  collision_ = std::make_unique<PlatformCollision>(platform);
+  for (int a = 0; a < 2; ++a) {
+    q_[a] = hw_->arms().JointPositions(kSides[a]);
+    const ArmModel& arm = platform.arm(kSides[a]);
+    ServoConfig servo_config;
+    servo_config.via_rad = {arm.Clamp(Eigen::VectorXd::Zero(arm.dof())), platform.home(kSides[a])};
+    servo_[a] = std::make_unique<ArmServo>(
+        arm, servo_config, MakeCollisionPredicate(*collision_, kSides[a], config_.servo_margin_m, &q_[1 - a]));
+    GraspSequenceConfig sequence_config;
+    sequence_config.precatch_distance_m = planner_config.precatch_distance_m;
+    sequence_config.close_time_s = platform.config().gripper.close_time_s;
+    sequence_[a] = std::make_unique<GraspSequence>(servo_[a].get(), sequence_config);
+  }
+  dt_s_ = 1.0 / config_.servo_rate_hz;
+  if (world_) frame_period_s_ = 1.0 / world_->config().camera.frame_rate_hz;
+  if (record_) {
+    record_->object_name = object_->name;
+    for (int a = 0; a < 2; ++a) record_->joint_names[a] = platform.arm(kSides[a]).joint_names();
+  }
+}
+
+double Mission::Now() const {
+  if (world_) return world_->now_s();
+  return std::chrono::duration<double>(WallClock::now().time_since_epoch()).count() - t0_wall_s_;
+}
+
+void Mission::Tick() {
+  if (world_) {
+    hw_->StepSimulation(dt_s_);
+    return;
+  }
+  const double next = (std::floor(Now() / dt_s_) + 1.0) * dt_s_;
+  std::this_thread::sleep_for(std::chrono::duration<double>(std::max(0.0, next - Now())));
+}
+
+void Mission::Log(double t_s, const std::string& line) {
+  if (log_) *log_ << fmt::format("[{:8.3f} s] {}\n", t_s, line);
+}
+
+void Mission::OnTransition(const StateTransition& t) {
+  Log(t.t_s, fmt::format("{:<7} {} -> {}: {}", t.machine, t.from, t.to, t.cause));
+  if (record_) record_->transitions.push_back({t.t_s, t.machine, t.from, t.to, t.cause});
+}
+
+void Mission::Emergency(const std::string& cause) {
+  const double t = Now();
+  ++result_.emergency_stops;
+  arms_.EmergencyStop(t, cause);
+  global_.Emergency(t, cause);
+  try {
+    hw_->arms().Stop();
+  } catch (const std::exception& e) {
+    Log(t, std::string("arms stop failed: ") + e.what());
+  }
+  try {
+    const CommandAck ack = hw_->autopilot().Hold();
+    if (!ack.accepted) Log(t, "autopilot refused hold: " + ack.reason);
+  } catch (const std::exception& e) {
+    Log(t, std::string("autopilot hold failed: ") + e.what());
+  }
+}
+
+Eigen::Isometry3d Mission::dMoNow() const {
+  return hw_->platform().dMc() * PredictCmo(estimate_, Now());
+}
+
+PlanQuery Mission::Query() const {
+  PlanQuery query;
+  query.dMo = dMoNow();
+  query.q_left = q_[0];
+  query.q_right = q_[1];
+  return query;
+}
+
+void Mission::SendSetpoint(const Eigen::Vector3d& p_w) {
+  const CommandAck ack = hw_->autopilot().SetPositionTarget(p_w, config_.yaw_rad);
+  if (!ack.accepted) Log(Now(), "autopilot refused the setpoint: " + ack.reason);
+}
+
+// ---- Perception ---------------------------------------------------------------
+
+void Mission::Perception() {
+  const double t = Now();
+  if (t + 1e-9 < next_frame_s_) return;
+  next_frame_s_ += frame_period_s_;
+  if (next_frame_s_ < t) next_frame_s_ = t + frame_period_s_;
+  if (perceiving_.valid()) HandlePerceived(perceiving_.get());
+  // Vision runs while the vehicle flies (the camera sees only the pad before).
+  const VehicleMode mode = vehicle_.state();
+  if (mode == VehicleMode::kIdle || mode == VehicleMode::kTakeOff) return;
+  if (global_.state() == GlobalState::kDone || global_.state() == GlobalState::kAborted) return;
+
+  auto frame = std::make_shared<RgbdFrame>();
+  const WallClock::time_point render_start = WallClock::now();
+  if (!hw_->camera().Grab(frame.get())) throw HardwareError("camera: the stream ended");
+  render_ms_.push_back(std::chrono::duration<double, std::milli>(WallClock::now() - render_start).count());
+  Perceived job;
+  job.frame = frame;
+  if (world_) {
+    job.dMo_truth = world_->wMd().inverse() * world_->wMo();
+    job.has_truth = true;
+  }
+  const CameraIntrinsics K = hw_->camera().intrinsics();
+  const double scale = hw_->camera().depth_scale_m();
+  ObjectTracker* tracker = tracker_.get();
+  perceiving_ = std::async(std::launch::async, [tracker, K, scale, job = std::move(job)]() mutable {
+    job.report = tracker->Process(job.frame->color, job.frame->depth, job.frame->stamp_s, K, scale);
+    return std::move(job);
+  });
+}
+
+void Mission::HandlePerceived(Perceived p) {
+  const double t = Now();
+  ++result_.frames;
+  perception_ms_.push_back(p.report.times.total_ms);
+  estimate_ = p.report.estimate;
+  const bool found = estimate_.valid && estimate_.state == TrackState::kFound;
+  const VisionSignal signal =
+      vision_.Update(t, found, found ? fmt::format("pose found (confidence {:.2f})", estimate_.confidence)
+                                     : fmt::format("pose lost (confidence {:.2f})", estimate_.confidence));
+  if (found) {
+    lost_since_s_ = -1.0;
+    last_found_stamp_s_ = estimate_.stamp_s;
+  } else if (lost_since_s_ < 0) {
+    lost_since_s_ = t;
+  }
+  const Eigen::Isometry3d dMc = hw_->platform().dMc();
+  const Eigen::Isometry3d dMo_est = dMc * estimate_.cMo;
+  if (found) {
+    const Eigen::Vector3d object_w = hw_->autopilot().State().wMd * dMo_est.translation();
+    const double alpha = std::min(1.0, frame_period_s_ / config_.object_filter_s);
+    object_w_filtered_ = have_object_w_ ? object_w_filtered_ + alpha * (object_w - object_w_filtered_) : object_w;
+    have_object_w_ = true;
+  }
+  if (signal == VisionSignal::kLost) vehicle_.Lost(t);
+
+  MissionSample s;
+  s.t_s = p.frame->stamp_s;
+  s.estimate_valid = estimate_.valid;
+  s.found = found;
+  if (estimate_.valid) s.dto_estimate_m = dMo_est.translation();
+  if (p.has_truth) {
+    s.dto_truth_m = p.dMo_truth.translation();
+    if (estimate_.valid) {
+      const Eigen::Matrix3d cRo_true = (dMc.inverse() * p.dMo_truth).linear();
+      s.rotation_error_deg =
+          SymmetricRotationError(estimate_.cMo.linear(), cRo_true, tracker_->model().symmetry) * 180.0 / M_PI;
+      if (found) {
+        sq_position_ += (s.dto_estimate_m - s.dto_truth_m).squaredNorm();
+        sq_rotation_ += s.rotation_error_deg * s.rotation_error_deg;
+        ++truth_frames_;
+      }
+    }
+  }
+  for (int a = 0; a < 2; ++a) {
+    s.q_actual_rad[a] = q_[a];
+    s.q_target_rad[a] = world_ ? world_->arm(kSides[a]).target_rad() : q_[a];
+  }
+  s.vehicle_w_m = hw_->autopilot().State().wMd.translation();
+  if (!record_) return;
+  record_->samples.push_back(s);
+  // The report's camera frame: the last one before the grippers close with the
+  // arms servoing, else the last with the object found.
+  const PlannerState ps = planner_sm_.state();
+  const int priority = !found ? 0 : (ps == PlannerState::kServoing || ps == PlannerState::kApproachPose ||
+                                     ps == PlannerState::kGrasping) ? 2 : 1;
+  if (priority > 0 && priority >= snapshot_priority_ && !holding_) {
+    snapshot_priority_ = priority;
+    MissionSnapshot snap;
+    snap.t_s = p.frame->stamp_s;
+    snap.color = p.frame->color;
+    snap.K = hw_->camera().intrinsics();
+    if (p.report.detection) {
+      snap.has_box = true;
+      snap.box_x0 = p.report.detection->box.x0;
+      snap.box_y0 = p.report.detection->box.y0;
+      snap.box_x1 = p.report.detection->box.x1;
+      snap.box_y1 = p.report.detection->box.y1;
+    }
+    snap.has_pose = estimate_.valid;
+    snap.cMo = estimate_.cMo;
+    record_->snapshot = std::move(snap);
+  }
+}
+
+// ---- Vehicle and global ---------------------------------------------------------
+
+void Mission::Vehicle() {
+  const double t = Now();
+  const VehicleState vs = hw_->autopilot().State();
+  if (!vs.link_ok) {
+    Emergency("autopilot: the link is lost (no state for too long)");
+    return;
+  }
+  const Eigen::Vector3d p_w = vs.wMd.translation();
+  const Eigen::Matrix3d wRyaw = Eigen::AngleAxisd(config_.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const auto go_to = [&](const Eigen::Vector3d& w, Leg leg, const std::string& name) {
+    waypoint_w_ = w;
+    leg_ = leg;
+    setpoint_w_ = w;
+    vehicle_.GoTo(t, fmt::format("{}: waypoint [{:.2f}, {:.2f}, {:.2f}] m", name, w.x(), w.y(), w.z()));
+  };
+  const GlobalState g = global_.state();
+  if (g == GlobalState::kAborted || g == GlobalState::kDone) return;
+
+  switch (vehicle_.state()) {
+    case VehicleMode::kIdle:
+      if (g == GlobalState::kApproaching) {
+        CommandAck ack = hw_->autopilot().Arm();
+        if (ack.accepted) ack = hw_->autopilot().Takeoff(config_.takeoff_altitude_m);
+        if (!ack.accepted) {
+          global_.GiveUp(t, "the autopilot refused to take off: " + ack.reason);
+          return;
+        }
+        vehicle_.TakeOff(t);
+      }
+      break;
+    case VehicleMode::kTakeOff:
+      if (vs.mode == FlightMode::kHold && std::abs(-p_w.z() - config_.takeoff_altitude_m) < config_.arrive_tolerance_m) {
+        vehicle_.Airborne(t);
+        if (g == GlobalState::kApproaching) {
+          go_to(config_.approach_w_m, Leg::kApproach, "approach");
+        } else {
+          go_to(Eigen::Vector3d(0.0, 0.0, p_w.z()), Leg::kHome, "home");
+        }
+      }
+      break;
+    case VehicleMode::kWaypoint:
+      if ((p_w - waypoint_w_).norm() < config_.arrive_tolerance_m) {
+        vehicle_.Arrived(t);
+        hover_since_s_ = t;
+        if (leg_ == Leg::kLift) {
+          go_to(Eigen::Vector3d(0.0, 0.0, waypoint_w_.z()), Leg::kHome, "home");
+        } else if (leg_ == Leg::kHome) {
+          const CommandAck ack = hw_->autopilot().Land();
+          if (!ack.accepted) {
+            Emergency("the autopilot refused to land: " + ack.reason);
+            return;
+          }
+          vehicle_.Land(t, "over the take-off point");
+        }
+      }
+      break;
+    case VehicleMode::kHover:
+      if (g == GlobalState::kHoming) {
+        go_to(p_w - Eigen::Vector3d(0.0, 0.0, config_.lift_m), Leg::kLift, "lift");
+      } else if (vision_.state() == VisionState::kFound) {
+        if (g == GlobalState::kApproaching) global_.Found(t, leg_ == Leg::kApproach);
+        if (global_.state() == GlobalState::kGrasping && vehicle_.Found(t)) leg_ = Leg::kTrack;
+      } else if (g == GlobalState::kGrasping && lost_since_s_ >= 0 && t - lost_since_s_ > config_.lost_timeout_s &&
+                 leg_ == Leg::kTrack) {
+        go_to(config_.approach_w_m, Leg::kApproach, "search again");
+      } else if (g == GlobalState::kApproaching && t - hover_since_s_ > config_.search_timeout_s) {
+        global_.GiveUp(t, fmt::format("the object was not found in {:.0f} s at the approach waypoint",
+                                      config_.search_timeout_s));
+      }
+      break;
+    case VehicleMode::kTracking:
+      if (g == GlobalState::kHoming) {
+        go_to(p_w - Eigen::Vector3d(0.0, 0.0, config_.lift_m), Leg::kLift, "lift");
+        break;
+      }
+      if (have_object_w_) setpoint_w_ = object_w_filtered_ - wRyaw * config_.grasp_dto_m;
+      if (planner_sm_.state() == PlannerState::kIdle && vision_.state() == VisionState::kFound) {
+        const double off_m = (dMoNow().translation() - config_.grasp_dto_m).norm();
+        if (off_m < config_.near_tolerance_m) planner_sm_.Start(t);
+      }
+      break;
+    case VehicleMode::kLanding:
+      if (vs.mode == FlightMode::kLanded || vs.mode == FlightMode::kDisarmed) {
+        vehicle_.Landed(t);
+        global_.Landed(t);
+      }
+      break;
+  }
+  // Setpoints while the companion flies the vehicle.
+  const VehicleMode m = vehicle_.state();
+  if ((m == VehicleMode::kWaypoint || m == VehicleMode::kHover || m == VehicleMode::kTracking) &&
+      t + 1e-9 >= next_setpoint_s_) {
+    next_setpoint_s_ = t + 1.0 / config_.setpoint_rate_hz;
+    SendSetpoint(setpoint_w_);
+  }
+}
+
+// ---- Grasp planner ----------------------------------------------------------------
+
+bool Mission::StartPlan() {
+  const double t = Now();
+  const PlanQuery query = Query();
+  const PlanResult plan = planner_->Plan(query);
+  if (plan.ranked.empty()) {
+    if (!logged_no_grasp_) {
+      Log(t, fmt::format("planner: no feasible dual grasp yet ({} left, {} right feasible); waiting",
+                         plan.left.size(), plan.right.size()));
+      logged_no_grasp_ = true;
+    }
+    return false;
+  }
+  logged_no_grasp_ = false;
+  const DualGrasp& best = plan.ranked.front();
+  choice_ = {best.left.pair, best.right.pair};
+  const Eigen::Isometry3d oMd = query.dMo.inverse();
+  oMg_[0] = oMd * best.left.dMg;
+  oMg_[1] = oMd * best.right.dMg;
+  for (int a = 0; a < 2; ++a) {
+    sequence_[a]->Start(t);
+    sequence_[a]->HoldAtPreCatch(true);
+    switch_pending_[a] = false;
+  }
+  ++result_.attempts;
+  arms_.Move(t, "servoing to the pre-catch poses");
+  planner_sm_.Planned(t, fmt::format("pairs L{} R{} of {} ranked: epsilon {:.3f}, score {:.3f}", best.left.pair,
+                                     best.right.pair, plan.ranked.size(), best.epsilon, best.score));
+  next_reevaluate_s_ = t + 1.0 / config_.reevaluate_rate_hz;
+  return true;
+}
+
+void Mission::StopArms(const std::string& cause) {
+  const double t = Now();
+  arms_.Hold(t, cause);
+  for (int a = 0; a < 2; ++a) {
+    hw_->arms().SetJointTargets(kSides[a], q_[a]);
+    hw_->arms().SetGripper(kSides[a], GripperCommand::kOpen);
+  }
+}
+
+void Mission::Planner() {
+  const double t = Now();
+  if (global_.state() != GlobalState::kGrasping) return;
+  const PlannerState state = planner_sm_.state();
+  const bool active = state == PlannerState::kServoing || state == PlannerState::kApproachPose ||
+                      state == PlannerState::kGrasping;
+  if (state == PlannerState::kPlanning) {
+    if (planning_since_s_ < 0) planning_since_s_ = t;
+    if (vision_.state() == VisionState::kFound && StartPlan()) {
+      planning_since_s_ = -1.0;
+    } else if (t - planning_since_s_ > config_.planning_timeout_s) {
+      global_.GiveUp(t, fmt::format("no feasible dual grasp within {:.0f} s", config_.planning_timeout_s));
+    }
+    return;
+  }
+  if (state == PlannerState::kFailed) {
+    global_.GiveUp(t, "every grasp attempt failed");
+    return;
+  }
+  if (!active) return;
+
+  // Failures of an attempt: plan again.
+  std::string retry;
+  for (int a = 0; a < 2; ++a) {
+    if (sequence_[a]->phase() == GraspPhase::kTimedOut) {
+      retry = fmt::format("{} arm timed out", kArmNames[a]);
+    }
+  }
+  if (lost_since_s_ >= 0 && t - lost_since_s_ > config_.lost_timeout_s) {
+    retry = fmt::format("object lost for {:.1f} s", t - lost_since_s_);
+  }
+  const bool done = sequence_[0]->phase() == GraspPhase::kDone && sequence_[1]->phase() == GraspPhase::kDone;
+  const bool held = hw_->arms().Gripper(Side::kLeft).holding && hw_->arms().Gripper(Side::kRight).holding;
+  if (done && !held) retry = "the grippers closed without holding the object";
+  if (!retry.empty()) {
+    planner_sm_.Retry(t, retry);
+    StopArms("attempt ended: " + retry);
+    planning_since_s_ = t;
+    return;
+  }
+
+  switch (state) {
+    case PlannerState::kServoing:
+      if (sequence_[0]->at_precatch() && sequence_[1]->at_precatch()) planner_sm_.AtPreCatch(t);
+      break;
+    case PlannerState::kApproachPose:
+      if (planner_sm_.TimeIn(t) >= config_.settle_s) {
+        planner_sm_.GoIn(t);
+        for (auto& sequence : sequence_) sequence->HoldAtPreCatch(false);
+      }
+      break;
+    case PlannerState::kGrasping:
+      if (done && held) {
+        planner_sm_.Closed(t);
+        holding_ = true;
+        result_.time_to_grasp_s = t;
+        arms_.Hold(t, "grasped: holding the object");
+        global_.Grasped(t);
+      }
+      break;
+    default:
+      break;
+  }
+}
+
+void Mission::Reevaluate() {
+  const double t = Now();
+  const PlannerState state = planner_sm_.state();
+  const bool active = global_.state() == GlobalState::kGrasping &&
+                      (state == PlannerState::kServoing || state == PlannerState::kApproachPose ||
+                       state == PlannerState::kGrasping);
+  if (!active) {
+    if (reevaluating_.valid()) reevaluating_.get();  // an answer for a plan that has ended
+    return;
+  }
+  if (t + 1e-9 < next_reevaluate_s_) return;
+  next_reevaluate_s_ = t + 1.0 / config_.reevaluate_rate_hz;
+  if (reevaluating_.valid()) {
+    const SwitchDecision decision = reevaluating_.get();
+    const bool closing = sequence_[0]->phase() == GraspPhase::kClose || sequence_[0]->phase() == GraspPhase::kDone ||
+                         sequence_[1]->phase() == GraspPhase::kClose || sequence_[1]->phase() == GraspPhase::kDone;
+    if (decision.status == SwitchDecision::Status::kSwitch && !closing) {
+      const Eigen::Isometry3d oMd = reevaluate_dMo_.inverse();
+      const int pairs[2] = {decision.grasp.left.pair, decision.grasp.right.pair};
+      const int before[2] = {choice_.left_pair, choice_.right_pair};
+      oMg_[0] = oMd * decision.grasp.left.dMg;
+      oMg_[1] = oMd * decision.grasp.right.dMg;
+      for (int a = 0; a < 2; ++a) {
+        switch_pending_[a] = pairs[a] != before[a];
+        sequence_[a]->HoldAtPreCatch(true);
+      }
+      choice_ = decision.next;
+      ++result_.grasp_switches;
+      if (record_) record_->switches.push_back({t, pairs[0], pairs[1], decision.reason});
+      planner_sm_.Switched(t, fmt::format("switch to pairs L{} R{}: {}", pairs[0], pairs[1], decision.reason));
+    } else if (decision.status == SwitchDecision::Status::kKeep) {
+      choice_ = decision.next;
+    }
+  }
+  reevaluate_dMo_ = dMoNow();
+  PlanQuery query = Query();
+  query.dMo = reevaluate_dMo_;
+  const GraspPlanner* planner = planner_.get();
+  const SwitchState choice = choice_;
+  reevaluating_ = std::async(std::launch::async, [planner, query, choice] { return planner->Reevaluate(query, choice); });
+}
+
+// ---- Servo and safety ---------------------------------------------------------------
+
+void Mission::Servo() {
+  const double t = Now();
+  if (!arms_.commands_allowed() || global_.state() != GlobalState::kGrasping) return;
+  const PlannerState state = planner_sm_.state();
+  if (state != PlannerState::kServoing && state != PlannerState::kApproachPose && state != PlannerState::kGrasping) {
+    return;
+  }
+  const Eigen::Isometry3d dMo = dMoNow();
+  for (int a = 0; a < 2; ++a) {
+    const Side side = kSides[a];
+    const Eigen::Isometry3d bMg = hw_->platform().dMb(side).inverse() * dMo * oMg_[a];
+    sequence_[a]->SetGrasp(bMg, last_found_stamp_s_, switch_pending_[a]);
+    switch_pending_[a] = false;
+    GraspCommand command;
+    sequence_[a]->Step(q_[a], t, dt_s_, &command);
+    if (command.servo_status == ServoStatus::kInvalidState) {
+      Emergency(fmt::format("{} arm: invalid joint readings", kArmNames[a]));
+      return;
+    }
+    hw_->arms().SetJointTargets(side, command.joints.q_target_rad);
+    hw_->arms().SetGripper(side, command.gripper);
+  }
+}
+
+void Mission::Safety() {
+  const double t = Now();
+  for (int a = 0; a < 2; ++a) {
+    const Eigen::VectorXd q = world_ ? world_->arm(kSides[a]).q_true_rad() : q_[a];
+    const bool inside = collision_->ArmInSafeVolume(kSides[a], q, 0.0);
+    if (inside && !in_safe_volume_[a]) {
+      ++result_.safe_volume_entries;
+      Emergency(fmt::format("{} arm entered the safe volume", kArmNames[a]));
+    }
+    in_safe_volume_[a] = inside;
+  }
+  (void)t;
+}
+
+// ---- The loop ------------------------------------------------------------------------------
+
+MissionResult Mission::Run() {
+  const WallClock::time_point wall_start = WallClock::now();
+  t0_wall_s_ = std::chrono::duration<double>(wall_start.time_since_epoch()).count();
+  global_.Start(Now());
+  double stop_at_s = -1.0;
+  while (true) {
+    try {
+      Tick();
+      for (int a = 0; a < 2; ++a) q_[a] = hw_->arms().JointPositions(kSides[a]);
+      Safety();
+      Perception();
+      Vehicle();
+      Planner();
+      Reevaluate();
+      Servo();
+    } catch (const std::exception& e) {
+      Emergency(std::string("stopped on an error: ") + e.what());
+    }
+    const double t = Now();
+    if (global_.state() == GlobalState::kDone) break;
+    if (global_.state() == GlobalState::kAborted) {
+      if (stop_at_s < 0) stop_at_s = t + 1.0;  // a second of the safe state in the logs
+      if (t >= stop_at_s) break;
+    }
+    if (t > config_.timeout_s && global_.state() != GlobalState::kAborted) {
+      Emergency(fmt::format("the mission took longer than {:.0f} s", config_.timeout_s));
+    }
+  }
+  if (perceiving_.valid()) perceiving_.wait();
+  if (reevaluating_.valid()) reevaluating_.wait();
+
+  result_.sim_time_s = Now();
+  result_.wall_time_s = std::chrono::duration<double>(WallClock::now() - wall_start).count();
+  result_.realtime_factor = result_.wall_time_s > 0 ? result_.sim_time_s / result_.wall_time_s : 0.0;
+  if (truth_frames_ > 0) {
+    result_.pose_rmse_m = std::sqrt(sq_position_ / truth_frames_);
+    result_.rotation_rmse_deg = std::sqrt(sq_rotation_ / truth_frames_);
+  }
+  result_.perception_ms_median = Median(perception_ms_);
+  result_.render_ms_median = Median(render_ms_);
+  const bool held = world_ ? world_->held_by(Side::kLeft) && world_->held_by(Side::kRight) : holding_;
+  result_.success = global_.state() == GlobalState::kDone && !global_.failed() && held;
+  if (!result_.success) {
+    result_.failure = global_.failed() ? global_.failure()
+                      : !held          ? "landed without the object held by both grippers"
+                                       : "the mission did not finish";
+  }
+  Log(Now(), result_.success ? "mission succeeded" : "mission failed: " + result_.failure);
+  return result_;
+}
+
+}  // namespace
+
+MissionResult RunMission(const MissionOptions& options, MissionRecord* record, std::ostream* log) {
+  Mission mission(options, record, log);
+  return mission.Run();
+}
+
+}  // namespace aerograsp
