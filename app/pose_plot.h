@@ -17,7 +17,9 @@ struct PoseTrace {
 };
 
 /// `truth` has positions only; every trace shares its time axis.
+/// `position_label` names the plotted position in the panel titles, with its frames.
 /// @throws std::runtime_error when the file cannot be written.
-void WritePosePlot(const PoseTrace& truth, const std::vector<PoseTrace>& estimates, const std::string& path);
+void WritePosePlot(const PoseTrace& truth, const std::vector<PoseTrace>& estimates, const std::string& path,
+                   const std::string& position_label = "cMo position");
 
 }  // namespace aerograsp
