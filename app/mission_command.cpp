@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "app/mission_report.h"
 #include "app/progress.h"
 #include "app/summary_file.h"
 
@@ -79,15 +80,46 @@ void AddMissionOptions(CLI::App* cmd, MissionCommandOptions* o) {
   cmd->add_option("--timeout", m.timeout_s, "Mission time limit, s [mission config: 180]")->check(CLI::Range(1.0, 3600.0));
 }
 
+namespace {
+
+ReportRow Headline(const MissionResult& r) {
+  const auto or_none = [](double v, const std::string& text) { return v >= 0 ? text : std::string("n/a"); };
+  return {{"success", r.success ? "yes" : "no: " + r.failure},
+          {"time to grasp", or_none(r.time_to_grasp_s, fmt::format("{:.2f} s", r.time_to_grasp_s))},
+          {"object position RMSE", or_none(r.pose_rmse_m, fmt::format("{:.2f} mm", 1e3 * r.pose_rmse_m))},
+          {"object rotation RMSE", or_none(r.rotation_rmse_deg, fmt::format("{:.2f} deg", r.rotation_rmse_deg))},
+          {"grasp switches", std::to_string(r.grasp_switches)},
+          {"grasp attempts", std::to_string(r.attempts)},
+          {"safe-volume entries", std::to_string(r.safe_volume_entries)},
+          {"emergency stops", std::to_string(r.emergency_stops)},
+          {"mission time", fmt::format("{:.1f} s simulated in {:.1f} s ({:.2f}x real time)", r.sim_time_s,
+                                       r.wall_time_s, r.realtime_factor)},
+          {"camera frames", fmt::format("{} (perception {:.1f} ms, rendering {:.1f} ms median)", r.frames,
+                                        r.perception_ms_median, r.render_ms_median)}};
+}
+
+ReportRow RunRow(std::uint64_t seed, const MissionResult& r) {
+  return {{"seed", std::to_string(seed)},
+          {"success", r.success ? "yes" : "no"},
+          {"time to grasp (s)", r.time_to_grasp_s >= 0 ? fmt::format("{:.1f}", r.time_to_grasp_s) : "-"},
+          {"pose RMSE (mm)", r.pose_rmse_m >= 0 ? fmt::format("{:.1f}", 1e3 * r.pose_rmse_m) : "-"},
+          {"switches", std::to_string(r.grasp_switches)},
+          {"safe-volume entries", std::to_string(r.safe_volume_entries)},
+          {"real-time factor", fmt::format("{:.2f}", r.realtime_factor)},
+          {"failure", r.failure}};
+}
+
+}  // namespace
+
 void RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, std::ostream& err) {
   const fs::path dir(options.out_dir);
   fs::create_directories(dir);
   nlohmann::json summary;
   summary["object"] = options.mission.object.empty() ? "crawler" : options.mission.object;
   summary["arm"] = options.mission.arm_type;
+  MissionRecord record;  // of the first run: the report's plots
 
   if (options.runs == 1) {
-    MissionRecord record;
     std::ostringstream log;
     struct Tee : std::streambuf {
       std::ostream *a, *b;
@@ -112,14 +144,17 @@ void RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, 
     WriteText(dir / "mission.log", log.str());
     summary.update(RunJson(options.mission.seed, result));
     const std::string path = WriteSummaryFile(dir.string(), summary.dump(2));
+    WriteMissionReport(record, record.object_mesh_o, Headline(result), {}, dir.string());
     out << "mission: " << Describe(result) << "\n";
-    out << "Wrote " << path << " and " << (dir / "mission.log").string() << "\n";
+    out << "Wrote " << (dir / "index.html").string() << ", " << path << " and " << (dir / "mission.log").string()
+        << "\n";
     return;
   }
 
   fs::create_directories(dir / "logs");
   Progress progress(err, "missions", options.runs, "missions");
   nlohmann::json runs = nlohmann::json::array();
+  std::vector<ReportRow> rows;
   int successes = 0, with_switch = 0, recovered_by_switch = 0, entries = 0;
   double min_factor = 1e9, sum_time = 0.0;
   for (int k = 0; k < options.runs; ++k) {
@@ -128,12 +163,13 @@ void RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, 
     std::ostringstream log;
     MissionResult result;
     try {
-      result = RunMission(m, nullptr, &log);
+      result = RunMission(m, k == 0 ? &record : nullptr, &log);
     } catch (const std::exception& e) {
       result.failure = std::string("error: ") + e.what();
     }
     WriteText(dir / "logs" / fmt::format("seed_{}.log", m.seed), log.str());
     runs.push_back(RunJson(m.seed, result));
+    rows.push_back(RunRow(m.seed, result));
     successes += result.success;
     with_switch += result.grasp_switches > 0;
     recovered_by_switch += result.success && result.grasp_switches > 0;
@@ -153,12 +189,21 @@ void RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, 
   summary["realtime_factor_min"] = min_factor;
   summary["time_to_grasp_s_mean"] = successes > 0 ? sum_time / successes : 0.0;
   const std::string path = WriteSummaryFile(dir.string(), summary.dump(2));
+  const ReportRow headline = {
+      {"runs", fmt::format("{} (seeds {} to {})", options.runs, options.mission.seed,
+                           options.mission.seed + options.runs - 1)},
+      {"success rate", fmt::format("{:.1f} % ({} of {})", 100.0 * successes / options.runs, successes, options.runs)},
+      {"runs with a grasp switch", fmt::format("{} ({} of them succeeded)", with_switch, recovered_by_switch)},
+      {"safe-volume entries", std::to_string(entries)},
+      {"slowest real-time factor", fmt::format("{:.2f}", min_factor)},
+      {"plots", fmt::format("of the first run (seed {}); every run's log is in logs/", options.mission.seed)}};
+  WriteMissionReport(record, record.object_mesh_o, headline, rows, dir.string());
   out << fmt::format(
       "missions: {} of {} succeeded ({:.1f} %), {} with a grasp switch ({} of them succeeded), {} safe-volume "
       "entries, slowest {:.2f}x real time\n",
       successes, options.runs, 100.0 * successes / options.runs, with_switch, recovered_by_switch, entries,
       min_factor);
-  out << "Wrote " << path << "\n";
+  out << "Wrote " << (dir / "index.html").string() << " and " << path << "\n";
 }
 
 }  // namespace aerograsp

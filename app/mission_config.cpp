@@ -17,7 +17,7 @@ void CheckVector(const std::string& source, const std::string& key, const Eigen:
 MissionConfig MissionConfig::Load(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.RequireOnlyKeys({"world", "takeoff_altitude_m", "approach_w_m", "yaw_rad", "grasp_dto_m",
-                        "arrive_tolerance_m", "near_tolerance_m", "lift_m", "servo_rate_hz", "setpoint_rate_hz",
+                        "arrive_tolerance_m", "near_tolerance_m", "tracking_radius_m", "lift_m", "servo_rate_hz", "setpoint_rate_hz",
                         "reevaluate_rate_hz", "object_filter_s", "settle_s", "max_attempts", "lost_timeout_s",
                         "search_timeout_s", "planning_timeout_s", "timeout_s", "servo_margin_m"});
   MissionConfig c;
@@ -29,6 +29,7 @@ MissionConfig MissionConfig::Load(const std::string& path) {
   if (root.Has("grasp_dto_m")) c.grasp_dto_m = root.GetVector3("grasp_dto_m");
   c.arrive_tolerance_m = root.GetDouble("arrive_tolerance_m", c.arrive_tolerance_m);
   c.near_tolerance_m = root.GetDouble("near_tolerance_m", c.near_tolerance_m);
+  c.tracking_radius_m = root.GetDouble("tracking_radius_m", c.tracking_radius_m);
   c.lift_m = root.GetDouble("lift_m", c.lift_m);
   c.servo_rate_hz = root.GetDouble("servo_rate_hz", c.servo_rate_hz);
   c.setpoint_rate_hz = root.GetDouble("setpoint_rate_hz", c.setpoint_rate_hz);
@@ -54,6 +55,7 @@ void MissionConfig::Validate() const {
   CheckVector(s, "grasp_dto_m", grasp_dto_m, -1.0, 1.0);
   CheckRange(s, "arrive_tolerance_m", arrive_tolerance_m, 1e-6, 5.0, "m");
   CheckRange(s, "near_tolerance_m", near_tolerance_m, 1e-6, 1.0, "m");
+  CheckRange(s, "tracking_radius_m", tracking_radius_m, 1e-6, 10.0, "m");
   CheckRange(s, "lift_m", lift_m, 0.0, 10.0, "m");
   CheckRange(s, "servo_rate_hz", servo_rate_hz, 10.0, 1000.0, "Hz");
   CheckRange(s, "setpoint_rate_hz", setpoint_rate_hz, 2.0, 100.0, "Hz");

@@ -19,7 +19,10 @@ struct MissionConfig {
   /// (FRD: ahead, right, below), each [-1, 1] m.
   Eigen::Vector3d grasp_dto_m{0.10, 0.0, 0.46};
   double arrive_tolerance_m{0.15};      ///< a waypoint counts as reached within this, (0, 5] m
-  double near_tolerance_m{0.06};        ///< the object is "near" within this of grasp_dto_m, (0, 1] m
+  double near_tolerance_m{0.03};        ///< the object is "near" within this of grasp_dto_m, (0, 1] m
+  /// Tracking never takes the vehicle farther than this from the approach
+  /// waypoint, and an object seen farther than this from it is not followed, (0, 10] m.
+  double tracking_radius_m{1.0};
   double lift_m{0.5};                   ///< climb after the grasp, [0, 10] m
   double servo_rate_hz{100.0};          ///< arm servo loop, [10, 1000] Hz
   double setpoint_rate_hz{10.0};        ///< autopilot position setpoints, [2, 100] Hz

@@ -60,6 +60,7 @@ struct MissionSnapshot {
 
 struct MissionRecord {
   std::string object_name;
+  TriangleMesh object_mesh_o;               ///< for the camera overlay
   std::vector<std::string> joint_names[2];  ///< per arm, for plot labels
   std::vector<MissionSample> samples;
   std::vector<MissionTransition> transitions;

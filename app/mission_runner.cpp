@@ -90,6 +90,8 @@ class Mission {
   void Safety();
   void SendSetpoint(const Eigen::Vector3d& p_w);
   bool StartPlan();
+  /// The followed grasps, fixed to the object (planned with the object at dMo).
+  void SetGrasps(const DualGrasp& grasp, const Eigen::Isometry3d& dMo);
   void StopArms(const std::string& cause);
   Eigen::Isometry3d dMoNow() const;
   PlanQuery Query() const;
@@ -129,6 +131,7 @@ class Mission {
   double lost_since_s_ = -1.0;
   double last_found_stamp_s_ = 0.0;
   bool have_object_w_ = false;
+  bool logged_beyond_ = false;
   Eigen::Vector3d object_w_filtered_ = Eigen::Vector3d::Zero();
   std::vector<double> perception_ms_, render_ms_;
   double sq_position_ = 0.0, sq_rotation_ = 0.0;
@@ -144,8 +147,10 @@ class Mission {
   std::future<SwitchDecision> reevaluating_;
   Eigen::Isometry3d reevaluate_dMo_ = Eigen::Isometry3d::Identity();
   SwitchState choice_;
-  Eigen::Isometry3d oMg_[2];
+  Eigen::Isometry3d oMg_[2];  // the tool at the grasp, in the object frame
+  Eigen::Isometry3d oMp_[2];  // the tool at the pre-catch pose
   bool switch_pending_[2] = {false, false};
+  ServoStatus last_status_[2] = {ServoStatus::kNoTarget, ServoStatus::kNoTarget};
   double planning_since_s_ = -1.0;
   bool logged_no_grasp_ = false;
   bool holding_ = false;
@@ -214,9 +219,19 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
     const ArmModel& arm = platform.arm(kSides[a]);
     ServoConfig servo_config;
     servo_config.via_rad = {arm.Clamp(Eigen::VectorXd::Zero(arm.dof())), platform.home(kSides[a])};
+    GraspSequenceConfig sequence_config;
+    if (arm.dof() < 6) {
+      // A 4-DoF arm's approach axis follows from the tool position: when the
+      // object moves a centimetre the planned axis is off by a degree or two
+      // and no joint goal meets it exactly. Position is met exactly; the axis
+      // and the roll about it within a few degrees (a parallel gripper closes
+      // as well on a slightly tilted approach).
+      servo_config.ik.tolerance = PoseTolerance{1e-4, 0.10, 0.15};
+      sequence_config.precatch_tolerance = PoseTolerance{0.005, 0.12, 0.2};
+      sequence_config.grasp_tolerance = PoseTolerance{0.003, 0.12, 0.2};
+    }
     servo_[a] = std::make_unique<ArmServo>(
         arm, servo_config, MakeCollisionPredicate(*collision_, kSides[a], config_.servo_margin_m, &q_[1 - a]));
-    GraspSequenceConfig sequence_config;
     sequence_config.precatch_distance_m = planner_config.precatch_distance_m;
     sequence_config.close_time_s = platform.config().gripper.close_time_s;
     sequence_[a] = std::make_unique<GraspSequence>(servo_[a].get(), sequence_config);
@@ -225,6 +240,7 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
   if (world_) frame_period_s_ = 1.0 / world_->config().camera.frame_rate_hz;
   if (record_) {
     record_->object_name = object_->name;
+    record_->object_mesh_o = object_->mesh_o;
     for (int a = 0; a < 2; ++a) record_->joint_names[a] = platform.arm(kSides[a]).joint_names();
   }
 }
@@ -336,8 +352,15 @@ void Mission::HandlePerceived(Perceived p) {
   }
   const Eigen::Isometry3d dMc = hw_->platform().dMc();
   const Eigen::Isometry3d dMo_est = dMc * estimate_.cMo;
-  if (found) {
-    const Eigen::Vector3d object_w = hw_->autopilot().State().wMd * dMo_est.translation();
+  const Eigen::Vector3d object_w = hw_->autopilot().State().wMd * dMo_est.translation();
+  const bool beyond = (object_w - config_.approach_w_m).norm() > config_.tracking_radius_m + config_.grasp_dto_m.norm();
+  if (found && beyond && !logged_beyond_) {
+    logged_beyond_ = true;
+    Log(t, fmt::format("vision: the object is seen {:.2f} m from the approach waypoint, beyond the tracking "
+                       "radius: not followed", (object_w - config_.approach_w_m).norm()));
+  }
+  if (found && !beyond) {
+    logged_beyond_ = false;
     const double alpha = std::min(1.0, frame_period_s_ / config_.object_filter_s);
     object_w_filtered_ = have_object_w_ ? object_w_filtered_ + alpha * (object_w - object_w_filtered_) : object_w;
     have_object_w_ = true;
@@ -470,7 +493,14 @@ void Mission::Vehicle() {
         go_to(p_w - Eigen::Vector3d(0.0, 0.0, config_.lift_m), Leg::kLift, "lift");
         break;
       }
-      if (have_object_w_) setpoint_w_ = object_w_filtered_ - wRyaw * config_.grasp_dto_m;
+      if (have_object_w_) {
+        // Geofence: never farther than tracking_radius_m from the approach waypoint.
+        const Eigen::Vector3d wanted = object_w_filtered_ - wRyaw * config_.grasp_dto_m;
+        const Eigen::Vector3d off = wanted - config_.approach_w_m;
+        setpoint_w_ = off.norm() <= config_.tracking_radius_m
+                          ? wanted
+                          : Eigen::Vector3d(config_.approach_w_m + off.normalized() * config_.tracking_radius_m);
+      }
       if (planner_sm_.state() == PlannerState::kIdle && vision_.state() == VisionState::kFound) {
         const double off_m = (dMoNow().translation() - config_.grasp_dto_m).norm();
         if (off_m < config_.near_tolerance_m) planner_sm_.Start(t);
@@ -509,9 +539,7 @@ bool Mission::StartPlan() {
   logged_no_grasp_ = false;
   const DualGrasp& best = plan.ranked.front();
   choice_ = {best.left.pair, best.right.pair};
-  const Eigen::Isometry3d oMd = query.dMo.inverse();
-  oMg_[0] = oMd * best.left.dMg;
-  oMg_[1] = oMd * best.right.dMg;
+  SetGrasps(best, query.dMo);
   for (int a = 0; a < 2; ++a) {
     sequence_[a]->Start(t);
     sequence_[a]->HoldAtPreCatch(true);
@@ -523,6 +551,21 @@ bool Mission::StartPlan() {
                                      best.right.pair, plan.ranked.size(), best.epsilon, best.score));
   next_reevaluate_s_ = t + 1.0 / config_.reevaluate_rate_hz;
   return true;
+}
+
+void Mission::SetGrasps(const DualGrasp& grasp, const Eigen::Isometry3d& dMo) {
+  // The tool frame the planner's joints reach, not the contact frame g: the
+  // gripper is symmetric, so the planner may take g turned half a turn about
+  // its approach axis, which a 4-DoF arm cannot reach as such.
+  const ArmGrasp* arm_grasps[2] = {&grasp.left, &grasp.right};
+  const Eigen::Isometry3d oMd = dMo.inverse();
+  for (int a = 0; a < 2; ++a) {
+    const Side side = kSides[a];
+    const Eigen::Isometry3d oMb = oMd * hw_->platform().dMb(side);
+    oMg_[a] = oMb * hw_->platform().arm(side).ForwardKinematics(arm_grasps[a]->q_grasp);
+    oMp_[a] = oMb * hw_->platform().arm(side).ForwardKinematics(arm_grasps[a]->q_precatch);
+    servo_[a]->SetSeedHints({arm_grasps[a]->q_precatch, arm_grasps[a]->q_grasp});
+  }
 }
 
 void Mission::StopArms(const std::string& cause) {
@@ -616,11 +659,9 @@ void Mission::Reevaluate() {
     const bool closing = sequence_[0]->phase() == GraspPhase::kClose || sequence_[0]->phase() == GraspPhase::kDone ||
                          sequence_[1]->phase() == GraspPhase::kClose || sequence_[1]->phase() == GraspPhase::kDone;
     if (decision.status == SwitchDecision::Status::kSwitch && !closing) {
-      const Eigen::Isometry3d oMd = reevaluate_dMo_.inverse();
       const int pairs[2] = {decision.grasp.left.pair, decision.grasp.right.pair};
       const int before[2] = {choice_.left_pair, choice_.right_pair};
-      oMg_[0] = oMd * decision.grasp.left.dMg;
-      oMg_[1] = oMd * decision.grasp.right.dMg;
+      SetGrasps(decision.grasp, reevaluate_dMo_);
       for (int a = 0; a < 2; ++a) {
         switch_pending_[a] = pairs[a] != before[a];
         sequence_[a]->HoldAtPreCatch(true);
@@ -653,11 +694,17 @@ void Mission::Servo() {
   const Eigen::Isometry3d dMo = dMoNow();
   for (int a = 0; a < 2; ++a) {
     const Side side = kSides[a];
-    const Eigen::Isometry3d bMg = hw_->platform().dMb(side).inverse() * dMo * oMg_[a];
-    sequence_[a]->SetGrasp(bMg, last_found_stamp_s_, switch_pending_[a]);
+    const Eigen::Isometry3d bMo = hw_->platform().dMb(side).inverse() * dMo;
+    sequence_[a]->SetGrasp(bMo * oMg_[a], bMo * oMp_[a], last_found_stamp_s_, switch_pending_[a]);
     switch_pending_[a] = false;
     GraspCommand command;
     sequence_[a]->Step(q_[a], t, dt_s_, &command);
+    if (command.servo_status != last_status_[a]) {
+      Log(t, fmt::format("servo   {} arm: {} (phase {}, {:.1f} mm from the target)", kArmNames[a],
+                         ServoStatusName(command.servo_status), GraspPhaseName(command.phase),
+                         1e3 * command.joints.position_error_m));
+      last_status_[a] = command.servo_status;
+    }
     if (command.servo_status == ServoStatus::kInvalidState) {
       Emergency(fmt::format("{} arm: invalid joint readings", kArmNames[a]));
       return;

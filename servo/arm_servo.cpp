@@ -123,6 +123,9 @@ bool ArmServo::UpdateJointGoal(const Eigen::VectorXd& q, double now_s) {
   // through a via configuration with both legs allowed.
   std::vector<Eigen::VectorXd> seeds{q};
   if (has_goal_) seeds.push_back(q_goal_);
+  for (const Eigen::VectorXd& hint : hints_) {
+    if (hint.size() == q.size()) seeds.push_back(hint);
+  }
   int via = -1;
   const auto reachable = [&](const Eigen::VectorXd& q_star) {
     via = -1;

@@ -104,6 +104,9 @@ class ArmServo {
   /// velocity then stays continuous (the old command fades at switch_blend_per_s).
   void SetTarget(const Eigen::Isometry3d& bMg, double stamp_s, bool is_switch = false);
 
+  /// Joint configurations the goal search also starts from (e.g. the planner's
+  /// solutions for the grasp and its pre-catch pose); replaces earlier hints.
+  void SetSeedHints(std::vector<Eigen::VectorXd> q_hints) { hints_ = std::move(q_hints); }
   /// One cycle at time now_s with measured joints q and period dt_s (> 0).
   /// Never throws; on any hold status dq is zero and q_target is q (or the last
   /// good q when q itself is invalid).
@@ -144,6 +147,7 @@ class ArmServo {
   bool has_via_ = false;
   Eigen::VectorXd via_q_;
   std::vector<Eigen::VectorXd> via_;
+  std::vector<Eigen::VectorXd> hints_;
   bool has_failed_ = false;
   Eigen::Isometry3d failed_bMg_ = Eigen::Isometry3d::Identity();
   double failed_at_s_ = 0.0;

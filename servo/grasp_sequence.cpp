@@ -40,7 +40,13 @@ void GraspSequence::Enter(GraspPhase phase, double now_s) {
 }
 
 void GraspSequence::SetGrasp(const Eigen::Isometry3d& bMg, double stamp_s, bool is_switch) {
+  SetGrasp(bMg, PreCatchPose(bMg), stamp_s, is_switch);
+}
+
+void GraspSequence::SetGrasp(const Eigen::Isometry3d& bMg, const Eigen::Isometry3d& bMp, double stamp_s,
+                             bool is_switch) {
   bMg_ = bMg;
+  bMp_ = bMp;
   grasp_stamp_s_ = stamp_s;
   switch_pending_ = switch_pending_ || (is_switch && has_grasp_);
   has_grasp_ = true;
@@ -57,7 +63,7 @@ GraspPhase GraspSequence::Step(const Eigen::VectorXd& q, double now_s, double dt
   }
   const bool hold_only = phase_ == GraspPhase::kDone || phase_ == GraspPhase::kTimedOut;
   if (has_grasp_ && !hold_only) {
-    servo_->SetTarget(phase_ == GraspPhase::kPreCatch ? PreCatchPose(bMg_) : bMg_, grasp_stamp_s_,
+    servo_->SetTarget(phase_ == GraspPhase::kPreCatch ? bMp_ : bMg_, grasp_stamp_s_,
                       switch_pending_);
     switch_pending_ = false;
   }

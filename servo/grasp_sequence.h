@@ -56,6 +56,10 @@ class GraspSequence {
   /// marks another grasp: in the grasp or close phase the sequence then goes
   /// back to the pre-catch pose of the new grasp and opens the gripper.
   void SetGrasp(const Eigen::Isometry3d& bMg, double stamp_s, bool is_switch = false);
+  /// The same with the pre-catch pose given (e.g. the planner's, which a 4-DoF
+  /// arm reaches: moving straight back along a grasp's approach axis turns that
+  /// axis, so PreCatchPose(bMg) itself may be out of its reach).
+  void SetGrasp(const Eigen::Isometry3d& bMg, const Eigen::Isometry3d& bMp, double stamp_s, bool is_switch = false);
 
   /// One cycle: servo toward the phase's pose, advance the phase. Never throws.
   /// A servo hold (stale or invalid target, unreachable, safe volume) holds the
@@ -81,6 +85,7 @@ class GraspSequence {
   double phase_start_s_ = 0.0;
   bool has_grasp_ = false;
   Eigen::Isometry3d bMg_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d bMp_ = Eigen::Isometry3d::Identity();  // the pre-catch pose
   double grasp_stamp_s_ = 0.0;
   bool switch_pending_ = false;  // passed to the servo with the next target
   bool hold_at_precatch_ = false;
