@@ -104,6 +104,7 @@ GraspPhase GraspSequence::Step(const Eigen::VectorXd& q, double now_s, double dt
     case GraspPhase::kTimedOut:
       break;
   }
+  at_precatch_ = at_precatch_ && phase_ == GraspPhase::kPreCatch;
   if (phase_ == GraspPhase::kTimedOut && !hold_only && moving) {
     out->joints.dq_rad_s = Eigen::VectorXd::Zero(q.size());
     out->joints.q_target_rad = q;

@@ -147,6 +147,57 @@ TEST(GraspSequenceTest, SwitchDuringTheGraspPhaseGoesBackToPreCatch) {
   EXPECT_EQ(cmd.gripper, GripperCommand::kOpen);
 }
 
+TEST(GraspSequenceTest, HeldAtThePreCatchPoseUntilReleasedWithoutTimingOut) {
+  const ArmModel arm = Arm6();
+  ArmServo servo(arm, ServoConfig{});
+  GraspSequenceConfig config;
+  config.precatch_timeout_s = 2.0;
+  GraspSequence sequence(&servo, config);
+  const Eigen::Isometry3d bMg = Grasp(arm);
+  Eigen::VectorXd q = Home6();
+  sequence.Start(0.0);
+  sequence.HoldAtPreCatch(true);
+  GraspCommand cmd;
+  bool reached = false;
+  // 5 s held: longer than the pre-catch timeout, yet neither moving in nor timing out.
+  for (int k = 0; k < 500; ++k) {
+    sequence.SetGrasp(bMg, 0.01 * k);
+    sequence.Step(q, 0.01 * k, 0.01, &cmd);
+    q = cmd.joints.q_target_rad;
+    reached = reached || sequence.at_precatch();
+    ASSERT_EQ(cmd.phase, GraspPhase::kPreCatch) << k;
+  }
+  EXPECT_TRUE(reached);
+  EXPECT_TRUE(sequence.at_precatch());
+  sequence.HoldAtPreCatch(false);
+  sequence.SetGrasp(bMg, 5.0);
+  sequence.Step(q, 5.0, 0.01, &cmd);
+  EXPECT_EQ(cmd.phase, GraspPhase::kGrasp);
+  EXPECT_FALSE(sequence.at_precatch());
+}
+
+TEST(GraspSequenceTest, AGivenPreCatchPoseIsTheOneServoedTo) {
+  const ArmModel arm = Arm6();
+  ArmServo servo(arm, ServoConfig{});
+  GraspSequenceConfig config;
+  GraspSequence sequence(&servo, config);
+  const Eigen::Isometry3d bMg = Grasp(arm);
+  // A pre-catch pose 5 cm to the side of the default one.
+  const Eigen::Isometry3d bMp = Eigen::Translation3d(0.0, 0.05, 0.0) * sequence.PreCatchPose(bMg);
+  Eigen::VectorXd q = Home6();
+  sequence.Start(0.0);
+  sequence.HoldAtPreCatch(true);
+  GraspCommand cmd;
+  for (int k = 0; k < 500; ++k) {
+    sequence.SetGrasp(bMg, bMp, 0.01 * k);
+    sequence.Step(q, 0.01 * k, 0.01, &cmd);
+    q = cmd.joints.q_target_rad;
+  }
+  ASSERT_TRUE(sequence.at_precatch());
+  EXPECT_LE((arm.ForwardKinematics(q).translation() - bMp.translation()).norm(),
+            config.precatch_tolerance.position_m);
+}
+
 TEST(GraspSequenceConfigTest, DefaultsAreValidAndBadValuesNamed) {
   EXPECT_NO_THROW(GraspSequenceConfig{}.Validate("servo.yaml"));
   GraspSequenceConfig c;

@@ -1,0 +1,131 @@
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "app/mission_command.h"
+#include "app/mission_config.h"
+#include "app/mission_runner.h"
+#include "core/config.h"
+
+namespace aerograsp {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path TempDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("aerograsp_mission_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  return dir;
+}
+
+std::string DataDir() { return AEROGRASP_DATA_DIR; }
+
+// The first 12 simulated seconds: take-off, approach, find the object, start tracking.
+MissionOptions ShortMission(std::uint64_t seed) {
+  MissionOptions m;
+  m.seed = seed;
+  m.object = "u_shape";
+  m.timeout_s = 12.0;
+  return m;
+}
+
+TEST(MissionCommandTest, TakesOffFindsTheObjectAndWritesTheReport) {
+  const fs::path dir = TempDir("report");
+  MissionCommandOptions options;
+  options.mission = ShortMission(3);
+  options.out_dir = dir.string();
+  std::ostringstream out, err;
+  RunMissionCommand(options, out, err);
+  for (const char* file : {"index.html", "summary.json", "mission.log", "pose.png", "timeline.png", "joints.png"}) {
+    EXPECT_TRUE(fs::exists(dir / file)) << file;
+  }
+  std::ifstream in(dir / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  for (const char* key : {"success", "time_to_grasp_s", "pose_rmse_m", "grasp_switches", "safe_volume_entries",
+                          "realtime_factor"}) {
+    EXPECT_TRUE(summary.contains(key)) << key;
+  }
+  EXPECT_FALSE(summary["success"].get<bool>());  // stopped by the 12 s limit
+  EXPECT_EQ(summary["safe_volume_entries"].get<int>(), 0);
+  ASSERT_TRUE(summary["pose_rmse_m"].is_number());
+  EXPECT_LT(summary["pose_rmse_m"].get<double>(), 0.02);
+  const std::string log = out.str();
+  // Every machine logged its first transitions with their causes, in order.
+  const auto at = [&](const std::string& s) { return log.find(s); };
+  ASSERT_NE(at("global  idle -> approaching: start"), std::string::npos) << log;
+  ASSERT_NE(at("vehicle idle -> take-off"), std::string::npos);
+  ASSERT_NE(at("vehicle take-off -> hover"), std::string::npos);
+  ASSERT_NE(at("vision  searching -> found"), std::string::npos);
+  ASSERT_NE(at("global  approaching -> grasping"), std::string::npos);
+  EXPECT_LT(at("vehicle idle -> take-off"), at("vehicle take-off -> hover"));
+  EXPECT_LT(at("vehicle take-off -> hover"), at("global  approaching -> grasping"));
+  // The time limit ends in the safe state: arms stopped, vehicle holding.
+  EXPECT_NE(at("arms    idle -> emergency stop: the mission took longer than 12 s"), std::string::npos) << log;
+  fs::remove_all(dir);
+}
+
+TEST(MissionRunnerTest, TheSameSeedFliesTheSameMission) {
+  MissionRecord a, b;
+  const MissionResult ra = RunMission(ShortMission(5), &a, nullptr);
+  const MissionResult rb = RunMission(ShortMission(5), &b, nullptr);
+  ASSERT_EQ(a.transitions.size(), b.transitions.size());
+  for (std::size_t i = 0; i < a.transitions.size(); ++i) {
+    EXPECT_EQ(a.transitions[i].t_s, b.transitions[i].t_s) << i;
+    EXPECT_EQ(a.transitions[i].to, b.transitions[i].to) << i;
+  }
+  ASSERT_EQ(a.samples.size(), b.samples.size());
+  ASSERT_FALSE(a.samples.empty());
+  for (std::size_t i = 0; i < a.samples.size(); ++i) {
+    ASSERT_EQ(a.samples[i].dto_truth_m, b.samples[i].dto_truth_m) << i;
+    if (a.samples[i].estimate_valid) ASSERT_EQ(a.samples[i].dto_estimate_m, b.samples[i].dto_estimate_m) << i;
+  }
+  EXPECT_EQ(ra.pose_rmse_m, rb.pose_rmse_m);
+}
+
+TEST(MissionConfigTest, TheShippedConfigLoadsAndBadFieldsAreNamed) {
+  const MissionConfig shipped = MissionConfig::Load(DataDir() + "/config/mission_default.yaml");
+  EXPECT_DOUBLE_EQ(shipped.servo_rate_hz, 100.0);
+  EXPECT_GE(shipped.setpoint_rate_hz, 10.0);
+  const fs::path dir = TempDir("config");
+  fs::create_directories(dir);
+  const auto write = [&](const std::string& text) {
+    const fs::path path = dir / "mission.yaml";
+    std::ofstream(path) << "world: " << DataDir() << "/config/world_mission.yaml\n" << text;
+    return path.string();
+  };
+  const auto message = [&](const std::string& text) {
+    try {
+      MissionConfig::Load(write(text));
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("servo_rate_hz: 5\n").find("servo_rate_hz"), std::string::npos);
+  EXPECT_NE(message("near_tolerance_m: -1\n").find("near_tolerance_m"), std::string::npos);
+  EXPECT_NE(message("approach_w_m: [1, 2]\n").find("approach_w_m"), std::string::npos);
+  EXPECT_NE(message("servo_rate: 100\n").find("servo_rate"), std::string::npos);  // unknown key
+  EXPECT_NE(message("max_attempts: 0\n").find("max_attempts"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST(MissionRunnerTest, ABadArmTypeOrObjectIsAClearError) {
+  MissionOptions m = ShortMission(1);
+  m.arm_type = "7dof";
+  EXPECT_THROW(RunMission(m, nullptr, nullptr), ConfigError);
+  m = ShortMission(1);
+  m.object = "no_such_object";
+  try {
+    RunMission(m, nullptr, nullptr);
+    FAIL() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("no_such_object"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace aerograsp
