@@ -54,9 +54,9 @@ TEST(IntersectRayTest, ABoxIsEnteredAndLeft) {
 TEST(ObjectModelTest, ShippedNamesAndErrors) {
   const ObjectModel crawler = ObjectModel::Load("crawler");
   EXPECT_EQ(crawler.name, "crawler");
-  EXPECT_DOUBLE_EQ(crawler.mass_kg, 0.6);
+  EXPECT_DOUBLE_EQ(crawler.mass_kg, 0.4);
   EXPECT_FALSE(crawler.mass_estimated);
-  EXPECT_NEAR(crawler.dimensions_m.x(), 0.25, 1e-6);
+  EXPECT_NEAR(crawler.dimensions_m.x(), 0.22, 1e-6);
   EXPECT_EQ(ShippedObjectNames(), (std::vector<std::string>{"crawler", "pipe", "u_shape"}));
   try {
     ObjectModel::Load("teapot");
