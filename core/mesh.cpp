@@ -12,6 +12,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/mesh_formats.h"
@@ -288,8 +289,9 @@ MassProperties ComputeMassProperties(const TriangleMesh& mesh) {
 
 std::vector<double> IntersectRay(const TriangleMesh& mesh, const Eigen::Vector3d& origin,
                                  const Eigen::Vector3d& direction) {
-  // Moller-Trumbore per triangle.
-  std::vector<double> hits;
+  // Moller-Trumbore per triangle, keeping whether the ray enters (det > 0:
+  // against the outward normal of a counter-clockwise triangle) or leaves.
+  std::vector<std::pair<double, bool>> found;
   for (const Eigen::Vector3i& t : mesh.triangles) {
     const Eigen::Vector3d& a = mesh.vertices[t[0]];
     const Eigen::Vector3d e1 = mesh.vertices[t[1]] - a, e2 = mesh.vertices[t[2]] - a;
@@ -303,9 +305,25 @@ std::vector<double> IntersectRay(const TriangleMesh& mesh, const Eigen::Vector3d
     const double v = direction.dot(q) / det;
     if (v < 0.0 || u + v > 1.0) continue;
     const double dist = e2.dot(q) / det;
-    if (dist >= 0.0) hits.push_back(dist);
+    if (dist >= 0.0) found.emplace_back(dist, det > 0.0);
   }
-  std::sort(hits.begin(), hits.end());
+  std::sort(found.begin(), found.end());
+  // A ray through an edge or vertex shared by several triangles meets each of
+  // them (the bounds above are inclusive): hits at one distance crossing the
+  // same way are one crossing. One entering and one leaving hit at one distance
+  // (a ray touching a silhouette edge) both stay, so parity still tells inside.
+  constexpr double kSame = 1e-9;  // in units of |direction|
+  std::vector<double> hits;
+  for (std::size_t i = 0; i < found.size();) {
+    std::size_t end = i;
+    bool entering = false, leaving = false;
+    for (; end < found.size() && found[end].first - found[i].first <= kSame; ++end) {
+      (found[end].second ? entering : leaving) = true;
+    }
+    if (entering) hits.push_back(found[i].first);
+    if (leaving) hits.push_back(found[i].first);
+    i = end;
+  }
   return hits;
 }
 

@@ -71,6 +71,8 @@ void SaveMeshPly(const TriangleMesh& mesh, const std::string& path);
 
 /// The distances t >= 0 (sorted, in units of |direction|) at which the ray
 /// origin + t * direction crosses a triangle of the mesh (both faces count).
+/// A crossing through an edge or vertex shared by triangles counts once (hits
+/// within 1e-9 of each other crossing the same way, in or out, are merged).
 /// Brute force over the triangles: for single rays, not images.
 std::vector<double> IntersectRay(const TriangleMesh& mesh, const Eigen::Vector3d& origin,
                                  const Eigen::Vector3d& direction);

@@ -196,10 +196,15 @@ def mass_properties(mesh, mass_kg):
 # --- the objects ------------------------------------------------------------------------------
 
 def make_crawler():
-    """Pipe-inspection crawler: body between two tracks, extruded along x."""
-    length, segments = 0.25, 10
-    body_half_width, track_outer = 0.05, 0.075
-    body_bottom, body_top, height = 0.02, 0.08, 0.10
+    """Pipe-inspection crawler: body between two tracks, extruded along x.
+
+    A mock-up sized for our gripper (the paper gives no dimensions): 0.09 m across the
+    tracks, so a top-down grasp closing across y fits the 0.10 m the fingers take
+    (max_aperture_m 0.12 less 2 x finger_clearance_m 0.01) with 0.01 m to spare.
+    """
+    length, segments = 0.22, 10
+    body_half_width, track_outer = 0.03, 0.045  # tracks 0.015 m wide
+    body_bottom, body_top, height = 0.015, 0.065, 0.08
     # Cross-section in the y-z plane (z from the bottom), counter-clockwise seen from +x.
     section = [(-track_outer, 0.0), (-body_half_width, 0.0), (-body_half_width, body_bottom),
                (body_half_width, body_bottom), (body_half_width, 0.0), (track_outer, 0.0),
@@ -262,7 +267,9 @@ def make_pipe():
 
 OBJECTS = [
     # name, builder, mass_kg, description
-    ("crawler", make_crawler, 0.6,
+    # 0.4 kg: a guess for a 3D-printed mock-up of this size (about 1.2e-3 m^3 of solid,
+    # so ~340 kg/m^3, PLA at roughly a quarter infill), not a weighed robot.
+    ("crawler", make_crawler, 0.4,
      "mock-up of a pipe-inspection crawler: yellow body between two dark grey tracks"),
     ("u_shape", make_u_shape, 0.3, "U-shaped bracket, open at the top (+z)"),
     ("pipe", make_pipe, 0.25, "pipe segment along x, outer diameter 0.09 m, wall 0.006 m"),

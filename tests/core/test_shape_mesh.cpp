@@ -42,14 +42,21 @@ TEST(IntersectRayTest, ABoxIsEnteredAndLeft) {
   EXPECT_NEAR(hits[1], 6.0, 1e-12);
   EXPECT_TRUE(IntersectRay(box, Eigen::Vector3d(-5, 3, 0), Eigen::Vector3d(1, 0, 0)).empty());
   EXPECT_EQ(IntersectRay(box, Eigen::Vector3d(0, 0.3, 0.2), Eigen::Vector3d(0, 0, 1)).size(), 1u);  // from inside
+  // Through the diagonal each x face is split along, and through a corner: one
+  // crossing each, not one per triangle.
+  const std::vector<double> diagonal = IntersectRay(box, Eigen::Vector3d(-5, 0.3, 0.3), Eigen::Vector3d(1, 0, 0));
+  ASSERT_EQ(diagonal.size(), 2u);
+  EXPECT_NEAR(diagonal[0], 4.0, 1e-12);
+  EXPECT_NEAR(diagonal[1], 6.0, 1e-12);
+  EXPECT_EQ(IntersectRay(box, Eigen::Vector3d(-2, -2, -2), Eigen::Vector3d(1, 1, 1)).size(), 2u);
 }
 
 TEST(ObjectModelTest, ShippedNamesAndErrors) {
   const ObjectModel crawler = ObjectModel::Load("crawler");
   EXPECT_EQ(crawler.name, "crawler");
-  EXPECT_DOUBLE_EQ(crawler.mass_kg, 0.6);
+  EXPECT_DOUBLE_EQ(crawler.mass_kg, 0.4);
   EXPECT_FALSE(crawler.mass_estimated);
-  EXPECT_NEAR(crawler.dimensions_m.x(), 0.25, 1e-6);
+  EXPECT_NEAR(crawler.dimensions_m.x(), 0.22, 1e-6);
   EXPECT_EQ(ShippedObjectNames(), (std::vector<std::string>{"crawler", "pipe", "u_shape"}));
   try {
     ObjectModel::Load("teapot");

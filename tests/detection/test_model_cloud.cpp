@@ -12,7 +12,7 @@ namespace {
 TEST(ModelCloudTest, SamplesTheSurfaceWithOutwardNormalsAndColours) {
   const ModelCloud& model = testing::CrawlerModel();
   ASSERT_GT(model.points_o.size(), 3000u);
-  EXPECT_NEAR(model.diameter_m, std::sqrt(0.25 * 0.25 + 0.15 * 0.15 + 0.1 * 0.1), 0.01);
+  EXPECT_NEAR(model.diameter_m, std::sqrt(0.22 * 0.22 + 0.09 * 0.09 + 0.08 * 0.08), 0.01);
   int yellow = 0;
   for (std::size_t i = 0; i < model.points_o.size(); ++i) {
     EXPECT_NEAR(model.normals_o[i].norm(), 1.0f, 1e-4f);

@@ -186,9 +186,10 @@ TEST(WorldTest, NaNJointTargetsAreIgnored) {
 }
 
 /// The crawler placed so that the left tool point is in the middle of one of
-/// its tracks, closing along the object's z (the track's 0.10 m height fits
-/// the 0.12 m opening; tools/make_objects.py draws the crawler).
-constexpr double kTrackCentre_m = 0.0625;
+/// its tracks (0.03 to 0.045 m from the centre in y), closing along the
+/// object's z (the track's 0.08 m height fits the 0.12 m opening;
+/// tools/make_objects.py draws the crawler).
+constexpr double kTrackCentre_m = 0.0375;
 class GripperTest : public ::testing::Test {
  protected:
   GripperTest() : world_(CalmConfig(), 1), arms_(&world_) {}
@@ -250,7 +251,7 @@ TEST_F(GripperTest, ClosingOnNothingClosesFully) {
 }
 
 TEST_F(GripperTest, AnObjectWiderThanTheOpeningIsNotHeld) {
-  // Closing along the crawler's 0.25 m length.
+  // Closing along the crawler's 0.22 m length.
   Eigen::Isometry3d eMo = Eigen::Isometry3d::Identity();
   world_.PlaceObject(world_.wMe(Side::kLeft) * eMo);
   arms_.SetGripper(Side::kLeft, GripperCommand::kClose);
@@ -270,7 +271,7 @@ TEST(SimCameraTest, TheObjectIsWhereTheGroundTruthSaysItIs) {
     EXPECT_DOUBLE_EQ(frame.stamp_s, world.now_s());
     const Eigen::Isometry3d cMo = world.wMc().inverse() * world.wMo();
     // The top of the crawler's track (o z up) is on the object in the image.
-    const Eigen::Vector3d top_c = cMo * Eigen::Vector3d(0, 0.0625, 0.5 * world.object().dimensions_m.z());
+    const Eigen::Vector3d top_c = cMo * Eigen::Vector3d(0, kTrackCentre_m, 0.5 * world.object().dimensions_m.z());
     const Eigen::Vector2d uv = camera.intrinsics().Project(top_c);
     const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
     ASSERT_TRUE(u >= 0 && u < 640 && v >= 0 && v < 480) << uv.transpose();
