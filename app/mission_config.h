@@ -13,11 +13,11 @@ struct MissionConfig {
   std::string source;                            ///< the file (for messages)
   std::string world{"world_mission.yaml"};       ///< simulated world, resolved against the file's folder
   double takeoff_altitude_m{2.0};                ///< above the take-off point, [0.5, 20] m
-  Eigen::Vector3d approach_w_m{2.90, 0.0, -2.2}; ///< waypoint near the object (NED), each [-100, 100] m
+  Eigen::Vector3d approach_w_m{2.70, 0.0, -2.2}; ///< waypoint near the object (NED), each [-100, 100] m
   double yaw_rad{0.0};                           ///< heading held through the mission, [-pi, pi] rad
   /// Where the object should sit in the body frame while the arms grasp it
   /// (FRD: ahead, right, below), each [-1, 1] m.
-  Eigen::Vector3d grasp_dto_m{0.10, 0.0, 0.46};
+  Eigen::Vector3d grasp_dto_m{0.075, 0.0, 0.47};
   double arrive_tolerance_m{0.15};      ///< a waypoint counts as reached within this, (0, 5] m
   double near_tolerance_m{0.03};        ///< the object is "near" within this of grasp_dto_m, (0, 1] m
   /// Tracking never takes the vehicle farther than this from the approach

@@ -34,7 +34,7 @@ struct ObjectMotionConfig {
 
 struct VehicleSimConfig {
   std::string start{"hover"};            ///< "hover" (at start_w_m, flying) | "ground" (disarmed at the origin)
-  Eigen::Vector3d start_w_m{-0.163, -0.15, -2.197};  ///< hover start (NED), m
+  Eigen::Vector3d start_w_m{-0.26, -0.15, -2.104};  ///< hover start (NED), m
   double start_yaw_rad{0.0};             ///< heading, rad
   Eigen::Vector3d sway_amplitude_m{0.03, 0.03, 0.02};  ///< per axis, each [0, 1] m
   Eigen::Vector3d sway_frequency_hz{0.31, 0.23, 0.4};  ///< per axis, each [0, 5] Hz
