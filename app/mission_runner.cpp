@@ -152,6 +152,9 @@ class Mission {
   int unreachable_in_a_row_ = 0;
   Eigen::Isometry3d oMg_[2];  // the tool at the grasp, in the object frame
   Eigen::Isometry3d oMp_[2];  // the tool at the pre-catch pose
+  // The followed pair's last targets the planner's IK reached (in b), per arm.
+  Eigen::Isometry3d reached_bMg_[2], reached_bMp_[2];
+  bool has_reached_[2] = {false, false};
   bool switch_pending_[2] = {false, false};
   ServoStatus last_status_[2] = {ServoStatus::kNoTarget, ServoStatus::kNoTarget};
   double planning_since_s_ = -1.0;
@@ -560,6 +563,7 @@ bool Mission::StartPlan() {
 }
 
 void Mission::SetGrasps(const DualGrasp& grasp, const Eigen::Isometry3d& dMo) {
+  has_reached_[0] = has_reached_[1] = false;
   // The tool frame the planner's joints reach, not the contact frame g: the
   // gripper is symmetric, so the planner may take g turned half a turn about
   // its approach axis, which a 4-DoF arm cannot reach as such.
@@ -703,10 +707,28 @@ void Mission::Servo() {
     return;
   }
   const Eigen::Isometry3d dMo = dMoNow();
+  const int pairs[2] = {choice_.left_pair, choice_.right_pair};
   for (int a = 0; a < 2; ++a) {
     const Side side = kSides[a];
     const Eigen::Isometry3d bMo = hw_->platform().dMb(side).inverse() * dMo;
-    sequence_[a]->SetGrasp(bMo * oMg_[a], bMo * oMp_[a], last_found_stamp_s_, switch_pending_[a]);
+    // The followed pair solved again for the object where it is now (the
+    // planner's closed-form grasp-axis IK): targets the arm reaches exactly,
+    // and their joints as the servo's IK seeds. When the pair is out of reach
+    // for this instant the grasp fixed to the object stands (and re-evaluation
+    // decides whether to switch).
+    ArmGrasp now;
+    Infeasibility why = Infeasibility::kNone;
+    if (pairs[a] >= 0 && planner_->EvaluateArm(side, pairs[a], dMo, q_[a], &now, &why)) {
+      const ArmModel& arm = hw_->platform().arm(side);
+      servo_[a]->SetSeedHints({now.q_precatch, now.q_grasp});
+      reached_bMg_[a] = arm.ForwardKinematics(now.q_grasp);
+      reached_bMp_[a] = arm.ForwardKinematics(now.q_precatch);
+      has_reached_[a] = true;
+    } else if (!has_reached_[a]) {
+      reached_bMg_[a] = bMo * oMg_[a];
+      reached_bMp_[a] = bMo * oMp_[a];
+    }  // else: the last reachable targets stand for this instant
+    sequence_[a]->SetGrasp(reached_bMg_[a], reached_bMp_[a], last_found_stamp_s_, switch_pending_[a]);
     switch_pending_[a] = false;
     GraspCommand command;
     sequence_[a]->Step(q_[a], t, dt_s_, &command);
