@@ -33,8 +33,9 @@ namespace fs = std::filesystem;
 using WallClock = std::chrono::steady_clock;
 
 constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
-/// Consecutive re-evaluations that find the followed pair unreachable before it is left.
-constexpr int kUnreachableToSwitch = 2;
+/// Consecutive re-evaluations (1 s at 5 Hz) that find the followed pair unreachable before it is left:
+/// meanwhile each servo cycle solves the pair again where the object is (Servo()).
+constexpr int kUnreachableToSwitch = 5;
 const char* const kArmNames[2] = {"left", "right"};
 
 double Median(std::vector<double> v) {
@@ -66,6 +67,7 @@ struct Perceived {
   FrameReport report;
   Eigen::Isometry3d dMo_truth = Eigen::Isometry3d::Identity();
   bool has_truth = false;
+  Eigen::Isometry3d wMd = Eigen::Isometry3d::Identity();  ///< the vehicle when the frame was taken
   std::shared_ptr<RgbdFrame> frame;
 };
 
@@ -96,6 +98,8 @@ class Mission {
   void SetGrasps(const DualGrasp& grasp, const Eigen::Isometry3d& dMo);
   void StopArms(const std::string& cause);
   Eigen::Isometry3d dMoNow() const;
+  /// True while the object is briefly lost and held at its last world pose.
+  bool HoldingObjectInWorld() const;
   PlanQuery Query() const;
 
   MissionOptions options_;
@@ -133,6 +137,8 @@ class Mission {
   double lost_since_s_ = -1.0;
   double last_found_stamp_s_ = 0.0;
   bool have_object_w_ = false;
+  bool have_wMo_ = false;
+  Eigen::Isometry3d wMo_last_ = Eigen::Isometry3d::Identity();  // at the last found frame
   bool logged_beyond_ = false;
   Eigen::Vector3d object_w_filtered_ = Eigen::Vector3d::Zero();
   std::vector<double> perception_ms_, render_ms_;
@@ -214,6 +220,10 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
   tracker_ = std::make_unique<ObjectTracker>(*object_, PerceptionOptions{}, std::move(detector));
 
   GraspPlannerConfig planner_config;
+  // Contacts at least 2.5 cm behind the tool point: the closing line then
+  // crosses the object even with the few millimetres of pose and tracking
+  // error left in flight (a pair at the tool point itself closes on air).
+  planner_config.depth_min_m = 0.025;
   planner_config.Validate(config_.source, platform.config().gripper);
   GraspObject grasp_object{object_->name, object_->mesh_o, object_->mass_kg, object_->center_of_mass_o};
   ContactSet contacts = ComputeContactPairs(object_->mesh_o, platform.config().gripper, planner_config.contacts);
@@ -238,6 +248,13 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
     // frame period and a servo lag behind it: a few millimetres of tracking
     // error remain, which the gripper's clearance (finger_clearance_m) takes.
     sequence_config.precatch_tolerance.position_m = 0.01;
+    sequence_config.precatch_timeout_s = 10.0;  // 0.35 m from home while the target sways
+    sequence_config.grasp_timeout_s = 5.0;
+    servo_config.unreachable_retry_s = 0.1;     // the sway brings a target back within a cycle or two
+    // A first-order tracker of gain k follows a sway of w = 2 pi 0.5 Hz with an
+    // error of about A w / sqrt(w^2 + k^2): 2.2 cm of a 3 cm sway at the
+    // default k = 3/s, 0.6 cm at 15/s.
+    servo_config.gain_per_s = 15.0;
     sequence_config.grasp_tolerance.position_m = 0.006;
     servo_[a] = std::make_unique<ArmServo>(
         arm, servo_config, MakeCollisionPredicate(*collision_, kSides[a], config_.servo_margin_m, &q_[1 - a]));
@@ -295,7 +312,16 @@ void Mission::Emergency(const std::string& cause) {
   }
 }
 
+bool Mission::HoldingObjectInWorld() const {
+  return have_wMo_ && vision_.state() != VisionState::kFound && lost_since_s_ >= 0 &&
+         Now() - lost_since_s_ <= config_.lost_timeout_s;
+}
+
 Eigen::Isometry3d Mission::dMoNow() const {
+  // Briefly lost (the grippers hide the object as they close in): the object
+  // stays where it was last seen in the world, and the vehicle's own pose
+  // carries it into the body frame through the sway.
+  if (HoldingObjectInWorld()) return hw_->autopilot().State().wMd.inverse() * wMo_last_;
   return hw_->platform().dMc() * PredictCmo(estimate_, Now());
 }
 
@@ -331,6 +357,7 @@ void Mission::Perception() {
   render_ms_.push_back(std::chrono::duration<double, std::milli>(WallClock::now() - render_start).count());
   Perceived job;
   job.frame = frame;
+  job.wMd = hw_->autopilot().State().wMd;
   if (world_) {
     job.dMo_truth = world_->wMd().inverse() * world_->wMo();
     job.has_truth = true;
@@ -370,6 +397,8 @@ void Mission::HandlePerceived(Perceived p) {
   }
   if (found && !beyond) {
     logged_beyond_ = false;
+    wMo_last_ = p.wMd * dMo_est;
+    have_wMo_ = true;
     const double alpha = std::min(1.0, frame_period_s_ / config_.object_filter_s);
     object_w_filtered_ = have_object_w_ ? object_w_filtered_ + alpha * (object_w - object_w_filtered_) : object_w;
     have_object_w_ = true;
@@ -622,7 +651,12 @@ void Mission::Planner() {
   }
   const bool done = sequence_[0]->phase() == GraspPhase::kDone && sequence_[1]->phase() == GraspPhase::kDone;
   const bool held = hw_->arms().Gripper(Side::kLeft).holding && hw_->arms().Gripper(Side::kRight).holding;
-  if (done && !held) retry = "the grippers closed without holding the object";
+  if (done && !held) {
+    const GripperState gl = hw_->arms().Gripper(Side::kLeft), gr = hw_->arms().Gripper(Side::kRight);
+    retry = fmt::format("the grippers closed without holding the object (left {} at {:.0f} mm, right {} at {:.0f} mm)",
+                        gl.holding ? "holds" : "empty", 1e3 * gl.aperture_m, gr.holding ? "holds" : "empty",
+                        1e3 * gr.aperture_m);
+  }
   if (!retry.empty()) {
     planner_sm_.Retry(t, retry);
     StopArms("attempt ended: " + retry);
@@ -730,7 +764,8 @@ void Mission::Servo() {
       reached_bMg_[a] = bMo * oMg_[a];
       reached_bMp_[a] = bMo * oMp_[a];
     }  // else: the last reachable targets stand for this instant
-    sequence_[a]->SetGrasp(reached_bMg_[a], reached_bMp_[a], last_found_stamp_s_, switch_pending_[a]);
+    sequence_[a]->SetGrasp(reached_bMg_[a], reached_bMp_[a], HoldingObjectInWorld() ? t : last_found_stamp_s_,
+                           switch_pending_[a]);
     switch_pending_[a] = false;
     GraspCommand command;
     sequence_[a]->Step(q_[a], t, dt_s_, &command);

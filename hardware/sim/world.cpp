@@ -136,29 +136,41 @@ void World::SetGripper(Side side, GripperCommand command) {
 }
 
 double World::ClosingWidth(Side side, bool* spans) const {
-  // The closing line: the tool x axis through the tool point, as long as the
-  // open aperture, in the object frame.
-  const double open_m = platform_.config().gripper.max_aperture_m;
+  // The fingers are pads along the approach axis z_e: from their tips, 0.02 m
+  // beyond the tool point (FACTS.md tool point), back finger_length_m. They
+  // close along the tool x axis and stop on whatever lies between them at any
+  // depth of the pads: closing lines every 5 mm along the pads, each as long as
+  // the open aperture, in the object frame.
+  const GripperConfig& gc = platform_.config().gripper;
+  const double open_m = gc.max_aperture_m;
   const Eigen::Isometry3d oMe = wMo_.inverse() * wMe(side);
   const Eigen::Vector3d x_o = oMe.linear().col(0);
-  const Eigen::Vector3d start_o = oMe.translation() - 0.5 * open_m * x_o;
-  const std::vector<double> hits = IntersectRay(object_.mesh_o, start_o, x_o);
-  double first = -1.0, last = -1.0;
-  std::size_t inside = 0;
-  for (double t : hits) {
-    if (t > open_m) break;
-    if (first < 0.0) first = t;
-    last = t;
-    ++inside;
+  const Eigen::Vector3d z_o = oMe.linear().col(2);
+  constexpr double kTipBeyondToolM = 0.02, kStepM = 0.005;
+  *spans = false;
+  double width = 0.0;
+  for (double along = kTipBeyondToolM; along >= kTipBeyondToolM - gc.finger_length_m; along -= kStepM) {
+    const Eigen::Vector3d start_o = oMe.translation() + along * z_o - 0.5 * open_m * x_o;
+    const std::vector<double> hits = IntersectRay(object_.mesh_o, start_o, x_o);
+    double first = -1.0, last = -1.0;
+    std::size_t inside = 0;
+    for (double t : hits) {
+      if (t > open_m) break;
+      if (first < 0.0) first = t;
+      last = t;
+      ++inside;
+    }
+    // This line holds the object between the open pads when both pad
+    // positions are outside the (closed) mesh (an even number of crossings
+    // beyond each) and it crosses the object.
+    const std::size_t after = hits.size() - inside;
+    if (!(inside >= 2 && after % 2 == 0 && (inside + after) % 2 == 0)) continue;
+    *spans = true;
+    // Symmetric fingers touch at the farther of the two surfaces from the axis;
+    // over the pads, at the widest part between them.
+    width = std::max(width, 2.0 * std::max(0.5 * open_m - first, last - 0.5 * open_m));
   }
-  // Held only when the object lies between the open pads along the line: both
-  // pad positions are outside the (closed) mesh, i.e. an even number of
-  // crossings lies beyond each of them, and the line crosses the object.
-  const std::size_t after = hits.size() - inside;
-  *spans = inside >= 2 && after % 2 == 0 && (inside + after) % 2 == 0;
-  if (!*spans) return 0.0;
-  // Symmetric fingers touch at the farther of the two surfaces from the tool point.
-  return 2.0 * std::max(0.5 * open_m - first, last - 0.5 * open_m);
+  return width;
 }
 
 void World::UpdateGripper(Side side, double dt_s) {

@@ -10,6 +10,9 @@
 #include "app/mission_config.h"
 #include "app/mission_runner.h"
 #include "core/config.h"
+#include "grasp/planner.h"
+#include "hardware/sim/world.h"
+#include "hardware/sim/world_config.h"
 
 namespace aerograsp {
 namespace {
@@ -125,6 +128,46 @@ TEST(MissionRunnerTest, ABadArmTypeOrObjectIsAClearError) {
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("no_such_object"), std::string::npos) << e.what();
   }
+}
+
+
+// The simulator against the planner: a planned dual grasp, put on the arms by
+// its joints with the vehicle still, holds the object when the grippers close.
+TEST(MissionRunnerTest, APlannedGraspSetByItsJointsHoldsTheObjectInTheSimulator) {
+  WorldConfig config = WorldConfig::Load(DataDir() + "/config/world_default.yaml");
+  config.vehicle.sway_amplitude_m.setZero();
+  config.vehicle.tilt_amplitude_rad = 0.0;
+  config.vehicle.gust_rate_hz = 0.0;
+  config.vehicle.drift_std_m = 0.0;
+  config.object.motion = "static";
+  // The vehicle placed so that the object sits at the mission's grasp spot.
+  const MissionConfig mission = MissionConfig::Load(DataDir() + "/config/mission_default.yaml");
+  config.vehicle.start_w_m = World(config, 1).wMo().translation() - mission.grasp_dto_m;
+  World world(config, 1);
+  const Platform& platform = world.platform();
+  world.Step(0.01);
+  const Eigen::Isometry3d dMo = world.wMd().inverse() * world.wMo();
+  GraspPlannerConfig planner_config;
+  planner_config.depth_min_m = 0.025;
+  const ObjectModel& object = world.object();
+  GraspPlanner planner(platform, GraspObject{object.name, object.mesh_o, object.mass_kg, object.center_of_mass_o},
+                       ComputeContactPairs(object.mesh_o, platform.config().gripper, planner_config.contacts),
+                       planner_config);
+  PlanQuery query;
+  query.dMo = dMo;
+  query.q_left = platform.home(Side::kLeft);
+  query.q_right = platform.home(Side::kRight);
+  const PlanResult plan = planner.Plan(query);
+  ASSERT_FALSE(plan.ranked.empty());
+  const DualGrasp& best = plan.ranked.front();
+  world.arm(Side::kLeft).SetTarget(best.left.q_grasp);
+  world.arm(Side::kRight).SetTarget(best.right.q_grasp);
+  world.Step(3.0);
+  world.SetGripper(Side::kLeft, GripperCommand::kClose);
+  world.SetGripper(Side::kRight, GripperCommand::kClose);
+  world.Step(1.5);
+  EXPECT_TRUE(world.held_by(Side::kLeft)) << world.gripper(Side::kLeft).aperture_m;
+  EXPECT_TRUE(world.held_by(Side::kRight)) << world.gripper(Side::kRight).aperture_m;
 }
 
 }  // namespace
