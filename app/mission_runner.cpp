@@ -36,6 +36,8 @@ constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
 /// Consecutive re-evaluations (1 s at 5 Hz) that find the followed pair unreachable before it is left:
 /// meanwhile each servo cycle solves the pair again where the object is (Servo()).
 constexpr int kUnreachableToSwitch = 5;
+/// Joint change (rad) between servo cycles beyond which a re-solved grasp is another branch.
+constexpr double kBranchJumpRad = 0.15;
 const char* const kArmNames[2] = {"left", "right"};
 
 double Median(std::vector<double> v) {
@@ -161,6 +163,7 @@ class Mission {
   // The followed pair's last targets the planner's IK reached (in b), per arm.
   Eigen::Isometry3d reached_bMg_[2], reached_bMp_[2];
   bool has_reached_[2] = {false, false};
+  Eigen::VectorXd reached_q_grasp_[2];
   bool switch_pending_[2] = {false, false};
   ServoStatus last_status_[2] = {ServoStatus::kNoTarget, ServoStatus::kNoTarget};
   double planning_since_s_ = -1.0;
@@ -605,6 +608,7 @@ void Mission::SetGrasps(const DualGrasp& grasp, const Eigen::Isometry3d& dMo) {
     const Eigen::Isometry3d oMb = oMd * hw_->platform().dMb(side);
     oMg_[a] = oMb * hw_->platform().arm(side).ForwardKinematics(arm_grasps[a]->q_grasp);
     oMp_[a] = oMb * hw_->platform().arm(side).ForwardKinematics(arm_grasps[a]->q_precatch);
+    reached_q_grasp_[a] = arm_grasps[a]->q_grasp;
     servo_[a]->SetSeedHints({arm_grasps[a]->q_precatch, arm_grasps[a]->q_grasp});
   }
 }
@@ -754,7 +758,12 @@ void Mission::Servo() {
     // decides whether to switch).
     ArmGrasp now;
     Infeasibility why = Infeasibility::kNone;
-    if (pairs[a] >= 0 && planner_->EvaluateArm(side, pairs[a], dMo, q_[a], &now, &why)) {
+    // A solution far in joint space from the last one is another IK branch or
+    // depth of the same pair: following it would throw the arm across; the
+    // last reachable targets stand instead.
+    const bool solved = pairs[a] >= 0 && planner_->EvaluateArm(side, pairs[a], dMo, q_[a], &now, &why);
+    if (solved && (now.q_grasp - reached_q_grasp_[a]).cwiseAbs().maxCoeff() < kBranchJumpRad) {
+      reached_q_grasp_[a] = now.q_grasp;
       const ArmModel& arm = hw_->platform().arm(side);
       servo_[a]->SetSeedHints({now.q_precatch, now.q_grasp});
       reached_bMg_[a] = arm.ForwardKinematics(now.q_grasp);
