@@ -5,14 +5,6 @@
 #include "core/config.h"
 
 namespace aerograsp {
-namespace {
-
-void CheckVector(const std::string& source, const std::string& key, const Eigen::Vector3d& v, double lo,
-                 double hi) {
-  for (int i = 0; i < 3; ++i) CheckRange(source, key + "[" + std::to_string(i) + "]", v[i], lo, hi, "m");
-}
-
-}  // namespace
 
 MissionConfig MissionConfig::Load(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);
@@ -50,9 +42,9 @@ void MissionConfig::Validate() const {
   const std::string& s = source;
   CheckFileExists(s, "world", world);
   CheckRange(s, "takeoff_altitude_m", takeoff_altitude_m, 0.5, 20.0, "m");
-  CheckVector(s, "approach_w_m", approach_w_m, -100.0, 100.0);
+  CheckRange(s, "approach_w_m", approach_w_m, -100.0, 100.0, "m");
   CheckRange(s, "yaw_rad", yaw_rad, -M_PI, M_PI, "rad");
-  CheckVector(s, "grasp_dto_m", grasp_dto_m, -1.0, 1.0);
+  CheckRange(s, "grasp_dto_m", grasp_dto_m, -1.0, 1.0, "m");
   CheckRange(s, "arrive_tolerance_m", arrive_tolerance_m, 1e-6, 5.0, "m");
   CheckRange(s, "near_tolerance_m", near_tolerance_m, 1e-6, 1.0, "m");
   CheckRange(s, "tracking_radius_m", tracking_radius_m, 1e-6, 10.0, "m");

@@ -197,6 +197,11 @@ void ConfigNode::Fail(const std::string& key, const std::string& message) const 
   Throw(source_, KeyPath(key), message);
 }
 
+void CheckRange(const std::string& source, const std::string& key, const Eigen::Vector3d& v, double min,
+                double max, const std::string& unit) {
+  for (int i = 0; i < 3; ++i) CheckRange(source, key + "[" + std::to_string(i) + "]", v[i], min, max, unit);
+}
+
 void CheckRange(const std::string& source, const std::string& key, double value, double min,
                 double max, const std::string& unit) {
   if (!std::isfinite(value)) Throw(source, key, "value is not finite");

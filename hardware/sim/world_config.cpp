@@ -7,13 +7,6 @@
 namespace aerograsp {
 namespace {
 
-void CheckVector(const std::string& source, const std::string& key, const Eigen::Vector3d& v,
-                 double lo, double hi, const char* unit) {
-  for (int i = 0; i < 3; ++i) {
-    CheckRange(source, key + "[" + std::to_string(i) + "]", v[i], lo, hi, unit);
-  }
-}
-
 Eigen::Vector3d GetVector3Or(const ConfigNode& node, const std::string& key,
                              const Eigen::Vector3d& fallback) {
   return node.Has(key) ? node.GetVector3(key) : fallback;
@@ -109,7 +102,7 @@ void WorldConfig::Validate() const {
   CheckFileExists(src, "platform", platform);
   CheckRange(src, "physics_step_s", physics_step_s, 1e-5, 0.05, "s");
 
-  CheckVector(src, "scene.pipe_center_w_m", scene.pipe_center_w_m, -100.0, 100.0, "m");
+  CheckRange(src, "scene.pipe_center_w_m", scene.pipe_center_w_m, -100.0, 100.0, "m");
   CheckRange(src, "scene.pipe_yaw_rad", scene.pipe_yaw_rad, -M_PI, M_PI, "rad");
   CheckRange(src, "scene.pipe_radius_m", scene.pipe_radius_m, 1e-3, 1.0, "m");
   CheckRange(src, "scene.pipe_length_m", scene.pipe_length_m, 0.01, 50.0, "m");
@@ -130,10 +123,10 @@ void WorldConfig::Validate() const {
   CheckRange(src, "object.yaw_on_pipe_rad", object.yaw_on_pipe_rad, -M_PI, M_PI, "rad");
 
   CheckOneOf(src, "vehicle.start", vehicle.start, {"hover", "ground"});
-  CheckVector(src, "vehicle.start_w_m", vehicle.start_w_m, -1000.0, 1000.0, "m");
+  CheckRange(src, "vehicle.start_w_m", vehicle.start_w_m, -1000.0, 1000.0, "m");
   CheckRange(src, "vehicle.start_yaw_rad", vehicle.start_yaw_rad, -M_PI, M_PI, "rad");
-  CheckVector(src, "vehicle.sway_amplitude_m", vehicle.sway_amplitude_m, 0.0, 1.0, "m");
-  CheckVector(src, "vehicle.sway_frequency_hz", vehicle.sway_frequency_hz, 0.0, 5.0, "Hz");
+  CheckRange(src, "vehicle.sway_amplitude_m", vehicle.sway_amplitude_m, 0.0, 1.0, "m");
+  CheckRange(src, "vehicle.sway_frequency_hz", vehicle.sway_frequency_hz, 0.0, 5.0, "Hz");
   CheckRange(src, "vehicle.tilt_amplitude_rad", vehicle.tilt_amplitude_rad, 0.0, 0.3, "rad");
   CheckRange(src, "vehicle.gust_rate_hz", vehicle.gust_rate_hz, 0.0, 10.0, "Hz");
   CheckRange(src, "vehicle.gust_speed_mps", vehicle.gust_speed_mps, 0.0, 5.0, "m/s");
