@@ -367,6 +367,10 @@ void Mission::Perception() {
   }
   const CameraIntrinsics K = hw_->camera().intrinsics();
   const double scale = hw_->camera().depth_scale_m();
+  // Briefly lost with the object held at its last world pose: that pose seeds
+  // the tracker (a local ICP) instead of a global registration on the frame,
+  // which costs ten times more and may lock onto clutter.
+  if (HoldingObjectInWorld()) tracker_->SetInitialPose(hw_->platform().dMc().inverse() * dMoNow());
   ObjectTracker* tracker = tracker_.get();
   perceiving_ = std::async(std::launch::async, [tracker, K, scale, job = std::move(job)]() mutable {
     job.report = tracker->Process(job.frame->color, job.frame->depth, job.frame->stamp_s, K, scale);
