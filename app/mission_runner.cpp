@@ -8,18 +8,16 @@
 #include <filesystem>
 #include <future>
 #include <memory>
-#include <optional>
 #include <thread>
 
 #include "app/mission_config.h"
+#include "app/statistics.h"
 #include "core/collision.h"
 #include "core/data_dir.h"
 #include "core/object_model.h"
-#include "core/thread_clock.h"
 #include "detection/object_tracker.h"
 #include "grasp/planner.h"
 #include "hardware/hardware_factory.h"
-#include "hardware/sim/sim_devices.h"
 #include "hardware/sim/world.h"
 #include "hardware/sim/world_config.h"
 #include "mission/state_machines.h"
@@ -39,12 +37,6 @@ constexpr int kUnreachableToSwitch = 5;
 /// Joint change (rad) between servo cycles beyond which a re-solved grasp is another branch.
 constexpr double kBranchJumpRad = 0.15;
 const char* const kArmNames[2] = {"left", "right"};
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 /// The estimate moved on to t_s with its velocity (at most 0.2 s ahead).
 Eigen::Isometry3d PredictCmo(const ObjectEstimate& e, double t_s) {
@@ -104,7 +96,6 @@ class Mission {
   bool HoldingObjectInWorld() const;
   PlanQuery Query() const;
 
-  MissionOptions options_;
   MissionConfig config_;
   MissionRecord* record_;
   std::ostream* log_;
@@ -138,8 +129,7 @@ class Mission {
   ObjectEstimate estimate_;
   double lost_since_s_ = -1.0;
   double last_found_stamp_s_ = 0.0;
-  bool have_object_w_ = false;
-  bool have_wMo_ = false;
+  bool have_wMo_ = false;  // the object was found within the geofence once
   Eigen::Isometry3d wMo_last_ = Eigen::Isometry3d::Identity();  // at the last found frame
   bool logged_beyond_ = false;
   Eigen::Vector3d object_w_filtered_ = Eigen::Vector3d::Zero();
@@ -172,13 +162,11 @@ class Mission {
 
   // Safety.
   bool in_safe_volume_[2] = {false, false};
-  bool stopped_ = false;
   int snapshot_priority_ = 0;
 };
 
 Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostream* log)
-    : options_(options),
-      record_(record),
+    : record_(record),
       log_(log),
       global_([this](const StateTransition& t) { OnTransition(t); }),
       vehicle_([this](const StateTransition& t) { OnTransition(t); }),
@@ -404,11 +392,10 @@ void Mission::HandlePerceived(Perceived p) {
   }
   if (found && !beyond) {
     logged_beyond_ = false;
+    const double alpha = std::min(1.0, frame_period_s_ / config_.object_filter_s);
+    object_w_filtered_ = have_wMo_ ? object_w_filtered_ + alpha * (object_w - object_w_filtered_) : object_w;
     wMo_last_ = p.wMd * dMo_est;
     have_wMo_ = true;
-    const double alpha = std::min(1.0, frame_period_s_ / config_.object_filter_s);
-    object_w_filtered_ = have_object_w_ ? object_w_filtered_ + alpha * (object_w - object_w_filtered_) : object_w;
-    have_object_w_ = true;
   }
   if (signal == VisionSignal::kLost) vehicle_.Lost(t);
 
@@ -540,7 +527,7 @@ void Mission::Vehicle() {
         go_to(p_w - Eigen::Vector3d(0.0, 0.0, config_.lift_m), Leg::kLift, "lift");
         break;
       }
-      if (have_object_w_) {
+      if (have_wMo_) {
         // Geofence: never farther than tracking_radius_m from the approach waypoint.
         const Eigen::Vector3d wanted = object_w_filtered_ - wRyaw * config_.grasp_dto_m;
         const Eigen::Vector3d off = wanted - config_.approach_w_m;
@@ -798,7 +785,6 @@ void Mission::Servo() {
 }
 
 void Mission::Safety() {
-  const double t = Now();
   for (int a = 0; a < 2; ++a) {
     const Eigen::VectorXd q = world_ ? world_->arm(kSides[a]).q_true_rad() : q_[a];
     const bool inside = collision_->ArmInSafeVolume(kSides[a], q, 0.0);
@@ -808,7 +794,6 @@ void Mission::Safety() {
     }
     in_safe_volume_[a] = inside;
   }
-  (void)t;
 }
 
 // ---- The loop ------------------------------------------------------------------------------
@@ -851,8 +836,8 @@ MissionResult Mission::Run() {
     result_.pose_rmse_m = std::sqrt(sq_position_ / truth_frames_);
     result_.rotation_rmse_deg = std::sqrt(sq_rotation_ / truth_frames_);
   }
-  result_.perception_ms_median = Median(perception_ms_);
-  result_.render_ms_median = Median(render_ms_);
+  result_.perception_ms_median = Percentile(perception_ms_, 0.5);
+  result_.render_ms_median = Percentile(render_ms_, 0.5);
   const bool held = world_ ? world_->held_by(Side::kLeft) && world_->held_by(Side::kRight) : holding_;
   result_.success = global_.state() == GlobalState::kDone && !global_.failed() && held;
   if (!result_.success) {

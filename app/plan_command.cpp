@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "app/grasp_plot.h"
+#include "app/statistics.h"
 #include "app/summary_file.h"
 #include "core/config.h"
 #include "core/data_dir.h"
@@ -29,12 +30,6 @@ using Clock = std::chrono::steady_clock;
 
 double MsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
 }
 
 /// A shipped object by name (data/objects/NAME/object.yaml) or a mesh file.
@@ -228,7 +223,7 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
       contacts.pairs.empty() ? 0.0 : 1e3 * MsSince(ts) / static_cast<double>(contacts.pairs.size());
 
   // Report.
-  const double contacts_ms = Median(generation_ms);
+  const double contacts_ms = Percentile(generation_ms, 0.5);
   out << fmt::format("Object '{}' ({}): {} triangles, mass {:.3f} kg, centre of mass [{:.4f} {:.4f} {:.4f}] m\n",
                      object.name, mesh_source, object.mesh_o.triangles.size(), object.mass_kg,
                      object.com_o.x(), object.com_o.y(), object.com_o.z());
@@ -256,8 +251,8 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
   out << fmt::format("Single grasps in force closure (exact): {} of {}\n", single_force_closure,
                      contacts.pairs.size());
   out << fmt::format("Timing (one core, median of {}): contacts {:.2f} ms, feasibility {:.2f} us/grasp, quality {:.3f} us/pair (bound), exact Qhull {:.1f} us/dual pair, {:.1f} us/single grasp\n",
-                     std::max(1, options.repeats), contacts_ms, Median(feas_us), Median(qual_us),
-                     Median(exact_us), single_exact_us);
+                     std::max(1, options.repeats), contacts_ms, Percentile(feas_us, 0.5), Percentile(qual_us, 0.5),
+                     Percentile(exact_us, 0.5), single_exact_us);
 
   std::string no_grasp_reason;
   if (plan.ranked.empty()) {
@@ -302,9 +297,9 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
   j["dual_pairs"] = ps.valid;
   j["dual_pairs_considered"] = ps.considered;
   j["single_force_closure"] = single_force_closure;
-  j["feasibility_us_per_grasp"] = Median(feas_us);
-  j["quality_us_per_grasp"] = Median(qual_us);
-  j["quality_exact_us_per_dual_grasp"] = Median(exact_us);
+  j["feasibility_us_per_grasp"] = Percentile(feas_us, 0.5);
+  j["quality_us_per_grasp"] = Percentile(qual_us, 0.5);
+  j["quality_exact_us_per_dual_grasp"] = Percentile(exact_us, 0.5);
   j["quality_exact_us_per_single_grasp"] = single_exact_us;
   j["timing_repeats"] = std::max(1, options.repeats);
   j["feasible"] = !plan.ranked.empty();

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "app/statistics.h"
 #include "app/summary_file.h"
 #include "core/data_dir.h"
 #include "core/thread_clock.h"
@@ -16,12 +17,6 @@
 
 namespace aerograsp {
 namespace {
-
-double Percentile(std::vector<double> values, double p) {
-  std::sort(values.begin(), values.end());
-  const std::size_t i = std::min(values.size() - 1, static_cast<std::size_t>(p * (values.size() - 1) + 0.5));
-  return values[i];
-}
 
 }  // namespace
 

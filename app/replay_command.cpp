@@ -14,6 +14,7 @@
 
 #include "app/pose_plot.h"
 #include "app/progress.h"
+#include "app/statistics.h"
 #include "app/visp_peer.h"
 #include "core/data_dir.h"
 #include "core/object_model.h"
@@ -25,12 +26,7 @@ namespace aerograsp {
 namespace fs = std::filesystem;
 namespace {
 
-double Percentile(std::vector<double> values, double p) {
-  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(values.begin(), values.end());
-  const std::size_t i = std::min(values.size() - 1, static_cast<std::size_t>(p * (values.size() - 1) + 0.5));
-  return values[i];
-}
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// ADD-S (m): mean over model points of the distance from the estimate's point
 /// to the nearest point of the model at the truth, capped at the grid margin.
@@ -66,11 +62,11 @@ nlohmann::json AccuracyJson(const Accuracy& a, double diameter_m) {
   j["detection_recall"] = a.visible ? double(a.found_visible) / a.visible : 0.0;
   j["translation_rmse_m"] = rms(a.t_err_m);
   j["rotation_rmse_deg"] = rms(a.r_err_deg);
-  j["translation_median_m"] = Percentile(a.t_err_m, 0.5);
-  j["rotation_median_deg"] = Percentile(a.r_err_deg, 0.5);
+  j["translation_median_m"] = Percentile(a.t_err_m, 0.5, kNaN);
+  j["rotation_median_deg"] = Percentile(a.r_err_deg, 0.5, kNaN);
   j["add_s_recall"] = a.visible ? double(a.add_s_ok) / a.visible : 0.0;
   j["add_s_threshold_m"] = 0.1 * diameter_m;
-  j["add_s_median_m"] = Percentile(a.add_s_m, 0.5);
+  j["add_s_median_m"] = Percentile(a.add_s_m, 0.5, kNaN);
   j["reacquisitions"] = a.reacquisitions;
   j["reacquire_max_frames"] = a.max_reacquire_frames;
   j["never_reacquired"] = a.never_reacquired;
@@ -126,8 +122,8 @@ class AccuracyCounter {
 
 nlohmann::json TimesJson(const std::vector<double>& v) {
   nlohmann::json j;
-  j["median"] = Percentile(v, 0.5);
-  j["p95"] = Percentile(v, 0.95);
+  j["median"] = Percentile(v, 0.5, kNaN);
+  j["p95"] = Percentile(v, 0.95, kNaN);
   j["frames"] = v.size();
   if (v.empty()) j["median"] = nullptr, j["p95"] = nullptr;
   return j;
@@ -323,8 +319,8 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
   summary["frames_measured"] = measured;
   summary["global_inits"] = global_runs;
   summary["gated_measurements"] = gated;
-  summary["frame_ms_median"] = Percentile(frame_ms, 0.5);
-  summary["frame_ms_p95"] = Percentile(frame_ms, 0.95);
+  summary["frame_ms_median"] = Percentile(frame_ms, 0.5, kNaN);
+  summary["frame_ms_p95"] = Percentile(frame_ms, 0.95, kNaN);
   summary["stage_ms"] = {{"detect", TimesJson(detect_ms)}, {"crop_cloud_normals", TimesJson(cloud_ms)},
                          {"icp_tracking", TimesJson(icp_ms)}, {"global_init", TimesJson(global_ms)},
                          {"filter", TimesJson(filter_ms)}};
@@ -349,8 +345,8 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
     p["initialised"] = !peer_ms.empty();
     p["tracking_failures"] = peer_failures;
     if (!peer_first_error.empty()) p["first_error"] = peer_first_error;
-    p["frame_ms_median"] = Percentile(peer_ms, 0.5);
-    p["frame_ms_p95"] = Percentile(peer_ms, 0.95);
+    p["frame_ms_median"] = Percentile(peer_ms, 0.5, kNaN);
+    p["frame_ms_p95"] = Percentile(peer_ms, 0.95, kNaN);
     if (camera.has_groundtruth()) {
       const nlohmann::json acc = AccuracyJson(theirs.Finish(), model.diameter_m);
       for (auto& [key, value] : acc.items()) p[key] = value;

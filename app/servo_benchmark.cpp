@@ -19,6 +19,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "app/statistics.h"
 #include "app/summary_file.h"
 #include "core/collision.h"
 #include "core/data_dir.h"
@@ -35,14 +36,6 @@ using Clock = std::chrono::steady_clock;
 
 double MicrosecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::micro>(Clock::now() - start).count();
-}
-
-double Percentile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0.0;
-  const std::size_t k = std::min(values.size() - 1,
-                                 static_cast<std::size_t>(fraction * (values.size() - 1) + 0.5));
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[k];
 }
 
 KDL::Frame ToKdl(const Eigen::Isometry3d& aMb) {
