@@ -112,6 +112,11 @@ int main(int argc, char** argv) {
   plan_cmd->add_option("--object-rpy", plan_rpy, "Object roll pitch yaw in d, deg [default 180 0 90]")
       ->expected(3);
   plan_cmd->add_option("--resolution", plan.resolution_m, "Contact ray grid, m")->capture_default_str();
+  plan_cmd->add_option("--depth-min", plan.depth_min_m, "Contacts at least this far behind the tool point, m")
+      ->capture_default_str();
+  plan_cmd->add_option("--reach-margin", plan.reach_margin_m,
+                       "A grasp is robust when it stays feasible with the object moved this far along each axis, m")
+      ->capture_default_str();
   plan_cmd->add_option("--mass", plan.mass_kg, "Mass of a bare mesh, kg")->capture_default_str();
   plan_cmd->add_option("--cache-dir", plan.cache_dir, "Contact cache folder [~/.cache/aerograsp]");
   plan_cmd->add_flag("!--no-cache", plan.use_cache, "Neither read nor write the contact cache");

@@ -86,6 +86,8 @@ class Mission {
   void Reevaluate();
   void Servo();
   void Safety();
+  /// Logs how far the closing gripper is from its grasp on the true object (simulation).
+  void LogClosing(int a, const Eigen::Isometry3d& dMo_est);
   void SendSetpoint(const Eigen::Vector3d& p_w);
   bool StartPlan();
   /// The followed grasps, fixed to the object (planned with the object at dMo).
@@ -768,7 +770,9 @@ void Mission::Servo() {
                            switch_pending_[a]);
     switch_pending_[a] = false;
     GraspCommand command;
+    const GraspPhase phase_before = sequence_[a]->phase();
     sequence_[a]->Step(q_[a], t, dt_s_, &command);
+    if (world_ && phase_before != GraspPhase::kClose && command.phase == GraspPhase::kClose) LogClosing(a, dMo);
     if (command.servo_status != last_status_[a]) {
       Log(t, fmt::format("servo   {} arm: {} (phase {}, {:.1f} mm from the target)", kArmNames[a],
                          ServoStatusName(command.servo_status), GraspPhaseName(command.phase),
@@ -782,6 +786,26 @@ void Mission::Servo() {
     hw_->arms().SetJointTargets(side, command.joints.q_target_rad);
     hw_->arms().SetGripper(side, command.gripper);
   }
+}
+
+void Mission::LogClosing(int a, const Eigen::Isometry3d& dMo_est) {
+  // Simulation only: where the gripper closes against its grasp on the true
+  // object (the truth taken in its symmetric equivalent nearest the estimate).
+  const Side side = kSides[a];
+  Eigen::Isometry3d dMo_true = world_->wMd().inverse() * world_->wMo();
+  const ObjectSymmetry& symmetry = tracker_->model().symmetry;
+  dMo_true.linear() = ClosestSymmetricRotation(dMo_true.linear(), dMo_est.linear(), symmetry);
+  const Eigen::Isometry3d dMb = hw_->platform().dMb(side);
+  const Eigen::Vector3d tool_d = (dMb * hw_->platform().arm(side).ForwardKinematics(q_[a])).translation();
+  const Eigen::Vector3d target_o = (dMo_est.inverse() * dMb * reached_bMg_[a]).translation();
+  Log(Now(), fmt::format("servo   {} arm closes: the tool is {:.1f} mm from its target and {:.1f} mm from the grasp "
+                         "on the true object (target at [{:.3f}, {:.3f}, {:.3f}] m in o; estimate off by {:.1f} mm, "
+                         "{:.1f} deg; {})",
+                         kArmNames[a], 1e3 * (tool_d - dMo_est * target_o).norm(),
+                         1e3 * (tool_d - dMo_true * target_o).norm(), target_o.x(), target_o.y(), target_o.z(),
+                         1e3 * (dMo_est.translation() - dMo_true.translation()).norm(),
+                         SymmetricRotationError(dMo_est.linear(), dMo_true.linear(), symmetry) * 180.0 / M_PI,
+                         HoldingObjectInWorld() ? "object held in the world" : "object seen"));
 }
 
 void Mission::Safety() {

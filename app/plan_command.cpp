@@ -151,6 +151,8 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
   GraspObject object = LoadObject(options, &mesh_source);
   GraspPlannerConfig config;
   config.contacts.resolution_m = options.resolution_m;
+  config.depth_min_m = options.depth_min_m;
+  config.reach_margin_m = options.reach_margin_m;
   config.Validate("command line", gripper);
 
   fs::create_directories(options.out_dir);
@@ -239,15 +241,19 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
                      contacts_ms, cache_state, cache_path);
   for (Side side : {Side::kLeft, Side::kRight}) {
     const ArmStats& s = side == Side::kLeft ? plan.left_stats : plan.right_stats;
-    out << fmt::format("{:>5} arm: {} of {} feasible", SideName(side), s.feasible, s.candidates);
+    const std::vector<ArmGrasp>& grasps = side == Side::kLeft ? plan.left : plan.right;
+    out << fmt::format("{:>5} arm: {} of {} feasible ({} robust)", SideName(side), s.feasible, s.candidates,
+                       std::count_if(grasps.begin(), grasps.end(), [](const ArmGrasp& g) { return g.robust; }));
     for (int r = 1; r < 6; ++r) {
       if (s.by_reason[r]) out << fmt::format(", {} {}", s.by_reason[r], InfeasibilityName(static_cast<Infeasibility>(r)));
     }
     out << "\n";
   }
   const PairStats& ps = plan.pair_stats;
-  out << fmt::format("Dual pairs: {} considered, {} without force closure, {} arms collide, {} dropped by the exact hull, {} valid\n",
-                     ps.considered, ps.no_force_closure, ps.arms_collide, ps.exact_dropped, ps.valid);
+  out << fmt::format("Dual pairs: {} considered, {} without force closure, {} arms collide, {} dropped by the exact hull, {} valid ({} robust to {:.3f} m)\n",
+                     ps.considered, ps.no_force_closure, ps.arms_collide, ps.exact_dropped, ps.valid,
+                     std::count_if(plan.ranked.begin(), plan.ranked.end(), [](const DualGrasp& d) { return d.robust; }),
+                     config.reach_margin_m);
   out << fmt::format("Single grasps in force closure (exact): {} of {}\n", single_force_closure,
                      contacts.pairs.size());
   out << fmt::format("Timing (one core, median of {}): contacts {:.2f} ms, feasibility {:.2f} us/grasp, quality {:.3f} us/pair (bound), exact Qhull {:.1f} us/dual pair, {:.1f} us/single grasp\n",

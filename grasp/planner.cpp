@@ -57,6 +57,7 @@ void GraspPlannerConfig::Validate(const std::string& source, const GripperConfig
   CheckRange(source, "task_weight", task_weight, 0.0, 100.0, "");
   CheckRange(source, "cost_weight_per_rad", cost_weight_per_rad, 0.0, 10.0, "");
   CheckRange(source, "switch_margin", switch_margin, 0.0, 10.0, "");
+  CheckRange(source, "reach_margin_m", reach_margin_m, 0.0, 0.1, "m");
 }
 
 GraspPlanner::GraspPlanner(const Platform& platform, GraspObject object, ContactSet contacts,
@@ -163,6 +164,20 @@ bool GraspPlanner::EvaluateArm(Side side, int pair, const Eigen::Isometry3d& dMo
   return false;
 }
 
+bool GraspPlanner::Robust(Side side, int pair, const Eigen::Isometry3d& dMo, const Eigen::VectorXd& q) const {
+  if (config_.reach_margin_m <= 0.0) return true;
+  ArmGrasp unused;
+  Infeasibility why;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (double sign : {-1.0, 1.0}) {
+      Eigen::Isometry3d moved = dMo;
+      moved.translation()[axis] += sign * config_.reach_margin_m;
+      if (!EvaluateArm(side, pair, moved, q, &unused, &why)) return false;
+    }
+  }
+  return true;
+}
+
 PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
   PlanResult result;
   const int n = static_cast<int>(contacts_.pairs.size());
@@ -176,6 +191,7 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
     for (int i = 0; i < n; ++i) {
       ++stats.candidates;
       if (EvaluateArm(side, i, query.dMo, q, &grasp, &why)) {
+        grasp.robust = Robust(side, i, query.dMo, q);
         feasible.push_back(grasp);
       }
       ++stats.by_reason[static_cast<int>(why)];
@@ -206,6 +222,7 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
       DualGrasp d;
       d.left = l;
       d.right = r;
+      d.robust = l.robust && r.robust;
       d.epsilon = eps;
       d.task = share.term;
       d.left_share = share.left_share;
@@ -251,6 +268,7 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
   top.insert(top.end(), std::make_move_iterator(result.ranked.begin() + next),
              std::make_move_iterator(result.ranked.end()));
   result.ranked = std::move(top);
+  std::stable_partition(result.ranked.begin(), result.ranked.end(), [](const DualGrasp& d) { return d.robust; });
   ps.valid = static_cast<long long>(result.ranked.size());
   return result;
 }

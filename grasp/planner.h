@@ -45,6 +45,11 @@ struct GraspPlannerConfig {
   double cost_weight_per_rad{0.005};  ///< score lost per rad of joint travel (both arms), [0, 10]
   double switch_margin{0.01};         ///< a feasible current pair is left only for one scoring
                                       ///< this much more, [0, 10]
+  /// A pair counts as robust for an arm when it stays feasible with the object
+  /// moved this far along +-x, +-y and +-z of d (the sway and the vehicle's
+  /// tracking error move it so while the arms servo); robust dual grasps rank
+  /// first. [0, 0.1] m; 0 makes every feasible pair robust.
+  double reach_margin_m{0.0};
 
   /// @throws ConfigError "<source>: <key>: ..." naming the bound; the depth
   /// range is checked against the gripper's finger length.
@@ -73,6 +78,7 @@ struct ArmGrasp {
   Eigen::Isometry3d dMp = Eigen::Isometry3d::Identity();  ///< tool at the pre-catch, in d
   double depth_m = 0.0;   ///< contacts this far behind the tool point
   double cost_rad = 0.0;  ///< |q_grasp - q_current|
+  bool robust = true;     ///< feasible too with the object moved by reach_margin_m (Plan)
 };
 
 /// Why an arm cannot take a contact pair (the first test that failed on its
@@ -102,6 +108,7 @@ struct DualGrasp {
   double task = 0.0;         ///< weight-share term [0, 1]
   double left_share = 0.0;   ///< fraction of the weight on the left arm
   double score = 0.0;        ///< quality_weight eps + task_weight task - cost_weight cost
+  bool robust = true;        ///< both arm grasps are robust (ArmGrasp::robust)
 };
 
 struct PairStats {
@@ -168,9 +175,10 @@ class GraspPlanner {
   bool EvaluateArm(Side side, int pair, const Eigen::Isometry3d& dMo,
                    const Eigen::VectorXd& q_current, ArmGrasp* out, Infeasibility* why) const;
 
-  /// Every pair for both arms, then every left x right combination: bound,
-  /// task term and cost, arms collision, exact epsilon for the top
-  /// `exact_top_k` (ranked by it among themselves; the rest follow by bound).
+  /// Every pair for both arms (with its robustness, see reach_margin_m), then
+  /// every left x right combination: bound, task term and cost, arms
+  /// collision, exact epsilon for the top `exact_top_k` (ranked by it among
+  /// themselves; the rest follow by bound). Robust dual grasps come first.
   PlanResult Plan(const PlanQuery& query) const;
 
   /// The best pair now, or kNoGrasp. Keeps the current pair while it is valid
@@ -190,6 +198,10 @@ class GraspPlanner {
   double torque_scale_m_ = 1.0;
   std::unique_ptr<PlatformCollision> collision_;
   int mesh_handle_ = -1;
+  /// True when the arm's grasp of `pair` stays feasible with the object moved
+  /// by reach_margin_m along each axis of d.
+  bool Robust(Side side, int pair, const Eigen::Isometry3d& dMo, const Eigen::VectorXd& q) const;
+
   ArmIk ik_[2];
   std::vector<std::vector<Wrench>> wrenches_;  // per pair
   std::vector<float> support_;                 // per pair, support_directions floats

@@ -205,6 +205,47 @@ TEST_F(ShippedPlanTest, HysteresisStopsFlappingUnderSway) {
   EXPECT_LT(switches, 8);
 }
 
+TEST_F(ShippedPlanTest, RobustGraspsStayFeasibleWhenTheObjectMovesAndRankFirst) {
+  GraspPlannerConfig config;
+  config.reach_margin_m = 0.01;
+  const GraspPlanner robust_planner(
+      platform_, object_, ComputeContactPairs(object_.mesh_o, platform_.config().gripper, ContactOptions{}), config);
+  const PlanResult plan = robust_planner.Plan(query_);
+  const PlanResult plain = planner_.Plan(query_);
+  // Robustness only orders and marks: the same pairs are feasible either way.
+  EXPECT_EQ(plan.ranked.size(), plain.ranked.size());
+  EXPECT_EQ(plan.left.size(), plain.left.size());
+  for (const ArmGrasp& g : plain.left) EXPECT_TRUE(g.robust);  // margin 0: every feasible pair
+  int robust = 0, fragile = 0;
+  for (const std::vector<ArmGrasp>* grasps : {&plan.left, &plan.right}) {
+    for (const ArmGrasp& g : *grasps) {
+      // A robust pair is feasible with the object moved 1 cm along each axis;
+      // a fragile one fails at one of those places at least.
+      bool all = true;
+      for (int axis = 0; axis < 3; ++axis) {
+        for (double sign : {-1.0, 1.0}) {
+          Eigen::Isometry3d moved = query_.dMo;
+          moved.translation()[axis] += sign * 0.01;
+          ArmGrasp unused;
+          Infeasibility why;
+          const Eigen::VectorXd& q = g.side == Side::kLeft ? query_.q_left : query_.q_right;
+          all = all && robust_planner.EvaluateArm(g.side, g.pair, moved, q, &unused, &why);
+        }
+      }
+      EXPECT_EQ(g.robust, all) << "pair " << g.pair;
+      (g.robust ? robust : fragile)++;
+    }
+  }
+  EXPECT_GT(robust, 0);
+  EXPECT_GT(fragile, 0);  // the placement is near the edge of the 4-DoF arms' reach
+  bool seen_fragile = false;
+  for (const DualGrasp& d : plan.ranked) {
+    EXPECT_EQ(d.robust, d.left.robust && d.right.robust);
+    if (!d.robust) seen_fragile = true;
+    if (seen_fragile) EXPECT_FALSE(d.robust) << "a robust dual grasp ranks after a fragile one";
+  }
+}
+
 TEST(GraspPlannerConfigTest, DefaultsAreValidAndBadDepthNamesItsKey) {
   GraspPlannerConfig c;
   EXPECT_NO_THROW(c.Validate("plan.yaml", GripperConfig{}));
@@ -216,6 +257,9 @@ TEST(GraspPlannerConfigTest, DefaultsAreValidAndBadDepthNamesItsKey) {
     EXPECT_THAT(e.what(), HasSubstr("plan.yaml: depth_max_m"));
     EXPECT_THAT(e.what(), HasSubstr("above the upper bound 0.12 m"));
   }
+  c = GraspPlannerConfig{};
+  c.reach_margin_m = 0.5;
+  EXPECT_THROW(c.Validate("plan.yaml", GripperConfig{}), ConfigError);
 }
 
 }  // namespace
