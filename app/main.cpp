@@ -153,6 +153,10 @@ int main(int argc, char** argv) {
   replay_cmd->add_option("--init-pose", replay_init, "Known first cMo: x y z (m) qw qx qy qz")->expected(7);
   replay_cmd->add_flag("--init-from-truth", replay.init_from_truth, "Known first cMo from groundtruth.csv");
   replay_cmd->add_flag("!--no-peer", replay.run_peer, "Do not run ViSP's vpMbGenericTracker beside ours");
+  replay_cmd->add_option("--filter-frame", replay.filter_frame,
+                         "Pose filter frame: camera, or world (camera poses from the recorded vehicle states)")
+      ->capture_default_str();
+  replay_cmd->add_option("--platform", replay.platform, "Platform YAML for the camera mount [config/platform_4dof.yaml]");
   replay_cmd->add_option("--frames", replay.max_frames, "Process at most this many frames (0: all)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);

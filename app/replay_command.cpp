@@ -18,6 +18,7 @@
 #include "app/visp_peer.h"
 #include "core/data_dir.h"
 #include "core/object_model.h"
+#include "core/platform.h"
 #include "core/transforms.h"
 #include "detection/object_tracker.h"
 #include "hardware/sequence.h"
@@ -27,6 +28,8 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+/// With the filter in the world: position noise along ICP's weak direction (m).
+constexpr double kWorldWeakDirectionStdM = 0.02;
 
 /// ADD-S (m): mean over model points of the distance from the estimate's point
 /// to the nearest point of the model at the truth, capped at the grid margin.
@@ -178,6 +181,16 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
     if (!detector_path.empty()) detector = std::make_unique<BoxDetector>(detector_path);
   }
   PerceptionOptions perception;
+  std::optional<Eigen::Isometry3d> dMc;  // the camera mount, for a filter in the world
+  if (options.filter_frame == "world") {
+    if (info.frame_count > 0 && !camera.extras(0).vehicle) {
+      throw std::invalid_argument(options.sequence + ": --filter-frame world needs the vehicle states (vehicle.csv)");
+    }
+    dMc = Platform::Load(options.platform.empty() ? DataPath("config/platform_4dof.yaml") : options.platform).dMc();
+    perception.weak_direction_std_m = kWorldWeakDirectionStdM;
+  } else if (options.filter_frame != "camera") {
+    throw std::invalid_argument("--filter-frame: '" + options.filter_frame + "' is not one of camera, world");
+  }
   ObjectTracker tracker(object, perception, std::move(detector));
   const ModelCloud& model = tracker.model();
 
@@ -221,7 +234,18 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
       stop_reason = e.what();  // a truncated sequence: report what was processed
       break;
     }
-    const FrameReport r = tracker.Process(frame.color, frame.depth, frame.stamp_s, info.intrinsics, info.depth_scale_m);
+    std::optional<Eigen::Isometry3d> wMc;
+    if (dMc) {
+      const std::optional<VehicleState>& vehicle = camera.extras(i).vehicle;
+      if (!vehicle) {
+        stop_reason = fmt::format("{}: frame {} has no vehicle state (needed by --filter-frame world)",
+                                  options.sequence, i);
+        break;
+      }
+      wMc = vehicle->wMd * *dMc;
+    }
+    const FrameReport r =
+        tracker.Process(frame.color, frame.depth, frame.stamp_s, info.intrinsics, info.depth_scale_m, wMc);
     const ObjectEstimate& e = r.estimate;
     const bool found = e.valid && e.state == TrackState::kFound;
     frame_ms.push_back(r.times.total_ms);
@@ -311,6 +335,7 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
   summary["sequence"] = options.sequence;
   summary["object"] = object.name;
   summary["frames"] = frames;
+  summary["filter_frame"] = options.filter_frame;
   if (!stop_reason.empty()) summary["stopped_early"] = stop_reason;
   summary["detector"] = tracker.has_detector() ? detector_path : "none (global registration on the whole frame)";
   summary["symmetry"] = {{"discrete_rotations", model.symmetry.rotations.size()},

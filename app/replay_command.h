@@ -26,6 +26,11 @@ struct ReplayCommandOptions {
   bool init_from_truth = false;  ///< take the first frame's ground truth as the known first pose
   bool run_peer = true;          ///< also run ViSP's vpMbGenericTracker (dense depth)
   int max_frames = 0;            ///< 0 = all
+  /// "camera": the pose filter runs in the camera frame (the recording needs
+  /// nothing else); "world": in the world, with each frame's camera pose from
+  /// the recorded vehicle state (vehicle.csv) and the camera mount of `platform`.
+  std::string filter_frame = "camera";
+  std::string platform;          ///< platform YAML for the camera mount; "" = config/platform_4dof.yaml
 };
 
 /// Reads "x y z qw qx qy qz" (metres, unit quaternion w first) as cMo.

@@ -23,6 +23,7 @@ void PerceptionOptions::Validate() const {
   Require(min_coverage > 0.0 && min_coverage <= 1.0, "min_coverage", "must be in (0, 1]");
   Require(min_cloud_points >= 10, "min_cloud_points", "must be >= 10");
   Require(measurement_position_std_m > 0.0, "measurement_position_std_m", "must be > 0");
+  Require(weak_direction_std_m >= 0.0 && weak_direction_std_m <= 1.0, "weak_direction_std_m", "must be in [0, 1] m");
   Require(measurement_rotation_std_rad > 0.0, "measurement_rotation_std_rad", "must be > 0");
   Require(icp.max_iterations >= 1 && icp.max_iterations <= 100, "icp.max_iterations", "must be in [1, 100]");
   Require(icp.start_distance_m >= icp.end_distance_m && icp.end_distance_m > 0.0, "icp.end_distance_m",
@@ -139,8 +140,12 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color, co
 }
 
 FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& depth, double stamp_s,
-                                   const CameraIntrinsics& K, double depth_scale_m) {
+                                   const CameraIntrinsics& K, double depth_scale_m,
+                                   const std::optional<Eigen::Isometry3d>& wMc) {
   FrameReport report;
+  // The filter frame f: the world when the camera's pose is given, else the camera.
+  const Eigen::Isometry3d fMc = wMc && wMc->matrix().allFinite() ? *wMc : Eigen::Isometry3d::Identity();
+  const Eigen::Isometry3d cMf = fMc.inverse();
   const double t_start = ThreadCpuMs();
   const bool input_ok = !color.empty() && !depth.empty() && color.width == depth.width &&
                         color.height == depth.height && depth.width == K.width && depth.height == K.height &&
@@ -158,11 +163,11 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
   // The prior: the filter's prediction, else a given first pose, else the last good pose.
   std::optional<Eigen::Isometry3d> prior;
   if (ekf_.initialized()) {
-    prior = ekf_.cMo();
+    prior = cMf * ekf_.cMo();
   } else if (initial_cMo_) {
     prior = initial_cMo_;
-  } else if (last_good_cMo_) {
-    prior = last_good_cMo_;
+  } else if (last_good_fMo_) {
+    prior = cMf * *last_good_fMo_;
   }
 
   // Crop and cloud.
@@ -222,6 +227,16 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
     const double sr = options_.measurement_rotation_std_rad * std::max(0.5, z);
     Eigen::Matrix<double, 6, 6> R = Eigen::Matrix<double, 6, 6>::Zero();
     R.diagonal() << sp * sp, sp * sp, sp * sp, sr * sr, sr * sr, sr * sr;
+    if (report.icp.weak_ratio < options_.weak_direction_ratio && options_.weak_direction_std_m > 0.0) {
+      const Eigen::Vector3d u_c = (meas.linear() * report.icp.weak_direction_o).normalized();
+      R.topLeftCorner<3, 3>() += options_.weak_direction_std_m * options_.weak_direction_std_m * u_c * u_c.transpose();
+    }
+    // Into the filter frame (positions and left rotation errors both turn with fRc).
+    meas = fMc * meas;
+    Eigen::Matrix<double, 6, 6> fRc6 = Eigen::Matrix<double, 6, 6>::Zero();
+    fRc6.topLeftCorner<3, 3>() = fMc.linear();
+    fRc6.bottomRightCorner<3, 3>() = fMc.linear();
+    R = fRc6 * R * fRc6.transpose();
     if (!ekf_.initialized()) {
       ekf_.Initialize(meas, stamp_s);
       gated_in_a_row_ = 0;
@@ -240,7 +255,7 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
       }
     }
     initial_cMo_.reset();
-    last_good_cMo_ = ekf_.cMo();
+    last_good_fMo_ = ekf_.cMo();
   }
   const double confidence =
       report.measured ? std::min(1.0, report.support.ratio()) * std::min(1.0, report.support.coverage() / 0.5) *
@@ -260,14 +275,16 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
   e.state = state;
   if (ekf_.initialized()) {
     e.valid = true;
-    e.cMo = ekf_.cMo();
-    e.covariance = ekf_.covariance().topLeftCorner<6, 6>();
-    e.v_c = ekf_.v_c();
-    e.w_c = ekf_.w_c();
-  } else if (last_good_cMo_) {
+    e.fMo = ekf_.cMo();
+    e.covariance = ekf_.covariance().topLeftCorner<6, 6>();  // in f
+    e.v_f = ekf_.v_c();
+    e.v_c = cMf.linear() * ekf_.v_c();
+    e.w_c = cMf.linear() * ekf_.w_c();
+  } else if (last_good_fMo_) {
     e.valid = true;
-    e.cMo = *last_good_cMo_;
+    e.fMo = *last_good_fMo_;
   }
+  e.cMo = cMf * e.fMo;
   report.times.total_ms = ThreadCpuMs() - t_start;
   return report;
 }

@@ -38,8 +38,13 @@ struct PerceptionOptions {
   int whole_frame_points = 8000;     ///< cloud size when the crop is the whole frame (no detector, no prior)
   double measurement_position_std_m = 0.002;   ///< ICP position noise at 1 m (grows with z^2), m
   double measurement_rotation_std_rad = 0.02;  ///< ICP rotation noise, rad
-  int gated_frames_to_reset = 3;
-  double weak_direction_ratio = 0.08;  ///< ICP's weak_ratio below this: slide along it to the best outline, [0, 1]     ///< consecutive gated but well-supported poses restart the filter
+  int gated_frames_to_reset = 3;      ///< consecutive gated but well-supported poses restart the filter
+  double weak_direction_ratio = 0.08;  ///< ICP's weak_ratio below this: slide along it to the best outline, [0, 1]
+  /// Position noise added along ICP's weak direction when weak_ratio is below
+  /// weak_direction_ratio (an extrusion seen without its ends), m, [0, 1]. Worth
+  /// setting only with the camera's pose given to Process (a filter in the
+  /// world, where the object moves slowly); 0 leaves the noise isotropic.
+  double weak_direction_std_m = 0.0;
   /// @throws std::invalid_argument naming the field that is out of range.
   void Validate() const;
 };
@@ -49,9 +54,13 @@ struct ObjectEstimate {
   double stamp_s = 0.0;
   bool valid = false;  ///< a pose exists (the filter has been initialised at some time)
   Eigen::Isometry3d cMo = Eigen::Isometry3d::Identity();
-  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();  ///< position m^2, rotation rad^2
-  Eigen::Vector3d v_c = Eigen::Vector3d::Zero();  ///< m/s, in c
-  Eigen::Vector3d w_c = Eigen::Vector3d::Zero();  ///< rad/s, in c
+  /// The pose in the frame the filter runs in (f): the world when Process was
+  /// given the camera's pose wMc, else the camera (then fMo = cMo).
+  Eigen::Isometry3d fMo = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d v_f = Eigen::Vector3d::Zero();  ///< m/s, in f
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();  ///< position m^2, rotation rad^2, in f
+  Eigen::Vector3d v_c = Eigen::Vector3d::Zero();  ///< m/s in f, expressed in c
+  Eigen::Vector3d w_c = Eigen::Vector3d::Zero();  ///< rad/s in f, expressed in c
   double confidence = 0.0;  ///< [0, 1]
   TrackState state = TrackState::kLost;
 };
@@ -91,8 +100,12 @@ class ObjectTracker {
 
   /// Processes one aligned colour + depth frame. Bad data (empty or all-zero
   /// depth, wrong sizes, no object) yields a lost or unmeasured estimate; never throws.
+  /// With the camera's pose wMc at the frame (the vehicle's odometry) the
+  /// filter runs in the world, where a crawling object moves slowly, instead
+  /// of in the camera, which sways with the vehicle. Give it for every frame
+  /// of a track or for none.
   FrameReport Process(const ColorImage& color, const DepthImage& depth, double stamp_s, const CameraIntrinsics& K,
-                      double depth_scale_m);
+                      double depth_scale_m, const std::optional<Eigen::Isometry3d>& wMc = std::nullopt);
 
   const ModelCloud& model() const { return model_; }
   bool has_detector() const { return detector_ != nullptr; }
@@ -118,7 +131,7 @@ class ObjectTracker {
   std::unique_ptr<GlobalRegistration> global_;
   PoseEkf ekf_;
   TrackMonitor monitor_;
-  std::optional<Eigen::Isometry3d> last_good_cMo_;
+  std::optional<Eigen::Isometry3d> last_good_fMo_;  // in the filter frame f
   std::optional<Eigen::Isometry3d> initial_cMo_;
   int gated_in_a_row_ = 0;
   double min_half_extent_m_ = 0.05;

@@ -106,6 +106,26 @@ TEST_F(ReplayCommandTest, ATruncatedSequenceIsReportedNotFatal) {
   fs::remove_all(copy);
 }
 
+TEST_F(ReplayCommandTest, TheFilterRunsInTheWorldWithTheRecordedVehicleStates) {
+  options_.run_peer = false;
+  options_.filter_frame = "world";
+  const nlohmann::json s = Run();
+  EXPECT_EQ(s["filter_frame"], "world");
+  EXPECT_GE(s["frames_found"].get<int>(), 6);
+  EXPECT_LT(s["translation_rmse_m"].get<double>(), 0.01);
+  // Without vehicle states the world frame cannot be had: said, not guessed.
+  const std::string copy =
+      (fs::temp_directory_path() / ("aerograsp_replay_test_novehicle_" + std::to_string(getpid()))).string();
+  fs::remove_all(copy);
+  fs::copy(sequence_, copy, fs::copy_options::recursive);
+  fs::remove(fs::path(copy) / "vehicle.csv");
+  options_.sequence = copy;
+  EXPECT_THAT([&] { Run(); }, ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("vehicle.csv")));
+  options_.filter_frame = "body";
+  EXPECT_THAT([&] { Run(); }, ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("--filter-frame")));
+  fs::remove_all(copy);
+}
+
 TEST_F(ReplayCommandTest, AMissingOrCorruptModelIsAClearError) {
   options_.object = "no_such_object";
   EXPECT_THAT([&] { Run(); }, ::testing::Throws<std::exception>());

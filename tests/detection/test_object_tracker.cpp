@@ -83,6 +83,45 @@ TEST(ObjectTrackerTest, FindsAndTracksWithoutADetector) {
   EXPECT_GT(r.estimate.confidence, 0.6);
 }
 
+TEST(ObjectTrackerTest, WithTheCameraPoseTheFilterRunsInTheWorld) {
+  // The object stands still in the world; the camera sways +-3 cm at 0.5 Hz.
+  // Given the camera's pose the filter's frame is the world: its pose is the
+  // object's world pose and its velocity near zero, while the camera-frame
+  // estimate still follows the sway.
+  const Eigen::Isometry3d wMo = testing::TypicalCMo();
+  const auto wMc_at = [](int k) {
+    Eigen::Isometry3d wMc = Eigen::Isometry3d::Identity();
+    const double phase = 2.0 * M_PI * 0.5 * k / 30.0;
+    wMc.translation() = Eigen::Vector3d(0.03 * std::sin(phase), 0.02 * std::cos(phase), 0.01 * std::sin(phase));
+    return wMc;
+  };
+  ObjectTracker tracker(ObjectModel::Load("crawler"), PerceptionOptions{}, nullptr);
+  tracker.SetInitialPose(wMc_at(0).inverse() * wMo);
+  ColorImage color;
+  DepthImage depth;
+  FrameReport r;
+  for (int k = 0; k < 40; ++k) {
+    const Eigen::Isometry3d cMo = wMc_at(k).inverse() * wMo;
+    Scene().Render(cMo, true, &color, &depth);
+    r = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001, wMc_at(k));
+    ASSERT_TRUE(r.measured) << k;
+    if (k >= 10) {
+      EXPECT_LT(ComparePoses(wMo, r.estimate.fMo).translation_m, 0.004) << k;
+      EXPECT_LT(ComparePoses(cMo, r.estimate.cMo).translation_m, 0.004) << k;
+    }
+  }
+  EXPECT_EQ(r.estimate.state, TrackState::kFound);
+  EXPECT_LT(r.estimate.v_f.norm(), 0.04);  // the sway itself moves the camera at up to 0.11 m/s
+}
+
+TEST(ObjectTrackerTest, AWeakDirectionNeedsItsStdInRange) {
+  PerceptionOptions options;
+  options.weak_direction_std_m = -0.01;
+  EXPECT_THROW(options.Validate(), std::invalid_argument);
+  options.weak_direction_std_m = 0.02;
+  EXPECT_NO_THROW(options.Validate());
+}
+
 TEST(ObjectTrackerTest, KnownFirstPoseSkipsGlobalRegistration) {
   ObjectTracker tracker(ObjectModel::Load("crawler"), PerceptionOptions{}, nullptr);
   tracker.SetInitialPose(testing::Perturbed(TruthAt(0), {0.005, 0.0, -0.004}, {0.0, 0.03, 0.0}));
