@@ -36,6 +36,8 @@ constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
 constexpr int kUnreachableToSwitch = 5;
 /// Joint change (rad) between servo cycles beyond which a re-solved grasp is another branch.
 constexpr double kBranchJumpRad = 0.15;
+/// Times the free arm is aimed again while the other holds, per attempt.
+constexpr int kMaxReaims = 3;
 const char* const kArmNames[2] = {"left", "right"};
 
 /// The estimate moved on to t_s with its velocity (at most 0.2 s ahead).
@@ -90,6 +92,11 @@ class Mission {
   void LogClosing(int a, const Eigen::Isometry3d& dMo_est);
   void SendSetpoint(const Eigen::Vector3d& p_w);
   bool StartPlan();
+  /// One gripper holds the object, the other closed on nothing: the holding
+  /// one stays closed (the object stays up) and the free arm is aimed at the
+  /// feasible pair nearest its joints that clears the holding arm. False
+  /// when there is none.
+  bool AimFreeArm(int holding);
   /// The followed grasps, fixed to the object (planned with the object at dMo).
   void SetGrasps(const DualGrasp& grasp, const Eigen::Isometry3d& dMo);
   void StopArms(const std::string& cause);
@@ -150,6 +157,9 @@ class Mission {
   Eigen::Isometry3d reevaluate_dMo_ = Eigen::Isometry3d::Identity();
   SwitchState choice_;
   int unreachable_in_a_row_ = 0;
+  int holding_arm_ = -1;  // while one gripper holds and the other re-aims: its index
+  int reaims_ = 0;        // re-aims of the free arm in this attempt
+  Eigen::Isometry3d eMo_held_ = Eigen::Isometry3d::Identity();  // the object in the holding gripper
   Eigen::Isometry3d oMg_[2];  // the tool at the grasp, in the object frame
   Eigen::Isometry3d oMp_[2];  // the tool at the pre-catch pose
   // The followed pair's last targets the planner's IK reached (in b), per arm.
@@ -311,6 +321,11 @@ bool Mission::HoldingObjectInWorld() const {
 }
 
 Eigen::Isometry3d Mission::dMoNow() const {
+  // Held by one gripper: the object goes where that gripper goes.
+  if (holding_arm_ >= 0) {
+    const Side side = kSides[holding_arm_];
+    return hw_->platform().dMb(side) * hw_->platform().arm(side).ForwardKinematics(q_[holding_arm_]) * eMo_held_;
+  }
   // Briefly lost (the grippers hide the object as they close in): the object
   // stays where it was last seen in the world, and the vehicle's own pose
   // carries it into the body frame through the sway.
@@ -517,7 +532,7 @@ void Mission::Vehicle() {
         if (g == GlobalState::kApproaching) global_.Found(t, leg_ == Leg::kApproach);
         if (global_.state() == GlobalState::kGrasping && vehicle_.Found(t)) leg_ = Leg::kTrack;
       } else if (g == GlobalState::kGrasping && lost_since_s_ >= 0 && t - lost_since_s_ > config_.lost_timeout_s &&
-                 leg_ == Leg::kTrack) {
+                 leg_ == Leg::kTrack && holding_arm_ < 0) {
         go_to(config_.approach_w_m, Leg::kApproach, "search again");
       } else if (g == GlobalState::kApproaching && t - hover_since_s_ > config_.search_timeout_s) {
         global_.GiveUp(t, fmt::format("the object was not found in {:.0f} s at the approach waypoint",
@@ -529,7 +544,7 @@ void Mission::Vehicle() {
         go_to(p_w - Eigen::Vector3d(0.0, 0.0, config_.lift_m), Leg::kLift, "lift");
         break;
       }
-      if (have_wMo_) {
+      if (have_wMo_ && holding_arm_ < 0) {  // (an object one gripper holds moves with the vehicle)
         // Geofence: never farther than tracking_radius_m from the approach waypoint.
         const Eigen::Vector3d wanted = object_w_filtered_ - wRyaw * config_.grasp_dto_m;
         const Eigen::Vector3d off = wanted - config_.approach_w_m;
@@ -559,6 +574,50 @@ void Mission::Vehicle() {
 }
 
 // ---- Grasp planner ----------------------------------------------------------------
+
+bool Mission::AimFreeArm(int holding) {
+  const double t = Now();
+  const int free = 1 - holding;
+  const PlanQuery query = Query();
+  const PlanResult plan = planner_->Plan(query);
+  const std::vector<ArmGrasp>& candidates = free == 0 ? plan.left : plan.right;
+  const ArmGrasp* best = nullptr;
+  for (const ArmGrasp& g : candidates) {
+    const Eigen::VectorXd& q_held = q_[holding];
+    const auto collide = [&](const Eigen::VectorXd& q_free) {
+      return free == 0 ? collision_->ArmsCollide(q_free, q_held, planner_->config().arms_margin_m)
+                       : collision_->ArmsCollide(q_held, q_free, planner_->config().arms_margin_m);
+    };
+    if (collide(g.q_grasp) || collide(g.q_precatch)) continue;
+    if (!best || g.cost_rad < best->cost_rad) best = &g;
+  }
+  if (!best) {
+    Log(t, fmt::format("planner: the {} gripper holds the object but no pair clears it for the {} arm",
+                       kArmNames[holding], kArmNames[free]));
+    return false;
+  }
+  if (holding_arm_ < 0) {
+    const Side side = kSides[holding];
+    const Eigen::Isometry3d dMe =
+        hw_->platform().dMb(side) * hw_->platform().arm(side).ForwardKinematics(q_[holding]);
+    eMo_held_ = dMe.inverse() * query.dMo;
+  }
+  holding_arm_ = holding;
+  (free == 0 ? choice_.left_pair : choice_.right_pair) = best->pair;
+  (holding == 0 ? choice_.left_pair : choice_.right_pair) = -1;  // the holding arm is not re-solved
+  const ArmModel& arm = hw_->platform().arm(kSides[free]);
+  reached_q_grasp_[free] = best->q_grasp;
+  reached_bMg_[free] = arm.ForwardKinematics(best->q_grasp);
+  reached_bMp_[free] = arm.ForwardKinematics(best->q_precatch);
+  has_reached_[free] = true;
+  servo_[free]->SetSeedHints({best->q_precatch, best->q_grasp});
+  sequence_[free]->Start(t);
+  sequence_[free]->HoldAtPreCatch(false);
+  ++result_.attempts;
+  Log(t, fmt::format("planner: the {} gripper holds the object and stays closed; the {} arm re-aims at pair {} "
+                     "({} feasible for it)", kArmNames[holding], kArmNames[free], best->pair, candidates.size()));
+  return true;
+}
 
 bool Mission::StartPlan() {
   const double t = Now();
@@ -643,11 +702,17 @@ void Mission::Planner() {
       retry = fmt::format("{} arm timed out", kArmNames[a]);
     }
   }
-  if (lost_since_s_ >= 0 && t - lost_since_s_ > config_.lost_timeout_s) {
+  if (lost_since_s_ >= 0 && t - lost_since_s_ > config_.lost_timeout_s && holding_arm_ < 0) {
     retry = fmt::format("object lost for {:.1f} s", t - lost_since_s_);
   }
   const bool done = sequence_[0]->phase() == GraspPhase::kDone && sequence_[1]->phase() == GraspPhase::kDone;
   const bool held = hw_->arms().Gripper(Side::kLeft).holding && hw_->arms().Gripper(Side::kRight).holding;
+  const bool left_holds = hw_->arms().Gripper(Side::kLeft).holding;
+  const bool right_holds = hw_->arms().Gripper(Side::kRight).holding;
+  if (done && left_holds != right_holds && reaims_ < kMaxReaims && AimFreeArm(left_holds ? 0 : 1)) {
+    ++reaims_;
+    return;
+  }
   if (done && !held) {
     const GripperState gl = hw_->arms().Gripper(Side::kLeft), gr = hw_->arms().Gripper(Side::kRight);
     retry = fmt::format("the grippers closed without holding the object (left {} at {:.0f} mm, right {} at {:.0f} mm)",
@@ -655,6 +720,8 @@ void Mission::Planner() {
                         1e3 * gr.aperture_m);
   }
   if (!retry.empty()) {
+    holding_arm_ = -1;
+    reaims_ = 0;
     planner_sm_.Retry(t, retry);
     StopArms("attempt ended: " + retry);
     planning_since_s_ = t;
@@ -691,7 +758,7 @@ void Mission::Reevaluate() {
   const bool active = global_.state() == GlobalState::kGrasping &&
                       (state == PlannerState::kServoing || state == PlannerState::kApproachPose ||
                        state == PlannerState::kGrasping);
-  if (!active) {
+  if (!active || holding_arm_ >= 0) {  // (one arm holding: its pair is not to be switched)
     if (reevaluating_.valid()) reevaluating_.get();  // an answer for a plan that has ended
     return;
   }
@@ -766,7 +833,7 @@ void Mission::Servo() {
       reached_bMg_[a] = bMo * oMg_[a];
       reached_bMp_[a] = bMo * oMp_[a];
     }  // else: the last reachable targets stand for this instant
-    sequence_[a]->SetGrasp(reached_bMg_[a], reached_bMp_[a], HoldingObjectInWorld() ? t : last_found_stamp_s_,
+    sequence_[a]->SetGrasp(reached_bMg_[a], reached_bMp_[a], HoldingObjectInWorld() || holding_arm_ >= 0 ? t : last_found_stamp_s_,
                            switch_pending_[a]);
     switch_pending_[a] = false;
     GraspCommand command;

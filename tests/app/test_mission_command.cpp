@@ -1,3 +1,4 @@
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -168,6 +169,20 @@ TEST(MissionRunnerTest, APlannedGraspSetByItsJointsHoldsTheObjectInTheSimulator)
   world.Step(1.5);
   EXPECT_TRUE(world.held_by(Side::kLeft)) << world.gripper(Side::kLeft).aperture_m;
   EXPECT_TRUE(world.held_by(Side::kRight)) << world.gripper(Side::kRight).aperture_m;
+}
+
+TEST(MissionRunnerTest, AGripperThatHoldsStaysClosedWhileTheOtherAimsAgain) {
+  // Seed 7: the left gripper takes hold, the right closes on air; the left
+  // keeps the object up while the right arm aims at another pair and takes
+  // hold too, and the vehicle flies home with it.
+  MissionOptions options;
+  options.seed = 7;
+  std::ostringstream log;
+  MissionRecord record;
+  const MissionResult result = RunMission(options, &record, &log);
+  EXPECT_THAT(log.str(), ::testing::HasSubstr("gripper holds the object and stays closed"));
+  EXPECT_TRUE(result.success) << result.failure << "\n" << log.str();
+  EXPECT_EQ(result.safe_volume_entries, 0);
 }
 
 }  // namespace
