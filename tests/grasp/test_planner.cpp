@@ -242,7 +242,9 @@ TEST_F(ShippedPlanTest, RobustGraspsStayFeasibleWhenTheObjectMovesAndRankFirst) 
   for (const DualGrasp& d : plan.ranked) {
     EXPECT_EQ(d.robust, d.left.robust && d.right.robust);
     if (!d.robust) seen_fragile = true;
-    if (seen_fragile) EXPECT_FALSE(d.robust) << "a robust dual grasp ranks after a fragile one";
+    if (seen_fragile) {
+      EXPECT_FALSE(d.robust) << "a robust dual grasp ranks after a fragile one";
+    }
   }
 }
 
