@@ -581,13 +581,13 @@ bool Mission::AimFreeArm(int holding) {
   const PlanQuery query = Query();
   const PlanResult plan = planner_->Plan(query);
   const std::vector<ArmGrasp>& candidates = free == 0 ? plan.left : plan.right;
+  const Eigen::VectorXd& q_held = q_[holding];
+  const auto collide = [&](const Eigen::VectorXd& q_free) {
+    return free == 0 ? collision_->ArmsCollide(q_free, q_held, planner_->config().arms_margin_m)
+                     : collision_->ArmsCollide(q_held, q_free, planner_->config().arms_margin_m);
+  };
   const ArmGrasp* best = nullptr;
   for (const ArmGrasp& g : candidates) {
-    const Eigen::VectorXd& q_held = q_[holding];
-    const auto collide = [&](const Eigen::VectorXd& q_free) {
-      return free == 0 ? collision_->ArmsCollide(q_free, q_held, planner_->config().arms_margin_m)
-                       : collision_->ArmsCollide(q_held, q_free, planner_->config().arms_margin_m);
-    };
     if (collide(g.q_grasp) || collide(g.q_precatch)) continue;
     if (!best || g.cost_rad < best->cost_rad) best = &g;
   }
@@ -706,15 +706,14 @@ void Mission::Planner() {
     retry = fmt::format("object lost for {:.1f} s", t - lost_since_s_);
   }
   const bool done = sequence_[0]->phase() == GraspPhase::kDone && sequence_[1]->phase() == GraspPhase::kDone;
-  const bool held = hw_->arms().Gripper(Side::kLeft).holding && hw_->arms().Gripper(Side::kRight).holding;
-  const bool left_holds = hw_->arms().Gripper(Side::kLeft).holding;
-  const bool right_holds = hw_->arms().Gripper(Side::kRight).holding;
-  if (done && left_holds != right_holds && reaims_ < kMaxReaims && AimFreeArm(left_holds ? 0 : 1)) {
+  // Each gripper read once per cycle (on hardware a read is a bus transaction).
+  const GripperState gl = hw_->arms().Gripper(Side::kLeft), gr = hw_->arms().Gripper(Side::kRight);
+  const bool held = gl.holding && gr.holding;
+  if (done && gl.holding != gr.holding && reaims_ < kMaxReaims && AimFreeArm(gl.holding ? 0 : 1)) {
     ++reaims_;
     return;
   }
   if (done && !held) {
-    const GripperState gl = hw_->arms().Gripper(Side::kLeft), gr = hw_->arms().Gripper(Side::kRight);
     retry = fmt::format("the grippers closed without holding the object (left {} at {:.0f} mm, right {} at {:.0f} mm)",
                         gl.holding ? "holds" : "empty", 1e3 * gl.aperture_m, gr.holding ? "holds" : "empty",
                         1e3 * gr.aperture_m);
