@@ -117,6 +117,9 @@ int main(int argc, char** argv) {
   plan_cmd->add_option("--reach-margin", plan.reach_margin_m,
                        "A grasp is robust when it stays feasible with the object moved this far along each axis, m")
       ->capture_default_str();
+  plan_cmd->add_option("--edge-margin", plan.edge_margin_m,
+                       "Grasps whose contacts stay on their faces with the object shifted this far along them rank first, m")
+      ->capture_default_str();
   plan_cmd->add_option("--mass", plan.mass_kg, "Mass of a bare mesh, kg")->capture_default_str();
   plan_cmd->add_option("--cache-dir", plan.cache_dir, "Contact cache folder [~/.cache/aerograsp]");
   plan_cmd->add_flag("!--no-cache", plan.use_cache, "Neither read nor write the contact cache");

@@ -153,6 +153,7 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
   config.contacts.resolution_m = options.resolution_m;
   config.depth_min_m = options.depth_min_m;
   config.reach_margin_m = options.reach_margin_m;
+  config.edge_margin_m = options.edge_margin_m;
   config.Validate("command line", gripper);
 
   fs::create_directories(options.out_dir);
@@ -250,10 +251,13 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
     out << "\n";
   }
   const PairStats& ps = plan.pair_stats;
-  out << fmt::format("Dual pairs: {} considered, {} without force closure, {} arms collide, {} dropped by the exact hull, {} valid ({} robust to {:.3f} m)\n",
+  out << fmt::format("Dual pairs: {} considered, {} without force closure, {} arms collide, {} dropped by the exact hull, {} valid ({} robust to {:.3f} m, {} clear of edges by {:.3f} m)\n",
                      ps.considered, ps.no_force_closure, ps.arms_collide, ps.exact_dropped, ps.valid,
                      std::count_if(plan.ranked.begin(), plan.ranked.end(), [](const DualGrasp& d) { return d.robust; }),
-                     config.reach_margin_m);
+                     config.reach_margin_m,
+                     std::count_if(plan.ranked.begin(), plan.ranked.end(),
+                                   [](const DualGrasp& d) { return d.clear_of_edges; }),
+                     config.edge_margin_m);
   out << fmt::format("Single grasps in force closure (exact): {} of {}\n", single_force_closure,
                      contacts.pairs.size());
   out << fmt::format("Timing (one core, median of {}): contacts {:.2f} ms, feasibility {:.2f} us/grasp, quality {:.3f} us/pair (bound), exact Qhull {:.1f} us/dual pair, {:.1f} us/single grasp\n",

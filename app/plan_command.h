@@ -28,6 +28,7 @@ struct PlanCommandOptions {
   double resolution_m = 0.015;   ///< contact ray grid (m)
   double depth_min_m = 0.0;      ///< contacts at least this far behind the tool point (m)
   double reach_margin_m = 0.0;   ///< robustness probe distance (m); GraspPlannerConfig::reach_margin_m
+  double edge_margin_m = 0.0;    ///< contacts this far from their faces' edges rank first (m); GraspPlannerConfig::edge_margin_m
   double mass_kg = 0.5;          ///< used for a bare mesh (shipped objects carry theirs)
   std::string cache_dir;         ///< contact cache folder; "" = $XDG_CACHE_HOME/aerograsp or ~/.cache/aerograsp
   bool use_cache = true;

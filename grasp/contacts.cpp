@@ -185,4 +185,29 @@ ContactSet ComputeContactPairs(const TriangleMesh& mesh_o, const GripperConfig& 
   return set;
 }
 
+bool ContactsClearOfEdges(const TriangleMesh& mesh_o, const ContactPair& pair, double margin_m) {
+  if (margin_m <= 0.0) return true;
+  constexpr double kToleranceM = 0.005;
+  const Eigen::Vector3d along = Eigen::Vector3d::Unit(pair.axis);
+  const double a = pair.a.p_o[pair.axis], b = pair.b.p_o[pair.axis];
+  for (int k = 1; k <= 2; ++k) {
+    const Eigen::Vector3d across = Eigen::Vector3d::Unit((pair.axis + k) % 3);
+    for (double sign : {-1.0, 1.0}) {
+      Eigen::Vector3d origin = pair.center_o() + sign * margin_m * across;
+      origin[pair.axis] = mesh_o.BoundsMin()[pair.axis] - 0.01;  // outside the object
+      const std::vector<double> hits = IntersectRay(mesh_o, origin, along);
+      // From outside a closed mesh the crossings alternate: entry, exit, ...
+      bool entry = false, kept = false;
+      for (std::size_t i = 0; i < hits.size() && !kept; i += 2) {
+        entry = entry || std::abs(origin[pair.axis] + hits[i] - a) < kToleranceM;
+        for (std::size_t j = i + 1; entry && j < hits.size() && !kept; j += 2) {
+          kept = std::abs(origin[pair.axis] + hits[j] - b) < kToleranceM;
+        }
+      }
+      if (!kept) return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace aerograsp

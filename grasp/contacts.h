@@ -65,4 +65,13 @@ struct ContactSet {
 ContactSet ComputeContactPairs(const TriangleMesh& mesh_o, const GripperConfig& gripper,
                                const ContactOptions& options);
 
+/// Whether the pair's contacts stay where they are with the object shifted by
+/// margin_m either way along each of the two o axes across its ray (a pose
+/// error along the faces the fingers close on): the ray along the pair's axis
+/// through its centre so shifted still enters the object within 5 mm of `a`
+/// and leaves it within 5 mm of `b` (along the axis). A pair within margin_m of
+/// an edge of either face fails. Brute-force ray casts (core/mesh IntersectRay).
+/// Precondition: a closed mesh. margin_m 0 is always true.
+bool ContactsClearOfEdges(const TriangleMesh& mesh_o, const ContactPair& pair, double margin_m);
+
 }  // namespace aerograsp

@@ -58,6 +58,7 @@ void GraspPlannerConfig::Validate(const std::string& source, const GripperConfig
   CheckRange(source, "cost_weight_per_rad", cost_weight_per_rad, 0.0, 10.0, "");
   CheckRange(source, "switch_margin", switch_margin, 0.0, 10.0, "");
   CheckRange(source, "reach_margin_m", reach_margin_m, 0.0, 0.1, "m");
+  CheckRange(source, "edge_margin_m", edge_margin_m, 0.0, 0.05, "m");
 }
 
 GraspPlanner::GraspPlanner(const Platform& platform, GraspObject object, ContactSet contacts,
@@ -90,6 +91,7 @@ GraspPlanner::GraspPlanner(const Platform& platform, GraspObject object, Contact
                           &wrenches_[i]);
     const std::vector<float> table = SupportTable(wrenches_[i], directions);
     std::copy(table.begin(), table.end(), support_.begin() + i * directions.size());
+    clear_of_edges_.push_back(ContactsClearOfEdges(object_.mesh_o, p, config_.edge_margin_m));
   }
 }
 
@@ -151,6 +153,7 @@ bool GraspPlanner::EvaluateArm(Side side, int pair, const Eigen::Isometry3d& dMo
     }
     out->pair = pair;
     out->side = side;
+    out->clear_of_edges = clear_of_edges_[pair];
     out->q_grasp = sol.q;
     out->q_precatch = q_pre;
     out->dMg = dMb_[s] * sol.bMe;
@@ -192,6 +195,7 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
       ++stats.candidates;
       if (EvaluateArm(side, i, query.dMo, q, &grasp, &why)) {
         grasp.robust = Robust(side, i, query.dMo, q);
+        grasp.clear_of_edges = clear_of_edges_[i];
         feasible.push_back(grasp);
       }
       ++stats.by_reason[static_cast<int>(why)];
@@ -223,6 +227,7 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
       d.left = l;
       d.right = r;
       d.robust = l.robust && r.robust;
+      d.clear_of_edges = l.clear_of_edges && r.clear_of_edges;
       d.epsilon = eps;
       d.task = share.term;
       d.left_share = share.left_share;
@@ -245,6 +250,13 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
     result.ranked.push_back(std::move(d));
   }
   ps.collision_seconds = Seconds(t0);
+  // Robust grasps first, and among each those clear of edges, so that the
+  // exact epsilon goes to the ones that will rank first.
+  const auto put_first = [](std::vector<DualGrasp>* ranked) {
+    std::stable_partition(ranked->begin(), ranked->end(), [](const DualGrasp& d) { return d.clear_of_edges; });
+    std::stable_partition(ranked->begin(), ranked->end(), [](const DualGrasp& d) { return d.robust; });
+  };
+  put_first(&result.ranked);
 
   // Exact epsilon for the best few; those without force closure are dropped.
   t0 = Clock::now();
@@ -268,7 +280,7 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
   top.insert(top.end(), std::make_move_iterator(result.ranked.begin() + next),
              std::make_move_iterator(result.ranked.end()));
   result.ranked = std::move(top);
-  std::stable_partition(result.ranked.begin(), result.ranked.end(), [](const DualGrasp& d) { return d.robust; });
+  put_first(&result.ranked);
   ps.valid = static_cast<long long>(result.ranked.size());
   return result;
 }

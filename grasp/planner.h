@@ -50,6 +50,12 @@ struct GraspPlannerConfig {
   /// tracking error move it so while the arms servo); robust dual grasps rank
   /// first. [0, 0.1] m; 0 makes every feasible pair robust.
   double reach_margin_m{0.0};
+  /// A pair counts as clear of edges when its contacts stay on their faces
+  /// with the object shifted this far along them (ContactsClearOfEdges): a
+  /// pose estimate off by as much still puts the pads on the object. Dual
+  /// grasps clear of edges rank first (after robust ones). [0, 0.05] m; 0
+  /// makes every pair clear.
+  double edge_margin_m{0.0};
 
   /// @throws ConfigError "<source>: <key>: ..." naming the bound; the depth
   /// range is checked against the gripper's finger length.
@@ -79,6 +85,7 @@ struct ArmGrasp {
   double depth_m = 0.0;   ///< contacts this far behind the tool point
   double cost_rad = 0.0;  ///< |q_grasp - q_current|
   bool robust = true;     ///< feasible too with the object moved by reach_margin_m (Plan)
+  bool clear_of_edges = true;  ///< contacts edge_margin_m or more from their faces' edges
 };
 
 /// Why an arm cannot take a contact pair (the first test that failed on its
@@ -109,6 +116,7 @@ struct DualGrasp {
   double left_share = 0.0;   ///< fraction of the weight on the left arm
   double score = 0.0;        ///< quality_weight eps + task_weight task - cost_weight cost
   bool robust = true;        ///< both arm grasps are robust (ArmGrasp::robust)
+  bool clear_of_edges = true;  ///< both arm grasps are (ArmGrasp::clear_of_edges)
 };
 
 struct PairStats {
@@ -178,7 +186,8 @@ class GraspPlanner {
   /// Every pair for both arms (with its robustness, see reach_margin_m), then
   /// every left x right combination: bound, task term and cost, arms
   /// collision, exact epsilon for the top `exact_top_k` (ranked by it among
-  /// themselves; the rest follow by bound). Robust dual grasps come first.
+  /// themselves; the rest follow by bound). Robust dual grasps come first,
+  /// and among each, those clear of edges.
   PlanResult Plan(const PlanQuery& query) const;
 
   /// The best pair now, or kNoGrasp. Keeps the current pair while it is valid
@@ -205,6 +214,7 @@ class GraspPlanner {
   ArmIk ik_[2];
   std::vector<std::vector<Wrench>> wrenches_;  // per pair
   std::vector<float> support_;                 // per pair, support_directions floats
+  std::vector<bool> clear_of_edges_;           // per pair (edge_margin_m)
   int directions_ = 0;
 };
 

@@ -117,5 +117,41 @@ TEST(ContactsTest, BadResolutionIsRejectedWithItsKey) {
                std::invalid_argument);
 }
 
+TEST(ContactsTest, PairsNearAFacesEdgeAreNotClearOfEdges) {
+  // A 0.09 x 0.06 x 0.09 m box: the y rays run on a 6 x 6 grid (x, z) at
+  // +-0.0075, +-0.0225, +-0.0375 m. Shifted 0.01 m, a ray at 0.0375 (7.5 mm
+  // from an edge) leaves the face; one at 0.0225 stays on it.
+  const TriangleMesh box = BoxMesh(Eigen::Vector3d(0.09, 0.06, 0.09));
+  const ContactSet set = ComputeContactPairs(box, GripperConfig{}, ContactOptions{});
+  int y_pairs = 0, clear = 0;
+  for (const ContactPair& p : set.pairs) {
+    if (p.axis != 1) continue;
+    ++y_pairs;
+    const bool inner = std::abs(p.center_o().x()) < 0.03 && std::abs(p.center_o().z()) < 0.03;
+    EXPECT_EQ(ContactsClearOfEdges(box, p, 0.01), inner) << p.center_o().transpose();
+    clear += ContactsClearOfEdges(box, p, 0.01);
+    EXPECT_TRUE(ContactsClearOfEdges(box, p, 0.0));  // no margin: every pair
+  }
+  EXPECT_EQ(y_pairs, 36);
+  EXPECT_EQ(clear, 16);
+}
+
+TEST(ContactsTest, CrawlerPairsAcrossTheTracksNearItsEndsAreNotClearOfEdges) {
+  // The crawler's x rays are too long for the gripper; across its tracks (y)
+  // the grid runs along x at +-0.0975, +-0.0825, ...: the outermost column is
+  // 12.5 mm from an end.
+  const TriangleMesh crawler = LoadClosedMesh(Object("crawler"));
+  const ContactSet set = ComputeContactPairs(crawler, GripperConfig{}, ContactOptions{});
+  int outer = 0;
+  for (const ContactPair& p : set.pairs) {
+    if (p.axis != 1 || std::abs(p.width_m() - 0.09) > 1e-3) continue;  // across both tracks
+    if (std::abs(std::abs(p.center_o().x()) - 0.0975) < 1e-6) {
+      ++outer;
+      EXPECT_FALSE(ContactsClearOfEdges(crawler, p, 0.015)) << p.center_o().transpose();
+    }
+  }
+  EXPECT_GT(outer, 0);
+}
+
 }  // namespace
 }  // namespace aerograsp

@@ -248,6 +248,34 @@ TEST_F(ShippedPlanTest, RobustGraspsStayFeasibleWhenTheObjectMovesAndRankFirst) 
   }
 }
 
+TEST_F(ShippedPlanTest, GraspsClearOfEdgesRankFirstAndGetTheExactEpsilon) {
+  GraspPlannerConfig config;
+  config.edge_margin_m = 0.015;
+  const ContactSet contacts = ComputeContactPairs(object_.mesh_o, platform_.config().gripper, ContactOptions{});
+  const GraspPlanner edge_planner(platform_, object_, contacts, config);
+  const PlanResult plan = edge_planner.Plan(query_);
+  const PlanResult plain = planner_.Plan(query_);
+  // The margin only orders and marks: the same pairs are feasible either way.
+  EXPECT_EQ(plan.ranked.size(), plain.ranked.size());
+  for (const DualGrasp& d : plain.ranked) EXPECT_TRUE(d.clear_of_edges);  // margin 0: every pair
+  int clear = 0, near_edge = 0;
+  bool seen_near_edge = false;
+  for (const DualGrasp& d : plan.ranked) {
+    // The flag is the contacts' own test, for both arms' pairs.
+    EXPECT_EQ(d.left.clear_of_edges, ContactsClearOfEdges(object_.mesh_o, contacts.pairs[d.left.pair], 0.015));
+    EXPECT_EQ(d.clear_of_edges, d.left.clear_of_edges && d.right.clear_of_edges);
+    (d.clear_of_edges ? clear : near_edge)++;
+    if (!d.clear_of_edges) seen_near_edge = true;
+    if (seen_near_edge) {
+      EXPECT_FALSE(d.clear_of_edges) << "a dual grasp clear of edges ranks after one near an edge";
+    }
+  }
+  ASSERT_GT(clear, 0);
+  EXPECT_GT(near_edge, 0);
+  // The exact epsilon goes to the first ones, which are clear of edges.
+  EXPECT_TRUE(plan.ranked.front().epsilon_exact);
+}
+
 TEST(GraspPlannerConfigTest, DefaultsAreValidAndBadDepthNamesItsKey) {
   GraspPlannerConfig c;
   EXPECT_NO_THROW(c.Validate("plan.yaml", GripperConfig{}));
