@@ -11,7 +11,8 @@ MissionConfig MissionConfig::Load(const std::string& path) {
   root.RequireOnlyKeys({"world", "takeoff_altitude_m", "approach_w_m", "yaw_rad", "grasp_dto_m",
                         "arrive_tolerance_m", "near_tolerance_m", "tracking_radius_m", "lift_m", "servo_rate_hz", "setpoint_rate_hz",
                         "reevaluate_rate_hz", "object_filter_s", "settle_s", "max_attempts", "lost_timeout_s",
-                        "search_timeout_s", "planning_timeout_s", "timeout_s", "servo_margin_m"});
+                        "search_timeout_s", "planning_timeout_s", "timeout_s", "servo_margin_m",
+                        "grasp_edge_margin_m"});
   MissionConfig c;
   c.source = path;
   if (root.Has("world")) c.world = root.GetPath("world");
@@ -34,6 +35,7 @@ MissionConfig MissionConfig::Load(const std::string& path) {
   c.planning_timeout_s = root.GetDouble("planning_timeout_s", c.planning_timeout_s);
   c.timeout_s = root.GetDouble("timeout_s", c.timeout_s);
   c.servo_margin_m = root.GetDouble("servo_margin_m", c.servo_margin_m);
+  c.grasp_edge_margin_m = root.GetDouble("grasp_edge_margin_m", c.grasp_edge_margin_m);
   c.Validate();
   return c;
 }
@@ -60,6 +62,7 @@ void MissionConfig::Validate() const {
   CheckRange(s, "planning_timeout_s", planning_timeout_s, 1e-6, 600.0, "s");
   CheckRange(s, "timeout_s", timeout_s, 1e-6, 3600.0, "s");
   CheckRange(s, "servo_margin_m", servo_margin_m, 0.0, 0.05, "m");
+  CheckRange(s, "grasp_edge_margin_m", grasp_edge_margin_m, 0.0, 0.05, "m");
 }
 
 }  // namespace aerograsp

@@ -35,6 +35,11 @@ struct MissionConfig {
   double planning_timeout_s{10.0};      ///< near the object without a feasible grasp: give up, (0, 600] s
   double timeout_s{180.0};              ///< the whole mission, (0, 3600] s
   double servo_margin_m{0.005};         ///< arms' clearance to the safe volume and each other, [0, 0.05] m
+  /// Grasps whose contacts stay on their faces with the object this much
+  /// further along them rank first (GraspPlannerConfig::edge_margin_m): the
+  /// estimate is worst along an extrusion, where only its ends fix it;
+  /// [0, 0.05] m.
+  double grasp_edge_margin_m{0.015};
 
   /// Reads a mission YAML; absent keys keep their defaults.
   /// @throws ConfigError "<file>: <key>: ..." for unknown keys, wrong types or values out of range.

@@ -36,6 +36,8 @@ constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
 constexpr int kUnreachableToSwitch = 5;
 /// Joint change (rad) between servo cycles beyond which a re-solved grasp is another branch.
 constexpr double kBranchJumpRad = 0.15;
+/// ... plus this much per second since the last accepted solution (the object moved meanwhile).
+constexpr double kBranchDriftRadPerS = 0.5;
 /// Times the free arm is aimed again while the other holds, per attempt.
 constexpr int kMaxReaims = 3;
 const char* const kArmNames[2] = {"left", "right"};
@@ -90,6 +92,8 @@ class Mission {
   void Safety();
   /// Logs how far the closing gripper is from its grasp on the true object (simulation).
   void LogClosing(int a, const Eigen::Isometry3d& dMo_est);
+  /// Simulation only: where the closed gripper is on the true object.
+  void LogClosed(int a);
   void SendSetpoint(const Eigen::Vector3d& p_w);
   bool StartPlan();
   /// One gripper holds the object, the other closed on nothing: the holding
@@ -99,6 +103,9 @@ class Mission {
   bool AimFreeArm(int holding);
   /// The followed grasps, fixed to the object (planned with the object at dMo).
   void SetGrasps(const DualGrasp& grasp, const Eigen::Isometry3d& dMo);
+  /// The followed pair of arm a solved again for the object at dMo, on the
+  /// IK branch it was followed on. True with the solution in solved_[a].
+  bool SolveFollowed(int a, const Eigen::Isometry3d& dMo);
   void StopArms(const std::string& cause);
   Eigen::Isometry3d dMoNow() const;
   /// True while the object is briefly lost and held at its last world pose.
@@ -164,8 +171,11 @@ class Mission {
   Eigen::Isometry3d oMp_[2];  // the tool at the pre-catch pose
   // The followed pair's last targets the planner's IK reached (in b), per arm.
   Eigen::Isometry3d reached_bMg_[2], reached_bMp_[2];
-  bool has_reached_[2] = {false, false};
   Eigen::VectorXd reached_q_grasp_[2];
+  bool has_reached_[2] = {false, false};    // solved since the pair was set
+  double reached_stamp_s_[2] = {0.0, 0.0};  // when reached_q_grasp_ was last solved
+  ArmGrasp solved_[2];                      // this cycle's solution (SolveFollowed)
+
   bool switch_pending_[2] = {false, false};
   ServoStatus last_status_[2] = {ServoStatus::kNoTarget, ServoStatus::kNoTarget};
   double planning_since_s_ = -1.0;
@@ -227,6 +237,7 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
   // crosses the object even with the few millimetres of pose and tracking
   // error left in flight (a pair at the tool point itself closes on air).
   planner_config.depth_min_m = 0.025;
+  planner_config.edge_margin_m = config_.grasp_edge_margin_m;
   planner_config.Validate(config_.source, platform.config().gripper);
   GraspObject grasp_object{object_->name, object_->mesh_o, object_->mass_kg, object_->center_of_mass_o};
   ContactSet contacts = ComputeContactPairs(object_->mesh_o, platform.config().gripper, planner_config.contacts);
@@ -534,8 +545,10 @@ void Mission::Vehicle() {
       } else if (g == GlobalState::kGrasping && lost_since_s_ >= 0 && t - lost_since_s_ > config_.lost_timeout_s &&
                  leg_ == Leg::kTrack && holding_arm_ < 0) {
         go_to(config_.approach_w_m, Leg::kApproach, "search again");
-      } else if (g == GlobalState::kApproaching && t - hover_since_s_ > config_.search_timeout_s) {
-        global_.GiveUp(t, fmt::format("the object was not found in {:.0f} s at the approach waypoint",
+      } else if ((g == GlobalState::kApproaching || (g == GlobalState::kGrasping && leg_ == Leg::kApproach)) &&
+                 t - hover_since_s_ > config_.search_timeout_s) {
+        global_.GiveUp(t, fmt::format("the object was {} in {:.0f} s at the approach waypoint",
+                                      g == GlobalState::kApproaching ? "not found" : "lost and not found again",
                                       config_.search_timeout_s));
       }
       break;
@@ -606,7 +619,11 @@ bool Mission::AimFreeArm(int holding) {
   (free == 0 ? choice_.left_pair : choice_.right_pair) = best->pair;
   (holding == 0 ? choice_.left_pair : choice_.right_pair) = -1;  // the holding arm is not re-solved
   const ArmModel& arm = hw_->platform().arm(kSides[free]);
+  const Eigen::Isometry3d oMb = query.dMo.inverse() * hw_->platform().dMb(kSides[free]);
   reached_q_grasp_[free] = best->q_grasp;
+  reached_stamp_s_[free] = t;
+  oMg_[free] = oMb * arm.ForwardKinematics(best->q_grasp);
+  oMp_[free] = oMb * arm.ForwardKinematics(best->q_precatch);
   reached_bMg_[free] = arm.ForwardKinematics(best->q_grasp);
   reached_bMp_[free] = arm.ForwardKinematics(best->q_precatch);
   has_reached_[free] = true;
@@ -661,6 +678,7 @@ void Mission::SetGrasps(const DualGrasp& grasp, const Eigen::Isometry3d& dMo) {
     oMg_[a] = oMb * hw_->platform().arm(side).ForwardKinematics(arm_grasps[a]->q_grasp);
     oMp_[a] = oMb * hw_->platform().arm(side).ForwardKinematics(arm_grasps[a]->q_precatch);
     reached_q_grasp_[a] = arm_grasps[a]->q_grasp;
+    reached_stamp_s_[a] = Now();
     servo_[a]->SetSeedHints({arm_grasps[a]->q_precatch, arm_grasps[a]->q_grasp});
   }
 }
@@ -765,6 +783,7 @@ void Mission::Reevaluate() {
   next_reevaluate_s_ = t + 1.0 / config_.reevaluate_rate_hz;
   if (reevaluating_.valid()) {
     const SwitchDecision decision = reevaluating_.get();
+
     const bool closing = sequence_[0]->phase() == GraspPhase::kClose || sequence_[0]->phase() == GraspPhase::kDone ||
                          sequence_[1]->phase() == GraspPhase::kClose || sequence_[1]->phase() == GraspPhase::kDone;
     // A pair unreachable at one re-evaluation may be reachable at the next (the
@@ -798,6 +817,24 @@ void Mission::Reevaluate() {
 
 // ---- Servo and safety ---------------------------------------------------------------
 
+
+bool Mission::SolveFollowed(int a, const Eigen::Isometry3d& dMo) {
+  const double t = Now();
+  const int pair = a == 0 ? choice_.left_pair : choice_.right_pair;
+  Infeasibility why = Infeasibility::kNone;
+  if (!planner_->EvaluateArm(kSides[a], pair, dMo, q_[a], &solved_[a], &why)) return false;
+  // A solution far in joint space from the last one is another IK branch or
+  // depth: following it would throw the arm across. The object moves on
+  // while the pair is out of reach, so the allowance grows with the time
+  // since the last solution (with a fixed one, a pair out of reach for a
+  // while stayed refused for good, its stale target standing).
+  const double allowed_rad = kBranchJumpRad + kBranchDriftRadPerS * (t - reached_stamp_s_[a]);
+  if ((solved_[a].q_grasp - reached_q_grasp_[a]).cwiseAbs().maxCoeff() >= allowed_rad) return false;
+  reached_q_grasp_[a] = solved_[a].q_grasp;
+  reached_stamp_s_[a] = t;
+  return true;
+}
+
 void Mission::Servo() {
   const double t = Now();
   if (!arms_.commands_allowed() || global_.state() != GlobalState::kGrasping) return;
@@ -812,18 +849,12 @@ void Mission::Servo() {
     const Eigen::Isometry3d bMo = hw_->platform().dMb(side).inverse() * dMo;
     // The followed pair solved again for the object where it is now (the
     // planner's closed-form grasp-axis IK): targets the arm reaches exactly,
-    // and their joints as the servo's IK seeds. When the pair is out of reach
-    // for this instant the grasp fixed to the object stands (and re-evaluation
+    // and their joints as the servo's IK seeds. When it is out of reach for
+    // this instant, the last reachable targets stand (and re-evaluation
     // decides whether to switch).
-    ArmGrasp now;
-    Infeasibility why = Infeasibility::kNone;
-    // A solution far in joint space from the last one is another IK branch or
-    // depth of the same pair: following it would throw the arm across; the
-    // last reachable targets stand instead.
-    const bool solved = pairs[a] >= 0 && planner_->EvaluateArm(side, pairs[a], dMo, q_[a], &now, &why);
-    if (solved && (now.q_grasp - reached_q_grasp_[a]).cwiseAbs().maxCoeff() < kBranchJumpRad) {
-      reached_q_grasp_[a] = now.q_grasp;
+    if (pairs[a] >= 0 && SolveFollowed(a, dMo)) {
       const ArmModel& arm = hw_->platform().arm(side);
+      const ArmGrasp& now = solved_[a];
       servo_[a]->SetSeedHints({now.q_precatch, now.q_grasp});
       reached_bMg_[a] = arm.ForwardKinematics(now.q_grasp);
       reached_bMp_[a] = arm.ForwardKinematics(now.q_precatch);
@@ -831,7 +862,7 @@ void Mission::Servo() {
     } else if (!has_reached_[a]) {
       reached_bMg_[a] = bMo * oMg_[a];
       reached_bMp_[a] = bMo * oMp_[a];
-    }  // else: the last reachable targets stand for this instant
+    }
     sequence_[a]->SetGrasp(reached_bMg_[a], reached_bMp_[a], HoldingObjectInWorld() || holding_arm_ >= 0 ? t : last_found_stamp_s_,
                            switch_pending_[a]);
     switch_pending_[a] = false;
@@ -839,6 +870,7 @@ void Mission::Servo() {
     const GraspPhase phase_before = sequence_[a]->phase();
     sequence_[a]->Step(q_[a], t, dt_s_, &command);
     if (world_ && phase_before != GraspPhase::kClose && command.phase == GraspPhase::kClose) LogClosing(a, dMo);
+    if (world_ && phase_before == GraspPhase::kClose && command.phase == GraspPhase::kDone) LogClosed(a);
     if (command.servo_status != last_status_[a]) {
       Log(t, fmt::format("servo   {} arm: {} (phase {}, {:.1f} mm from the target)", kArmNames[a],
                          ServoStatusName(command.servo_status), GraspPhaseName(command.phase),
@@ -864,14 +896,28 @@ void Mission::LogClosing(int a, const Eigen::Isometry3d& dMo_est) {
   const Eigen::Isometry3d dMb = hw_->platform().dMb(side);
   const Eigen::Vector3d tool_d = (dMb * hw_->platform().arm(side).ForwardKinematics(q_[a])).translation();
   const Eigen::Vector3d target_o = (dMo_est.inverse() * dMb * reached_bMg_[a]).translation();
+  const Eigen::Vector3d error_o = dMo_est.linear().transpose() * (dMo_est.translation() - dMo_true.translation());
   Log(Now(), fmt::format("servo   {} arm closes: the tool is {:.1f} mm from its target and {:.1f} mm from the grasp "
-                         "on the true object (target at [{:.3f}, {:.3f}, {:.3f}] m in o; estimate off by {:.1f} mm, "
-                         "{:.1f} deg; {})",
+                         "on the true object (target at [{:.3f}, {:.3f}, {:.3f}] m in o; estimate off by {:.1f} mm "
+                         "([{:.1f}, {:.1f}, {:.1f}] mm in o), {:.1f} deg; {}; target solved {:.0f} ms before)",
                          kArmNames[a], 1e3 * (tool_d - dMo_est * target_o).norm(),
                          1e3 * (tool_d - dMo_true * target_o).norm(), target_o.x(), target_o.y(), target_o.z(),
-                         1e3 * (dMo_est.translation() - dMo_true.translation()).norm(),
+                         1e3 * (dMo_est.translation() - dMo_true.translation()).norm(), 1e3 * error_o.x(),
+                         1e3 * error_o.y(), 1e3 * error_o.z(),
                          SymmetricRotationError(dMo_est.linear(), dMo_true.linear(), symmetry) * 180.0 / M_PI,
-                         HoldingObjectInWorld() ? "object held in the world" : "object seen"));
+                         HoldingObjectInWorld() ? "object held in the world" : "object seen",
+                         1e3 * (Now() - reached_stamp_s_[a])));
+}
+
+void Mission::LogClosed(int a) {
+  const Side side = kSides[a];
+  const Eigen::Isometry3d oMe = world_->wMo().inverse() * world_->wMe(side);
+  const GripperState g = world_->gripper(side);
+  const Eigen::Vector3d p = 1e3 * oMe.translation(), x = oMe.linear().col(0), z = oMe.linear().col(2);
+  Log(Now(), fmt::format("servo   {} gripper closed: {} at {:.0f} mm; the tool at [{:.1f}, {:.1f}, {:.1f}] mm in the "
+                         "true o, closing along [{:.2f}, {:.2f}, {:.2f}], approaching along [{:.2f}, {:.2f}, {:.2f}]",
+                         kArmNames[a], g.holding ? "holds" : "empty", 1e3 * g.aperture_m, p.x(), p.y(), p.z(), x.x(),
+                         x.y(), x.z(), z.x(), z.y(), z.z()));
 }
 
 void Mission::Safety() {

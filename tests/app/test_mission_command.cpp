@@ -85,7 +85,9 @@ TEST(MissionRunnerTest, TheSameSeedFliesTheSameMission) {
   ASSERT_FALSE(a.samples.empty());
   for (std::size_t i = 0; i < a.samples.size(); ++i) {
     ASSERT_EQ(a.samples[i].dto_truth_m, b.samples[i].dto_truth_m) << i;
-    if (a.samples[i].estimate_valid) ASSERT_EQ(a.samples[i].dto_estimate_m, b.samples[i].dto_estimate_m) << i;
+    if (a.samples[i].estimate_valid) {
+      ASSERT_EQ(a.samples[i].dto_estimate_m, b.samples[i].dto_estimate_m) << i;
+    }
   }
   EXPECT_EQ(ra.pose_rmse_m, rb.pose_rmse_m);
 }
@@ -172,16 +174,34 @@ TEST(MissionRunnerTest, APlannedGraspSetByItsJointsHoldsTheObjectInTheSimulator)
 }
 
 TEST(MissionRunnerTest, AGripperThatHoldsStaysClosedWhileTheOtherAimsAgain) {
-  // Seed 7: the left gripper takes hold, the right closes on air; the left
-  // keeps the object up while the right arm aims at another pair and takes
+  // Seed 5: the right gripper takes hold, the left closes on air; the right
+  // keeps the object up while the left arm aims at another pair and takes
   // hold too, and the vehicle flies home with it.
   MissionOptions options;
-  options.seed = 7;
+  options.seed = 5;
   std::ostringstream log;
   MissionRecord record;
   const MissionResult result = RunMission(options, &record, &log);
   EXPECT_THAT(log.str(), ::testing::HasSubstr("gripper holds the object and stays closed"));
   EXPECT_TRUE(result.success) << result.failure << "\n" << log.str();
+  EXPECT_EQ(result.safe_volume_entries, 0);
+}
+
+TEST(MissionRunnerTest, AnObjectLostAndNotFoundAgainEndsTheSearchInTime) {
+  // Seed 14: the tracker loses the crawler right after finding it (a
+  // perception failure of this seed, see the README) and the vehicle flies back
+  // to the approach waypoint to search again. Before, it hovered there until
+  // the mission's time limit; now the search ends after search_timeout_s
+  // (20 s) and the vehicle flies home. Should the tracker keep this object one
+  // day, this test needs another way to lose it.
+  MissionOptions options;
+  options.seed = 14;
+  options.timeout_s = 60.0;
+  std::ostringstream log;
+  const MissionResult result = RunMission(options, nullptr, &log);
+  EXPECT_FALSE(result.success);
+  EXPECT_THAT(result.failure, ::testing::HasSubstr("lost and not found again in 20 s")) << log.str();
+  EXPECT_THAT(log.str(), ::testing::HasSubstr("global  grasping -> homing"));
   EXPECT_EQ(result.safe_volume_entries, 0);
 }
 
