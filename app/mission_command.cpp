@@ -34,6 +34,7 @@ nlohmann::json RunJson(std::uint64_t seed, const MissionResult& r) {
   j["sim_time_s"] = r.sim_time_s;
   j["wall_time_s"] = r.wall_time_s;
   j["frames"] = r.frames;
+  j["global_registrations"] = r.global_registrations;
   j["perception_ms_median"] = r.perception_ms_median;
   j["render_ms_median"] = r.render_ms_median;
   return j;
@@ -94,8 +95,9 @@ ReportRow Headline(const MissionResult& r) {
           {"emergency stops", std::to_string(r.emergency_stops)},
           {"mission time", fmt::format("{:.1f} s simulated in {:.1f} s ({:.2f}x real time)", r.sim_time_s,
                                        r.wall_time_s, r.realtime_factor)},
-          {"camera frames", fmt::format("{} (perception {:.1f} ms, rendering {:.1f} ms median)", r.frames,
-                                        r.perception_ms_median, r.render_ms_median)}};
+          {"camera frames", fmt::format("{} (perception {:.1f} ms, rendering {:.1f} ms median; {} with a global "
+                                        "registration)", r.frames, r.perception_ms_median, r.render_ms_median,
+                                        r.global_registrations)}};
 }
 
 ReportRow RunRow(std::uint64_t seed, const MissionResult& r) {

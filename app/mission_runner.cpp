@@ -38,6 +38,8 @@ constexpr int kUnreachableToSwitch = 5;
 constexpr double kBranchJumpRad = 0.15;
 /// ... plus this much per second since the last accepted solution (the object moved meanwhile).
 constexpr double kBranchDriftRadPerS = 0.5;
+/// An arm this near its home pose (tool position, m) is back.
+constexpr double kHomeToleranceM = 0.01;
 /// Times the free arm is aimed again while the other holds, per attempt.
 constexpr int kMaxReaims = 3;
 const char* const kArmNames[2] = {"left", "right"};
@@ -107,6 +109,9 @@ class Mission {
   /// IK branch it was followed on. True with the solution in solved_[a].
   bool SolveFollowed(int a, const Eigen::Isometry3d& dMo);
   void StopArms(const std::string& cause);
+  /// After a failed attempt: each arm servoed back to its home pose (out of
+  /// the camera's view), then held.
+  void Retract();
   Eigen::Isometry3d dMoNow() const;
   /// True while the object is briefly lost and held at its last world pose.
   bool HoldingObjectInWorld() const;
@@ -181,6 +186,7 @@ class Mission {
   double planning_since_s_ = -1.0;
   bool logged_no_grasp_ = false;
   bool holding_ = false;
+  bool retracting_ = false;  // the arms go home after a failed attempt
 
   // Safety.
   bool in_safe_volume_[2] = {false, false};
@@ -368,7 +374,9 @@ void Mission::Perception() {
   // Vision runs while the vehicle flies (the camera sees only the pad before).
   const VehicleMode mode = vehicle_.state();
   if (mode == VehicleMode::kIdle || mode == VehicleMode::kTakeOff) return;
-  if (global_.state() == GlobalState::kDone || global_.state() == GlobalState::kAborted) return;
+  // Nor once both grippers hold the object: nothing steers by it any more
+  // (the lift and the flight home, about 10 s of a 25 s mission).
+  if (global_.state() == GlobalState::kDone || global_.state() == GlobalState::kAborted || holding_) return;
 
   auto frame = std::make_shared<RgbdFrame>();
   const WallClock::time_point render_start = WallClock::now();
@@ -397,6 +405,7 @@ void Mission::Perception() {
 void Mission::HandlePerceived(Perceived p) {
   const double t = Now();
   ++result_.frames;
+  result_.global_registrations += p.report.global_init ? 1 : 0;
   perception_ms_.push_back(p.report.times.total_ms);
   estimate_ = p.report.estimate;
   const bool found = estimate_.valid && estimate_.state == TrackState::kFound;
@@ -650,6 +659,7 @@ bool Mission::StartPlan() {
   }
   logged_no_grasp_ = false;
   const DualGrasp& best = plan.ranked.front();
+  retracting_ = false;
   choice_ = {best.left.pair, best.right.pair};
   SetGrasps(best, query.dMo);
   for (int a = 0; a < 2; ++a) {
@@ -703,7 +713,10 @@ void Mission::Planner() {
     if (vision_.state() == VisionState::kFound && StartPlan()) {
       planning_since_s_ = -1.0;
     } else if (t - planning_since_s_ > config_.planning_timeout_s) {
-      global_.GiveUp(t, fmt::format("no feasible dual grasp within {:.0f} s", config_.planning_timeout_s));
+      global_.GiveUp(t, vision_.state() == VisionState::kFound
+                            ? fmt::format("no feasible dual grasp within {:.0f} s", config_.planning_timeout_s)
+                            : fmt::format("the object was not in view for {:.0f} s to plan again",
+                                          config_.planning_timeout_s));
     }
     return;
   }
@@ -741,6 +754,11 @@ void Mission::Planner() {
     reaims_ = 0;
     planner_sm_.Retry(t, retry);
     StopArms("attempt ended: " + retry);
+    // Out of the camera's view: held at their grasp poses the arms hide the
+    // object, which was then never seen again (every "no feasible grasp" end).
+    arms_.Move(t, "back home, out of the camera's view, to plan again");
+    retracting_ = true;
+    for (int a = 0; a < 2; ++a) servo_[a]->SetSeedHints({hw_->platform().home(kSides[a])});
     planning_since_s_ = t;
     return;
   }
@@ -839,6 +857,10 @@ void Mission::Servo() {
   const double t = Now();
   if (!arms_.commands_allowed() || global_.state() != GlobalState::kGrasping) return;
   const PlannerState state = planner_sm_.state();
+  if (retracting_ && state == PlannerState::kPlanning) {
+    Retract();
+    return;
+  }
   if (state != PlannerState::kServoing && state != PlannerState::kApproachPose && state != PlannerState::kGrasping) {
     return;
   }
@@ -883,6 +905,28 @@ void Mission::Servo() {
     }
     hw_->arms().SetJointTargets(side, command.joints.q_target_rad);
     hw_->arms().SetGripper(side, command.gripper);
+  }
+}
+
+void Mission::Retract() {
+  const double t = Now();
+  bool home = true;
+  for (int a = 0; a < 2; ++a) {
+    const Side side = kSides[a];
+    const ArmModel& arm = hw_->platform().arm(side);
+    servo_[a]->SetTarget(arm.ForwardKinematics(hw_->platform().home(side)), t);
+    ServoCommand command;
+    const ServoStatus status = servo_[a]->Step(q_[a], t, dt_s_, &command);
+    if (status == ServoStatus::kInvalidState) {
+      Emergency(fmt::format("{} arm: invalid joint readings", kArmNames[a]));
+      return;
+    }
+    hw_->arms().SetJointTargets(side, command.q_target_rad);
+    home = home && command.position_error_m < kHomeToleranceM;
+  }
+  if (home) {
+    retracting_ = false;
+    arms_.Hold(t, "home, out of the camera's view");
   }
 }
 

@@ -50,6 +50,7 @@ struct MissionResult {
   double wall_time_s = 0;
   double realtime_factor = 0;  ///< sim_time_s / wall_time_s
   int frames = 0;              ///< camera frames processed
+  int global_registrations = 0;  ///< frames on which the tracker searched the whole crop (no usable prior)
   double perception_ms_median = 0;  ///< thread CPU per frame
   double render_ms_median = 0;      ///< simulated camera: wall time per frame
 };

@@ -22,6 +22,9 @@ void PerceptionOptions::Validate() const {
   Require(min_support_ratio > 0.0 && min_support_ratio <= 1.0, "min_support_ratio", "must be in (0, 1]");
   Require(min_coverage > 0.0 && min_coverage <= 1.0, "min_coverage", "must be in (0, 1]");
   Require(min_cloud_points >= 10, "min_cloud_points", "must be >= 10");
+  Require(min_global_range_m >= 0.0 && min_global_range_m < max_global_range_m, "min_global_range_m",
+          "must be in [0, max_global_range_m) m");
+  Require(max_global_range_m <= 10.0, "max_global_range_m", "must be at most 10 m");
   Require(measurement_position_std_m > 0.0, "measurement_position_std_m", "must be > 0");
   Require(weak_direction_std_m >= 0.0 && weak_direction_std_m <= 1.0, "weak_direction_std_m", "must be in [0, 1] m");
   Require(measurement_rotation_std_rad > 0.0, "measurement_rotation_std_rad", "must be > 0");
@@ -196,7 +199,7 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
 
   // Pose measurement.
   if (report.cloud_points >= options_.min_cloud_points) {
-    const bool allow_global = !initial_cMo_ && (!ekf_.initialized() || monitor_.state() == TrackState::kLost);
+    bool allow_global = !initial_cMo_ && (!ekf_.initialized() || monitor_.state() == TrackState::kLost);
     // Where the object may be, for the global registration's orientation hypotheses.
     std::vector<Eigen::Vector3d> centres_c;
     if (report.detection) {
@@ -215,6 +218,15 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
         }
       }
     }
+    // Only where the object may be, at a range where the search can succeed.
+    const std::size_t centres = centres_c.size();
+    centres_c.erase(std::remove_if(centres_c.begin(), centres_c.end(),
+                                   [&](const Eigen::Vector3d& c) {
+                                     return c.norm() < options_.min_global_range_m ||
+                                            c.norm() > options_.max_global_range_m;
+                                   }),
+                    centres_c.end());
+    if (centres > 0 && centres_c.empty()) allow_global = false;
     report.measured = Measure(cloud, color, depth, depth_scale_m, K, prior, centres_c, allow_global, &report);
   }
 
@@ -254,9 +266,12 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
         }
       }
     }
-    initial_cMo_.reset();
     last_good_fMo_ = ekf_.cMo();
   }
+  // A given first pose serves this frame only, measured or not: kept, it
+  // would forbid the global registration for good once the object has moved
+  // away from it (the mission then never found a lost object again).
+  initial_cMo_.reset();
   const double confidence =
       report.measured ? std::min(1.0, report.support.ratio()) * std::min(1.0, report.support.coverage() / 0.5) *
                             (report.gated ? 0.5 : 1.0)

@@ -139,6 +139,52 @@ TEST(ObjectTrackerTest, KnownFirstPoseSkipsGlobalRegistration) {
   }
 }
 
+TEST(ObjectTrackerTest, AGivenPoseThatMissesServesOneFrameAndTheNextOneSearches) {
+  ObjectTracker tracker(ObjectModel::Load("crawler"), PerceptionOptions{}, nullptr);
+  // 0.25 m beside the object: no ICP from there finds it.
+  tracker.SetInitialPose(testing::Perturbed(TruthAt(0), {0.25, 0.0, 0.0}, {0.0, 0.0, 0.0}));
+  ColorImage color;
+  DepthImage depth;
+  Scene().Render(TruthAt(0), true, &color, &depth);
+  const FrameReport first = tracker.Process(color, depth, 0.0, Scene().K(), 0.001);
+  EXPECT_FALSE(first.global_init);  // the given pose stands in for the search
+  EXPECT_FALSE(first.measured);
+  TrackState state = first.estimate.state;
+  bool searched = false;
+  for (int k = 1; k < 6 && state != TrackState::kFound; ++k) {
+    Scene().Render(TruthAt(k), true, &color, &depth);
+    const FrameReport r = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001);
+    searched = searched || r.global_init;
+    state = r.estimate.state;
+  }
+  EXPECT_TRUE(searched) << "the given pose kept the global registration off";
+  EXPECT_EQ(state, TrackState::kFound);
+}
+
+TEST(ObjectTrackerTest, NoGlobalRegistrationForAnObjectOutsideItsRange) {
+  // The object 0.7 m away, the wall behind it 1.3 m (without a detector the
+  // search looks at cells all over the frame): searched with the default range
+  // (0.35-1.6 m), not with one that ends at 0.5 m or starts beyond the wall.
+  for (const auto& [min_m, max_m] : {std::pair{0.35, 1.6}, std::pair{0.1, 0.5}, std::pair{2.0, 3.0}}) {
+    PerceptionOptions options;
+    options.min_global_range_m = min_m;
+    options.max_global_range_m = max_m;
+    ObjectTracker tracker(ObjectModel::Load("crawler"), options, nullptr);
+    ColorImage color;
+    DepthImage depth;
+    Scene().Render(TruthAt(0), true, &color, &depth);
+    const FrameReport r = tracker.Process(color, depth, 0.0, Scene().K(), 0.001);
+    const bool in_range = min_m < 0.7 && 0.7 < max_m;
+    EXPECT_EQ(r.global_init, in_range) << min_m << "-" << max_m << " m";
+    if (!in_range) {
+      EXPECT_FALSE(r.measured);
+    }
+  }
+  PerceptionOptions bad;
+  bad.min_global_range_m = 2.0;  // above the maximum
+  EXPECT_THROW(ObjectTracker(ObjectModel::Load("crawler"), bad, nullptr), std::invalid_argument);
+}
+
 TEST(ObjectTrackerTest, LosesAHiddenObjectAndReacquiresItWithinFiveFrames) {
   ObjectTracker tracker(ObjectModel::Load("crawler"), PerceptionOptions{}, nullptr);
   tracker.SetInitialPose(TruthAt(0));
@@ -185,17 +231,22 @@ TEST(ObjectTrackerTest, AFrameWithoutTheObjectIsNeverFound) {
 
 TEST(ObjectTrackerTest, BadInputsGiveALostStateNotACrash) {
   ObjectTracker tracker(ObjectModel::Load("crawler"), PerceptionOptions{}, nullptr);
-  tracker.SetInitialPose(TruthAt(0));
   const CameraIntrinsics K;
   const ColorImage color(640, 480, 128);
   const DepthImage zero_depth(640, 480, 0);
+  // Each with the object's pose given (it serves one frame): bad input must
+  // not turn a good prior into a measurement.
+  const auto process = [&](const ColorImage& c, const DepthImage& d, double stamp_s, double scale) {
+    tracker.SetInitialPose(TruthAt(0));
+    return tracker.Process(c, d, stamp_s, K, scale);
+  };
   const std::vector<std::pair<const char*, FrameReport>> cases = {
-      {"empty images", tracker.Process(ColorImage{}, DepthImage{}, 0.0, K, 0.001)},
-      {"all-zero depth", tracker.Process(color, zero_depth, 0.1, K, 0.001)},
-      {"size mismatch", tracker.Process(ColorImage(320, 240, 0), zero_depth, 0.2, K, 0.001)},
-      {"NaN stamp", tracker.Process(color, DepthImage(640, 480, 700), std::nan(""), K, 0.001)},
-      {"zero depth scale", tracker.Process(color, DepthImage(640, 480, 700), 0.3, K, 0.0)},
-      {"flat depth", tracker.Process(color, DepthImage(640, 480, 700), 0.4, K, 0.001)},
+      {"empty images", process(ColorImage{}, DepthImage{}, 0.0, 0.001)},
+      {"all-zero depth", process(color, zero_depth, 0.1, 0.001)},
+      {"size mismatch", process(ColorImage(320, 240, 0), zero_depth, 0.2, 0.001)},
+      {"NaN stamp", process(color, DepthImage(640, 480, 700), std::nan(""), 0.001)},
+      {"zero depth scale", process(color, DepthImage(640, 480, 700), 0.3, 0.0)},
+      {"flat depth", process(color, DepthImage(640, 480, 700), 0.4, 0.001)},
   };
   for (const auto& [name, r] : cases) {
     EXPECT_FALSE(r.measured) << name;
