@@ -180,7 +180,6 @@ class Mission {
   bool has_reached_[2] = {false, false};    // solved since the pair was set
   double reached_stamp_s_[2] = {0.0, 0.0};  // when reached_q_grasp_ was last solved
   ArmGrasp solved_[2];                      // this cycle's solution (SolveFollowed)
-
   bool switch_pending_[2] = {false, false};
   ServoStatus last_status_[2] = {ServoStatus::kNoTarget, ServoStatus::kNoTarget};
   double planning_since_s_ = -1.0;
@@ -628,11 +627,8 @@ bool Mission::AimFreeArm(int holding) {
   (free == 0 ? choice_.left_pair : choice_.right_pair) = best->pair;
   (holding == 0 ? choice_.left_pair : choice_.right_pair) = -1;  // the holding arm is not re-solved
   const ArmModel& arm = hw_->platform().arm(kSides[free]);
-  const Eigen::Isometry3d oMb = query.dMo.inverse() * hw_->platform().dMb(kSides[free]);
   reached_q_grasp_[free] = best->q_grasp;
   reached_stamp_s_[free] = t;
-  oMg_[free] = oMb * arm.ForwardKinematics(best->q_grasp);
-  oMp_[free] = oMb * arm.ForwardKinematics(best->q_precatch);
   reached_bMg_[free] = arm.ForwardKinematics(best->q_grasp);
   reached_bMp_[free] = arm.ForwardKinematics(best->q_precatch);
   has_reached_[free] = true;
@@ -754,8 +750,8 @@ void Mission::Planner() {
     reaims_ = 0;
     planner_sm_.Retry(t, retry);
     StopArms("attempt ended: " + retry);
-    // Out of the camera's view: held at their grasp poses the arms hide the
-    // object, which was then never seen again (every "no feasible grasp" end).
+    // Held at their grasp poses the arms hide part of the object from the
+    // camera; home, they are out of its view for the next search and plan.
     arms_.Move(t, "back home, out of the camera's view, to plan again");
     retracting_ = true;
     for (int a = 0; a < 2; ++a) servo_[a]->SetSeedHints({hw_->platform().home(kSides[a])});
@@ -801,7 +797,6 @@ void Mission::Reevaluate() {
   next_reevaluate_s_ = t + 1.0 / config_.reevaluate_rate_hz;
   if (reevaluating_.valid()) {
     const SwitchDecision decision = reevaluating_.get();
-
     const bool closing = sequence_[0]->phase() == GraspPhase::kClose || sequence_[0]->phase() == GraspPhase::kDone ||
                          sequence_[1]->phase() == GraspPhase::kClose || sequence_[1]->phase() == GraspPhase::kDone;
     // A pair unreachable at one re-evaluation may be reachable at the next (the
@@ -834,7 +829,6 @@ void Mission::Reevaluate() {
 }
 
 // ---- Servo and safety ---------------------------------------------------------------
-
 
 bool Mission::SolveFollowed(int a, const Eigen::Isometry3d& dMo) {
   const double t = Now();
