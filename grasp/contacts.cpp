@@ -190,11 +190,12 @@ bool ContactsClearOfEdges(const TriangleMesh& mesh_o, const ContactPair& pair, d
   constexpr double kToleranceM = 0.005;
   const Eigen::Vector3d along = Eigen::Vector3d::Unit(pair.axis);
   const double a = pair.a.p_o[pair.axis], b = pair.b.p_o[pair.axis];
+  const double outside = mesh_o.BoundsMin()[pair.axis] - 0.01;  // the rays start outside the object
   for (int k = 1; k <= 2; ++k) {
     const Eigen::Vector3d across = Eigen::Vector3d::Unit((pair.axis + k) % 3);
     for (double sign : {-1.0, 1.0}) {
       Eigen::Vector3d origin = pair.center_o() + sign * margin_m * across;
-      origin[pair.axis] = mesh_o.BoundsMin()[pair.axis] - 0.01;  // outside the object
+      origin[pair.axis] = outside;
       const std::vector<double> hits = IntersectRay(mesh_o, origin, along);
       // From outside a closed mesh the crossings alternate: entry, exit, ...
       bool entry = false, kept = false;

@@ -195,7 +195,6 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
       ++stats.candidates;
       if (EvaluateArm(side, i, query.dMo, q, &grasp, &why)) {
         grasp.robust = Robust(side, i, query.dMo, q);
-        grasp.clear_of_edges = clear_of_edges_[i];
         feasible.push_back(grasp);
       }
       ++stats.by_reason[static_cast<int>(why)];
