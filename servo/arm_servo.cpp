@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "core/config.h"
 #include "core/transforms.h"
@@ -28,6 +29,7 @@ void ServoConfig::Validate(const std::string& source) const {
   CheckRange(source, "servo.retarget_rad", retarget_rad, 0.0, M_PI, "rad");
   CheckRange(source, "servo.unreachable_retry_s", unreachable_retry_s, 0.0, 60.0, "s");
   CheckRange(source, "servo.path_check_step_rad", path_check_step_rad, 1e-6, 1.0, "rad");
+  CheckRange(source, "servo.random_vias", random_vias, 0, 1000, "");
   ik.Validate(source, "servo.ik");
 }
 
@@ -66,6 +68,14 @@ ArmServo::ArmServo(const ArmModel& arm, const ServoConfig& config, ForbiddenPred
   }
   via_ = config_.via_rad.empty() ? std::vector<Eigen::VectorXd>{arm_.Clamp(Eigen::VectorXd::Zero(arm_.dof()))}
                                  : config_.via_rad;
+  std::mt19937 rng(7);
+  for (int v = 0; v < config_.random_vias; ++v) {
+    Eigen::VectorXd via(arm_.dof());
+    for (int i = 0; i < arm_.dof(); ++i) {
+      via[i] = std::uniform_real_distribution<double>(arm_.lower_limits()[i], arm_.upper_limits()[i])(rng);
+    }
+    via_.push_back(via);
+  }
   Reset();
 }
 
@@ -134,11 +144,18 @@ bool ArmServo::UpdateJointGoal(const Eigen::VectorXd& q, double now_s) {
     if (hint.size() == q.size()) seeds.push_back(hint);
   }
   int via = -1;
+  std::vector<signed char> to_via(via_.size(), -1);  // PathAllowed(q, via_[v]), once per search
+  std::vector<Eigen::VectorXd> refused;  // goals found again from other seeds are not checked again
   const auto reachable = [&](const Eigen::VectorXd& q_star) {
     via = -1;
+    for (const Eigen::VectorXd& r : refused) {
+      if ((r - q_star).cwiseAbs().maxCoeff() <= config_.path_check_step_rad) return false;
+    }
+    refused.push_back(q_star);
     if (PathAllowed(q, q_star)) return true;
     for (std::size_t v = 0; v < via_.size(); ++v) {
-      if (PathAllowed(q, via_[v]) && PathAllowed(via_[v], q_star)) {
+      if (to_via[v] < 0) to_via[v] = PathAllowed(q, via_[v]);
+      if (to_via[v] && PathAllowed(via_[v], q_star)) {
         via = static_cast<int>(v);
         return true;
       }

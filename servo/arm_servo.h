@@ -58,6 +58,10 @@ struct ServoConfig {
   /// Empty: the zero configuration clamped into the limits (for the shipped
   /// arms: hanging straight down, the farthest from the safe volume).
   std::vector<Eigen::VectorXd> via_rad{};
+  /// Further via configurations drawn uniformly within the limits (fixed seed,
+  /// once), tried after via_rad: ways around the other arm where the fixed
+  /// ones pass through it.
+  int random_vias{16};                 ///< [0, 1000]
   /// Spacing of the forbidden-predicate checks along the straight path to q*.
   double path_check_step_rad{0.02};    ///< (0, 1] rad
   ApproachIkOptions ik{};                      ///< the joint-goal search
