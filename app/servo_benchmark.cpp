@@ -109,15 +109,6 @@ struct KdlArm {
   }
 };
 
-/// A random joint vector uniformly within the limits.
-Eigen::VectorXd RandomJoints(const ArmModel& arm, std::mt19937* rng) {
-  Eigen::VectorXd q(arm.dof());
-  for (int i = 0; i < arm.dof(); ++i) {
-    q[i] = std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(*rng);
-  }
-  return q;
-}
-
 struct Pair {
   Eigen::VectorXd q[2];
 };
@@ -128,8 +119,8 @@ Pair RandomAllowedPair(const Platform& platform, const PlatformCollision& collis
                        double margin_m, std::mt19937* rng) {
   Pair p;
   for (int attempt = 0; attempt < 1000; ++attempt) {
-    p.q[0] = RandomJoints(platform.arm(Side::kLeft), rng);
-    p.q[1] = RandomJoints(platform.arm(Side::kRight), rng);
+    p.q[0] = DrawJointsWithinLimits(platform.arm(Side::kLeft), rng);
+    p.q[1] = DrawJointsWithinLimits(platform.arm(Side::kRight), rng);
     if (!collision.ArmInSafeVolume(Side::kLeft, p.q[0], margin_m) &&
         !collision.ArmInSafeVolume(Side::kRight, p.q[1], margin_m) &&
         !collision.ArmsCollide(p.q[0], p.q[1], margin_m)) {
@@ -169,7 +160,7 @@ struct DualServo {
 /// Throws unless the KDL chain's forward kinematics matches ArmModel's.
 void CheckKdlChain(const ArmModel& arm, KdlArm* kdl, std::mt19937* rng) {
   for (int k = 0; k < 20; ++k) {
-    const Eigen::VectorXd q = RandomJoints(arm, rng);
+    const Eigen::VectorXd q = DrawJointsWithinLimits(arm, rng);
     KDL::Frame f;
     kdl->fk->JntToCart(ToJnt(q), f);
     const PoseError d = ComparePoses(FromKdl(f), arm.ForwardKinematics(q));
@@ -377,7 +368,7 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
       dual.Restart(platform, collision, options.margin_m, start.q);
       for (int a = 0; a < 2; ++a) {
         for (int h = 0; h < 2; ++h) {
-          bMg[h][a] = platform.arm(kSides[a]).ForwardKinematics(RandomJoints(platform.arm(kSides[a]), &rng));
+          bMg[h][a] = platform.arm(kSides[a]).ForwardKinematics(DrawJointsWithinLimits(platform.arm(kSides[a]), &rng));
         }
       }
       for (int k = 0; k < safety_steps; ++k) {

@@ -69,13 +69,7 @@ ArmServo::ArmServo(const ArmModel& arm, const ServoConfig& config, ForbiddenPred
   via_ = config_.via_rad.empty() ? std::vector<Eigen::VectorXd>{arm_.Clamp(Eigen::VectorXd::Zero(arm_.dof()))}
                                  : config_.via_rad;
   std::mt19937 rng(7);
-  for (int v = 0; v < config_.random_vias; ++v) {
-    Eigen::VectorXd via(arm_.dof());
-    for (int i = 0; i < arm_.dof(); ++i) {
-      via[i] = std::uniform_real_distribution<double>(arm_.lower_limits()[i], arm_.upper_limits()[i])(rng);
-    }
-    via_.push_back(via);
-  }
+  for (int v = 0; v < config_.random_vias; ++v) via_.push_back(DrawJointsWithinLimits(arm_, &rng));
   Reset();
 }
 
