@@ -109,15 +109,6 @@ struct KdlArm {
   }
 };
 
-/// A random joint vector uniformly within the limits.
-Eigen::VectorXd RandomJoints(const ArmModel& arm, std::mt19937* rng) {
-  Eigen::VectorXd q(arm.dof());
-  for (int i = 0; i < arm.dof(); ++i) {
-    q[i] = std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(*rng);
-  }
-  return q;
-}
-
 struct Pair {
   Eigen::VectorXd q[2];
 };
@@ -128,8 +119,8 @@ Pair RandomAllowedPair(const Platform& platform, const PlatformCollision& collis
                        double margin_m, std::mt19937* rng) {
   Pair p;
   for (int attempt = 0; attempt < 1000; ++attempt) {
-    p.q[0] = RandomJoints(platform.arm(Side::kLeft), rng);
-    p.q[1] = RandomJoints(platform.arm(Side::kRight), rng);
+    p.q[0] = DrawJointsWithinLimits(platform.arm(Side::kLeft), rng);
+    p.q[1] = DrawJointsWithinLimits(platform.arm(Side::kRight), rng);
     if (!collision.ArmInSafeVolume(Side::kLeft, p.q[0], margin_m) &&
         !collision.ArmInSafeVolume(Side::kRight, p.q[1], margin_m) &&
         !collision.ArmsCollide(p.q[0], p.q[1], margin_m)) {
@@ -143,14 +134,16 @@ Pair RandomAllowedPair(const Platform& platform, const PlatformCollision& collis
 constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
 
 /// Both arms' joints and servos; each servo's forbidden predicate is the safe
-/// volume and the other arm at its joints q[other].
+/// volume and the other arm at its joints q[other], and they share a right of way.
 struct DualServo {
   Eigen::VectorXd q[2];
+  RightOfWay right_of_way;
   std::unique_ptr<ArmServo> servo[2];
 
   /// Fresh servos (no goal, no motion history) with the arms at `start`.
   void Restart(const Platform& platform, const PlatformCollision& collision, double margin_m,
                const Eigen::VectorXd (&start)[2]) {
+    right_of_way = RightOfWay{};
     for (int a = 0; a < 2; ++a) {
       q[a] = start[a];
       // Via configurations: hanging straight down, and home.
@@ -158,7 +151,8 @@ struct DualServo {
       ServoConfig config;
       config.via_rad = {arm.Clamp(Eigen::VectorXd::Zero(arm.dof())), platform.home(kSides[a])};
       servo[a] = std::make_unique<ArmServo>(
-          arm, config, MakeCollisionPredicate(collision, kSides[a], margin_m, &q[1 - a]));
+          arm, config, MakeCollisionPredicate(collision, kSides[a], margin_m, &q[1 - a]),
+          &right_of_way, a);
     }
   }
 };
@@ -166,7 +160,7 @@ struct DualServo {
 /// Throws unless the KDL chain's forward kinematics matches ArmModel's.
 void CheckKdlChain(const ArmModel& arm, KdlArm* kdl, std::mt19937* rng) {
   for (int k = 0; k < 20; ++k) {
-    const Eigen::VectorXd q = RandomJoints(arm, rng);
+    const Eigen::VectorXd q = DrawJointsWithinLimits(arm, rng);
     KDL::Frame f;
     kdl->fk->JntToCart(ToJnt(q), f);
     const PoseError d = ComparePoses(FromKdl(f), arm.ForwardKinematics(q));
@@ -175,6 +169,28 @@ void CheckKdlChain(const ArmModel& arm, KdlArm* kdl, std::mt19937* rng) {
                              std::to_string(d.translation_m) + " m, " + std::to_string(d.rotation_rad) + " rad");
     }
   }
+}
+
+/// Why arm a did not converge in a trial, from the end state of both arms: its
+/// last status, whether it was still moving, and what the other arm's joints
+/// q[1 - a] block (the sampled goal q_goal[a], or the servo's own joint goal),
+/// and whether the other arm reached its own target.
+std::string ClassifyFailure(const PlatformCollision& collision, int a, ServoStatus status,
+                            const ServoCommand& cmd, int still_steps, const Eigen::VectorXd (&q)[2],
+                            const Eigen::VectorXd& q_goal_sampled, bool other_done, double margin_m) {
+  const auto collide = [&](const Eigen::VectorXd& q_a, const Eigen::VectorXd& q_b) {
+    return a == 0 ? collision.ArmsCollide(q_a, q_b, margin_m) : collision.ArmsCollide(q_b, q_a, margin_m);
+  };
+  std::string why = ServoStatusName(status);
+  if (status == ServoStatus::kMoving) why = still_steps > 50 ? "stalled" : "still moving";
+  const bool has_goal = cmd.q_goal_rad.size() == q_goal_sampled.size();
+  if (!has_goal) {
+    why += ", no joint goal";
+  } else if (collide(cmd.q_goal_rad, q[1 - a])) {
+    why += ", its joint goal blocked by the other arm";
+  }
+  if (collide(q_goal_sampled, q[1 - a])) why += ", the sampled goal blocked by the other arm";
+  return why + (other_done ? "; the other arm at its target" : "; the other arm not at its target");
 }
 
 struct Entries {
@@ -211,7 +227,7 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
   for (int a = 0; a < 2; ++a) CheckKdlChain(platform.arm(kSides[a]), &kdl[a], &rng);
   std::vector<double> step_us, kdl_solve_us, kdl_step_us;
   std::vector<double> iterations;
-  std::map<std::string, int> failures;
+  std::map<std::string, int> failures, failure_classes;
   int converged[2] = {0, 0}, converged_with_roll = 0, kdl_converged = 0, targets = 0;
   Entries entries;
   fmt::print(out, "[{}] {} convergence trials (2 targets each) from {}\n", name, options.trials,
@@ -229,6 +245,8 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
     int done_at[2] = {-1, -1};
     bool roll_met[2] = {false, false};
     ServoStatus last_status[2] = {ServoStatus::kMoving, ServoStatus::kMoving};
+    ServoCommand last_cmd[2];
+    int still_steps[2] = {0, 0};
     dual.Restart(platform, collision, options.margin_m, start.q);
     for (int a = 0; a < 2; ++a) bMg[a] = platform.arm(kSides[a]).ForwardKinematics(goal.q[a]);
     for (int k = 0; k < steps && (done_at[0] < 0 || done_at[1] < 0); ++k) {
@@ -246,6 +264,8 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
           roll_met[a] = with_roll.Met(cmd[a].error);
         }
         dual.q[a] = cmd[a].q_target_rad;  // an ideal arm follows its targets
+        still_steps[a] = cmd[a].dq_rad_s.cwiseAbs().maxCoeff() < 1e-3 ? still_steps[a] + 1 : 0;
+        last_cmd[a] = cmd[a];
       }
       entries.Check(collision, dual.q);
     }
@@ -257,6 +277,8 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
         iterations.push_back(done_at[a]);
       } else {
         ++failures[ServoStatusName(last_status[a])];
+        ++failure_classes[ClassifyFailure(collision, a, last_status[a], last_cmd[a], still_steps[a],
+                                          dual.q, goal.q[a], done_at[1 - a] >= 0, options.margin_m)];
       }
       // The same target by KDL from the same start.
       KdlArm& solver = kdl[a];
@@ -300,6 +322,7 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
   result["arm_collision_entries"] = entries.arms;
   result["commands"] = entries.commands;
   result["failures"] = failures;
+  result["failure_classes"] = failure_classes;
   result["kdl_convergence_rate"] = targets ? double(kdl_converged) / targets : 0.0;
   result["kdl_solve_us"] = Percentile(kdl_solve_us, 0.5);
   result["kdl_step_us"] = Percentile(kdl_step_us, 0.5);
@@ -316,6 +339,7 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
              100.0 * result["convergence_rate_with_roll"].get<double>(),
              result["median_iterations"].get<double>(), result["p95_iterations"].get<double>());
   for (const auto& [status, count] : failures) fmt::print(out, "[{}]   not converged, last status '{}': {}\n", name, status, count);
+  for (const auto& [why, count] : failure_classes) fmt::print(out, "[{}]     {}: {}\n", name, why, count);
   fmt::print(out, "[{}] step both arms: median {:.1f} us, p99 {:.1f} us, max {:.1f} us\n", name,
              result["step_us_both_arms"].get<double>(), result["step_us_both_arms_p99"].get<double>(),
              result["step_us_both_arms_max"].get<double>());
@@ -344,7 +368,7 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
       dual.Restart(platform, collision, options.margin_m, start.q);
       for (int a = 0; a < 2; ++a) {
         for (int h = 0; h < 2; ++h) {
-          bMg[h][a] = platform.arm(kSides[a]).ForwardKinematics(RandomJoints(platform.arm(kSides[a]), &rng));
+          bMg[h][a] = platform.arm(kSides[a]).ForwardKinematics(DrawJointsWithinLimits(platform.arm(kSides[a]), &rng));
         }
       }
       for (int k = 0; k < safety_steps; ++k) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "core/config.h"
 #include "core/transforms.h"
@@ -28,6 +29,7 @@ void ServoConfig::Validate(const std::string& source) const {
   CheckRange(source, "servo.retarget_rad", retarget_rad, 0.0, M_PI, "rad");
   CheckRange(source, "servo.unreachable_retry_s", unreachable_retry_s, 0.0, 60.0, "s");
   CheckRange(source, "servo.path_check_step_rad", path_check_step_rad, 1e-6, 1.0, "rad");
+  CheckRange(source, "servo.random_vias", random_vias, 0, 1000, "");
   ik.Validate(source, "servo.ik");
 }
 
@@ -44,13 +46,19 @@ const char* ServoStatusName(ServoStatus status) {
   return "?";
 }
 
-ArmServo::ArmServo(const ArmModel& arm, const ServoConfig& config, ForbiddenPredicate forbidden)
+ArmServo::ArmServo(const ArmModel& arm, const ServoConfig& config, ForbiddenPredicate forbidden,
+                   RightOfWay* right_of_way, int seat)
     : arm_(arm),
       config_(config),
       forbidden_(std::move(forbidden)),
+      right_of_way_(right_of_way),
+      seat_(seat),
       pbvs_(config.gain_per_s),
       ik_(arm, config.ik, config.orientation_weights) {
   config_.Validate("servo config");
+  if (seat_ != 0 && seat_ != 1) {
+    throw ConfigError("servo config: right-of-way seat " + std::to_string(seat_) + " must be 0 or 1");
+  }
   for (std::size_t v = 0; v < config_.via_rad.size(); ++v) {
     if (!arm_.WithinLimits(config_.via_rad[v])) {
       throw ConfigError("servo config: servo.via_rad[" + std::to_string(v) +
@@ -60,6 +68,8 @@ ArmServo::ArmServo(const ArmModel& arm, const ServoConfig& config, ForbiddenPred
   }
   via_ = config_.via_rad.empty() ? std::vector<Eigen::VectorXd>{arm_.Clamp(Eigen::VectorXd::Zero(arm_.dof()))}
                                  : config_.via_rad;
+  std::mt19937 rng(7);
+  for (int v = 0; v < config_.random_vias; ++v) via_.push_back(DrawJointsWithinLimits(arm_, &rng));
   Reset();
 }
 
@@ -68,6 +78,7 @@ void ArmServo::Reset() {
   switch_dq_ = Eigen::VectorXd::Zero(arm_.dof());
   switch_time_s_ = -1.0;
   switch_pending_ = false;
+  making_way_ = false;
 }
 
 void ArmServo::SetTarget(const Eigen::Isometry3d& bMg, double stamp_s, bool is_switch) {
@@ -127,11 +138,18 @@ bool ArmServo::UpdateJointGoal(const Eigen::VectorXd& q, double now_s) {
     if (hint.size() == q.size()) seeds.push_back(hint);
   }
   int via = -1;
+  std::vector<signed char> to_via(via_.size(), -1);  // PathAllowed(q, via_[v]), once per search
+  std::vector<Eigen::VectorXd> refused;  // goals found again from other seeds are not checked again
   const auto reachable = [&](const Eigen::VectorXd& q_star) {
     via = -1;
+    for (const Eigen::VectorXd& r : refused) {
+      if ((r - q_star).cwiseAbs().maxCoeff() <= config_.path_check_step_rad) return false;
+    }
+    refused.push_back(q_star);
     if (PathAllowed(q, q_star)) return true;
     for (std::size_t v = 0; v < via_.size(); ++v) {
-      if (PathAllowed(q, via_[v]) && PathAllowed(via_[v], q_star)) {
+      if (to_via[v] < 0) to_via[v] = PathAllowed(q, via_[v]);
+      if (to_via[v] && PathAllowed(via_[v], q_star)) {
         via = static_cast<int>(v);
         return true;
       }
@@ -163,8 +181,13 @@ Eigen::VectorXd ArmServo::Limit(const Eigen::VectorXd& q, Eigen::VectorXd dq, do
     if (std::abs(dq[i]) > vmax) *scale = std::min(*scale, vmax / std::abs(dq[i]));
   }
   dq *= *scale;
+  // The change is scaled as a whole, not clamped joint by joint: from rest the
+  // step then keeps the direction of the straight joint path that was checked
+  // against the forbidden region (a clamped one bends off it and, next to the
+  // other arm, into it).
   const double max_change = config_.max_accel_rad_s2 * dt_s;
-  dq = last_dq_ + (dq - last_dq_).cwiseMax(-max_change).cwiseMin(max_change);
+  const double change = (dq - last_dq_).cwiseAbs().maxCoeff();
+  if (change > max_change) dq = last_dq_ + (dq - last_dq_) * (max_change / change);
   // Never step past a joint limit.
   for (int i = 0; i < arm_.dof(); ++i) {
     const double next = q[i] + dq[i] * dt_s;
@@ -184,8 +207,34 @@ ServoStatus ArmServo::Hold(const Eigen::VectorXd& q, ServoStatus status, ServoCo
   return status;
 }
 
-ServoStatus ArmServo::Step(const Eigen::VectorXd& q, double now_s, double dt_s,
-                           ServoCommand* out) {
+bool ArmServo::MakeWay(const Eigen::VectorXd& q, double now_s, double to_target_m) {
+  if (!right_of_way_ || !right_of_way_->ShouldYield(seat_, now_s, to_target_m, config_.stale_target_s)) {
+    return false;
+  }
+  for (const Eigen::VectorXd& via : via_) {
+    if ((via - q).cwiseAbs().maxCoeff() > config_.guide_near_rad && PathAllowed(q, via)) {
+      making_way_ = true;
+      has_goal_ = false;
+      has_via_ = true;
+      via_q_ = via;
+      return true;
+    }
+  }
+  return false;
+}
+
+ServoStatus ArmServo::Step(const Eigen::VectorXd& q, double now_s, double dt_s, ServoCommand* out) {
+  const ServoStatus status = Command(q, now_s, dt_s, out);
+  if (right_of_way_ && std::isfinite(now_s)) {
+    right_of_way_->Post(seat_, now_s,
+                        status == ServoStatus::kUnreachable || status == ServoStatus::kSafeVolume,
+                        out->position_error_m);
+  }
+  return status;
+}
+
+ServoStatus ArmServo::Command(const Eigen::VectorXd& q, double now_s, double dt_s,
+                              ServoCommand* out) {
   const int n = arm_.dof();
   if (q.size() != n || !q.allFinite()) {
     return Hold(last_good_q_.size() == n ? last_good_q_ : Eigen::VectorXd::Zero(n),
@@ -204,7 +253,12 @@ ServoStatus ArmServo::Step(const Eigen::VectorXd& q, double now_s, double dt_s,
   out->position_error_m = error.translation_m;
   out->rotation_error_rad = error.rotation_rad;
   out->error = ComputeApproachError(bMe, bMg_);
-  if (!UpdateJointGoal(q, now_s)) return Hold(q, ServoStatus::kUnreachable, out);
+  if (making_way_ && (via_q_ - q).cwiseAbs().maxCoeff() <= config_.guide_near_rad) {
+    making_way_ = has_via_ = has_failed_ = false;  // out of the way: search again from here
+  }
+  if (!making_way_ && !UpdateJointGoal(q, now_s) && !MakeWay(q, now_s, error.translation_m)) {
+    return Hold(q, ServoStatus::kUnreachable, out);
+  }
   const Eigen::Matrix<double, 6, 1> twist = pbvs_.Twist(bMe, bMg_);
 
   // Joint weights for limit avoidance (weighted least norm): a joint inside the
@@ -251,7 +305,7 @@ ServoStatus ArmServo::Step(const Eigen::VectorXd& q, double now_s, double dt_s,
   const Eigen::VectorXd dq_joint = (q_next - q) * (has_via_ ? 1.0 / dt_s : config_.gain_per_s);
   dq = (1.0 - guide) * dq + guide * dq_joint;
   out->guide_weight = guide;
-  out->q_goal_rad = q_goal_;
+  out->q_goal_rad = has_goal_ ? q_goal_ : Eigen::VectorXd();
 
   // Continuous sequencing at a grasp switch: the old command fades out.
   if (switch_pending_) {  // first step after a switch: fade what differs from the new command
@@ -270,7 +324,11 @@ ServoStatus ArmServo::Step(const Eigen::VectorXd& q, double now_s, double dt_s,
 
   // The forbidden region: shorten the step until it is allowed; failing that,
   // step along the straight joint path to q* (checked when q* was chosen)
-  // instead of the blend; failing that too, hold.
+  // instead of the blend; failing that too, hold. An arm already inside the
+  // region (the other arm moved in within the margin while both stepped) may
+  // take the straight-path step when the path leaves the region within one
+  // check step (as PathAllowed, which skips q itself): else it could never
+  // back out, and the two arms would hold each other up.
   double step = 1.0;
   if (forbidden_) {
     const auto shorten = [&](const Eigen::VectorXd& dq_try) {
@@ -279,14 +337,19 @@ ServoStatus ArmServo::Step(const Eigen::VectorXd& q, double now_s, double dt_s,
       }
       return false;
     };
+    const auto leaves = [&](const Eigen::VectorXd& dq_try) {
+      const double length = (dq_try * dt_s).cwiseAbs().maxCoeff();
+      step = 1.0;
+      return length > 0.0 && forbidden_(q) &&
+             !forbidden_(q + dq_try * (dt_s * config_.path_check_step_rad / length));
+    };
     if (!shorten(dq)) {
       dq = Limit(q, dq_joint, dt_s, &scale);
-      if (!shorten(dq)) {
+      if (!shorten(dq) && !leaves(dq)) {
         // The path checked when q* was chosen is blocked now (the other arm
         // moved in, or a dip between the path's samples): search again after
         // unreachable_retry_s, from here, via points included.
-        has_goal_ = false;
-        has_via_ = false;
+        has_goal_ = has_via_ = making_way_ = false;
         has_failed_ = true;
         failed_bMg_ = bMg_;
         failed_at_s_ = now_s;

@@ -13,6 +13,8 @@
 // q* the servo moves along that path (joint limits are a box, so a straight
 // joint path never leaves them), near it the PBVS law takes over and tracks the
 // target as vision updates it. q* follows a moving target by warm-started IK.
+// Two arms that hold each other up share a RightOfWay (servo/right_of_way.h):
+// the one farther from its target backs off to a via configuration.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -24,6 +26,7 @@
 #include "servo/dls.h"
 #include "servo/ik.h"
 #include "servo/pbvs.h"
+#include "servo/right_of_way.h"
 
 namespace aerograsp {
 
@@ -55,6 +58,10 @@ struct ServoConfig {
   /// Empty: the zero configuration clamped into the limits (for the shipped
   /// arms: hanging straight down, the farthest from the safe volume).
   std::vector<Eigen::VectorXd> via_rad{};
+  /// Further via configurations drawn uniformly within the limits (fixed seed,
+  /// once), tried after via_rad: ways around the other arm where the fixed
+  /// ones pass through it.
+  int random_vias{16};                 ///< [0, 1000]
   /// Spacing of the forbidden-predicate checks along the straight path to q*.
   double path_check_step_rad{0.02};    ///< (0, 1] rad
   ApproachIkOptions ik{};                      ///< the joint-goal search
@@ -93,9 +100,15 @@ using ForbiddenPredicate = std::function<bool(const Eigen::VectorXd& q)>;
 
 class ArmServo {
  public:
-  /// `arm` must outlive the servo. @throws ConfigError when config is invalid
-  /// or a via configuration does not fit the arm.
-  ArmServo(const ArmModel& arm, const ServoConfig& config, ForbiddenPredicate forbidden = {});
+  /// `arm` must outlive the servo. `forbidden` usually includes the other arm
+  /// (servo/collision_predicate.h); then pass the RightOfWay the other arm's
+  /// servo shares, and this arm's seat in it (0 or 1; the other arm has the
+  /// other seat), so that the arms never hold each other up for good.
+  /// `right_of_way` (when not null) must outlive the servo.
+  /// @throws ConfigError when config is invalid, a via configuration does not
+  /// fit the arm or the seat is not 0 or 1.
+  ArmServo(const ArmModel& arm, const ServoConfig& config, ForbiddenPredicate forbidden = {},
+           RightOfWay* right_of_way = nullptr, int seat = 0);
 
   /// Forget motion history: the next command starts from rest.
   void Reset();
@@ -109,7 +122,9 @@ class ArmServo {
   void SetSeedHints(std::vector<Eigen::VectorXd> q_hints) { hints_ = std::move(q_hints); }
   /// One cycle at time now_s with measured joints q and period dt_s (> 0).
   /// Never throws; on any hold status dq is zero and q_target is q (or the last
-  /// good q when q itself is invalid).
+  /// good q when q itself is invalid). With a RightOfWay, an arm held as
+  /// kUnreachable while the other arm is held too may instead make way: it
+  /// moves (kMoving) to a via configuration and searches again from there.
   ServoStatus Step(const Eigen::VectorXd& q, double now_s, double dt_s, ServoCommand* out);
 
   const ArmModel& arm() const { return arm_; }
@@ -117,6 +132,12 @@ class ArmServo {
 
  private:
   ServoStatus Hold(const Eigen::VectorXd& q, ServoStatus status, ServoCommand* out);
+  /// Step() before the post to the RightOfWay.
+  ServoStatus Command(const Eigen::VectorXd& q, double now_s, double dt_s, ServoCommand* out);
+  /// Makes way for the other arm when the RightOfWay says so: heads for the
+  /// first via configuration away from q with an allowed path; false when it
+  /// need not or cannot.
+  bool MakeWay(const Eigen::VectorXd& q, double now_s, double to_target_m);
   /// Updates q* (and the via point) for the current target; false when there
   /// is none (unreachable).
   bool UpdateJointGoal(const Eigen::VectorXd& q, double now_s);
@@ -130,6 +151,8 @@ class ArmServo {
   const ArmModel& arm_;
   ServoConfig config_;
   ForbiddenPredicate forbidden_;
+  RightOfWay* right_of_way_;
+  int seat_;
   PbvsTask pbvs_;
   ApproachIk ik_;
   bool has_target_ = false;
@@ -145,6 +168,7 @@ class ArmServo {
   Eigen::VectorXd q_goal_;
   Eigen::Isometry3d goal_bMg_ = Eigen::Isometry3d::Identity();
   bool has_via_ = false;
+  bool making_way_ = false;  // heading for via_q_ without a goal, to let the other arm pass
   Eigen::VectorXd via_q_;
   std::vector<Eigen::VectorXd> via_;
   std::vector<Eigen::VectorXd> hints_;

@@ -26,6 +26,14 @@ ApproachError ComputeApproachError(const Eigen::Isometry3d& bMe, const Eigen::Is
   return error;
 }
 
+Eigen::VectorXd DrawJointsWithinLimits(const ArmModel& arm, std::mt19937* rng) {
+  Eigen::VectorXd q(arm.dof());
+  for (int i = 0; i < arm.dof(); ++i) {
+    q[i] = std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(*rng);
+  }
+  return q;
+}
+
 void PoseTolerance::Validate(const std::string& source, const std::string& key) const {
   CheckRange(source, key + ".position_m", position_m, 1e-9, 1.0, "m");
   CheckRange(source, key + ".approach_rad", approach_rad, 1e-9, M_PI, "rad");
@@ -151,15 +159,8 @@ ApproachIkResult ApproachIk::Search(const Eigen::Isometry3d& bMg, const std::vec
   std::mt19937 rng(rng_seed);
   const int total = static_cast<int>(seeds.size()) + options_.random_seeds;
   for (int s = 0; s < total; ++s) {
-    Eigen::VectorXd seed(n);
-    if (s < static_cast<int>(seeds.size())) {
-      seed = seeds[s];
-    } else {
-      for (int i = 0; i < n; ++i) {
-        seed[i] = std::uniform_real_distribution<double>(arm_.lower_limits()[i],
-                                                         arm_.upper_limits()[i])(rng);
-      }
-    }
+    const Eigen::VectorXd seed =
+        s < static_cast<int>(seeds.size()) ? seeds[s] : DrawJointsWithinLimits(arm_, &rng);
     if (seed.size() != n || !seed.allFinite()) continue;
     ApproachIkResult result = SolveFrom(bMg, seed, options_.iterations_per_seed);
     iterations += result.iterations;

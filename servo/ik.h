@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <functional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,9 @@ struct ApproachError {
 };
 /// Both poses must be rigid transforms. At z_e = -z_g the swing turns about x_e.
 ApproachError ComputeApproachError(const Eigen::Isometry3d& bMe, const Eigen::Isometry3d& bMg);
+
+/// Joint positions (rad) drawn uniformly within the arm's limits, joint by joint.
+Eigen::VectorXd DrawJointsWithinLimits(const ArmModel& arm, std::mt19937* rng);
 
 /// When a pose counts as reached. A 4-DoF arm meets position and approach axis
 /// (its roll joint j3 sets the roll); the roll tolerance may be set to pi to
