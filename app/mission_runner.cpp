@@ -51,17 +51,6 @@ Eigen::Isometry3d PredictCmo(const ObjectEstimate& e, double t_s) {
   return cMo;
 }
 
-HardwareConfig SimulatedHardware(const std::string& platform_path, const std::string& world_path) {
-  HardwareConfig c;
-  c.source = "built-in simulation";
-  c.platform = platform_path;
-  c.world = world_path;
-  c.arms.backend = "sim";
-  c.autopilot.backend = "sim";
-  c.camera.backend = "sim";
-  return c;
-}
-
 /// One frame's result with the truth at its stamp (NaN without a world).
 struct Perceived {
   FrameReport report;
@@ -211,7 +200,7 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
   const std::string platform_path = DataPath("config/platform_" + options.arm_type + ".yaml");
   HardwareConfig hw_config;
   if (options.hardware_path.empty()) {
-    hw_config = SimulatedHardware(platform_path, config_.world);
+    hw_config = HardwareConfig::InProcessSimulation(platform_path, config_.world);
   } else {
     hw_config = HardwareConfig::Load(options.hardware_path);
     hw_config.world = config_.world;  // simulated devices fly the mission's world

@@ -40,7 +40,7 @@ class SimCamera : public RgbdCamera {
   FastRandom rng_;
   int object_id_ = -1;
   std::vector<int> arm_ids_[2];
-  std::vector<int> attachment_ids_;  // one per World::tool_attachments(), added as they appear
+  std::vector<int> attachment_ids_;  // one per World::attachments(), added as they appear
   std::int64_t next_index_ = 0;
   RenderBuffers truth_;
   Lighting lighting_;
