@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
@@ -35,6 +36,7 @@
 #include "hardware/sim/world.h"
 #include "servo/arm_servo.h"
 #include "servo/collision_predicate.h"
+#include "servo/grasp_sequence.h"
 
 namespace aerograsp {
 namespace fs = std::filesystem;
@@ -46,7 +48,12 @@ constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
 constexpr double kServoRateHz = 100.0;       // as the mission's default servo_rate_hz
 constexpr double kPlanPeriodS = 0.2;         // grasp re-evaluation, as the mission's 5 Hz
 constexpr double kMaxTagReprojectionPx = 1.0;  // a board pose above this is not used (as calibrate)
-constexpr double kTrackingWithinM = 0.01;    // an arm tracks its target from the first cycle this close
+// A board pose from fewer tags is not used: from one 36 mm tag (the grippers
+// hide the others) its rotation was 4.1 deg RMS off the truth, from two 0.5, from three 0.4.
+constexpr int kMinBoardTags = 2;
+constexpr double kTrackingWithinM = 0.01;
+constexpr double kBranchJumpRad = 0.3;       // a re-solved grasp this far in joint space is another IK branch,
+constexpr double kBranchDriftRadPerS = 0.5;  // ... plus this per second since the last one accepted    // an arm tracks its target from the first cycle this close
 constexpr double kBoardAboveSurfaceM = 0.0005;  // the printed board lies this far above the face
 
 /// The bench's board: one row of three 36 mm tags (44 x 132 mm), which fits
@@ -90,17 +97,18 @@ Eigen::Isometry3d DefaultBoardOnObject(const TriangleMesh& mesh_o) {
 
 /// The scripted path of the object in the body frame d: upright (z_o up, x_o
 /// across the vehicle along y_d, as on the mission's pipe), around the
-/// mission's grasp point grasp_dto_m: +-0.10 m fore and aft (the arms reach
-/// top-down grasps only about 0.04-0.11 m ahead, so part of the time), +-0.04 m
-/// sideways, +-0.03 m up and down and +-0.2 rad of yaw, all slow.
-Eigen::Isometry3d ScriptedDmo(double t_s, double period_s) {
+/// mission's grasp point grasp_dto_m. At scale 1: +-0.06 m fore and aft (the
+/// arms reach top-down grasps only about 0.04-0.11 m ahead, so part of the
+/// time), +-0.02 m sideways, +-0.02 m up and down and +-0.1 rad of yaw.
+Eigen::Isometry3d ScriptedDmo(double t_s, double period_s, double scale) {
   const Eigen::Vector3d centre_d = MissionConfig{}.grasp_dto_m;
   const double w = 2.0 * M_PI / period_s;
-  const Eigen::Vector3d p_d = centre_d + Eigen::Vector3d(0.10 * std::sin(w * t_s), 0.04 * std::sin(2.0 * w * t_s),
-                                                         0.03 * std::cos(w * t_s));
+  const Eigen::Vector3d p_d =
+      centre_d + scale * Eigen::Vector3d(0.06 * std::sin(w * t_s), 0.02 * std::sin(2.0 * w * t_s),
+                                         0.02 * std::sin(w * t_s + 1.0));
   Eigen::Matrix3d dRo;  // columns x_o = y_d, y_o = x_d, z_o = -z_d
   dRo << 0, 1, 0, 1, 0, 0, 0, 0, -1;
-  const double yaw = 0.2 * std::sin(w * t_s + 1.0);
+  const double yaw = scale * 0.1 * std::sin(w * t_s + 2.0);
   Eigen::Isometry3d dMo = Eigen::Isometry3d::Identity();
   dMo.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() * dRo;
   dMo.translation() = p_d;
@@ -205,6 +213,7 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
   CheckRange(cli, "--frames", options.frames, 1, 100000, "");
   CheckRange(cli, "--hover-m", options.hover_m, 0.0, 0.3, "m");
   CheckRange(cli, "--path-period", options.path_period_s, 1.0, 1000.0, "s");
+  CheckRange(cli, "--path-scale", options.path_scale, 0.0, 3.0, "");
   if (options.oMt && !IsValidTransform(*options.oMt)) {
     throw ConfigError("--board-pose: not a rigid transform (a unit quaternion and a finite position are needed)");
   }
@@ -246,26 +255,41 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
   ObjectTracker tracker(object, PerceptionOptions{}, std::move(box_detector));
   const ObjectSymmetry& symmetry = tracker.model().symmetry;
 
-  // Grasps as the mission plans them (contacts 2.5 cm behind the tool point).
+  // Grasps as the mission plans them (contacts 2.5 cm behind the tool point);
+  // the pre-catch pose, which the planner checks for reach, is the hover point.
+  const bool hover = options.hover_m > 0.0;
   GraspPlannerConfig planner_config;
   planner_config.depth_min_m = 0.025;
   planner_config.edge_margin_m = MissionConfig{}.grasp_edge_margin_m;
+  if (hover) planner_config.precatch_distance_m = options.hover_m;
   planner_config.Validate(cli, platform.config().gripper);
   GraspPlanner planner(platform, GraspObject{object.name, object.mesh_o, object.mass_kg, object.center_of_mass_o},
                        ComputeContactPairs(object.mesh_o, platform.config().gripper, planner_config.contacts),
                        planner_config);
+  // The servo and grasp sequence as the mission sets them (app/mission_runner.cpp).
   const PlatformCollision collision(platform);
   Eigen::VectorXd q[2];
   std::unique_ptr<ArmServo> servo[2];
+  std::unique_ptr<GraspSequence> sequence[2];
   for (int a = 0; a < 2; ++a) {
     q[a] = hw->arms().JointPositions(kSides[a]);
     const ArmModel& arm = platform.arm(kSides[a]);
     ServoConfig servo_config;
     servo_config.via_rad = {arm.Clamp(Eigen::VectorXd::Zero(arm.dof())), platform.home(kSides[a])};
-    if (arm.dof() < 6) servo_config.ik.tolerance = PoseTolerance{1e-4, 0.10, 0.15};  // as the mission: a 4-DoF arm meets position exactly
+    if (arm.dof() < 6) servo_config.ik.tolerance = PoseTolerance{1e-4, 0.10, 0.15};  // position exactly, axes nearly
     servo_config.gain_per_s = 15.0;
+    servo_config.unreachable_retry_s = 0.1;
     servo[a] = std::make_unique<ArmServo>(
         arm, servo_config, MakeCollisionPredicate(collision, kSides[a], MissionConfig{}.servo_margin_m, &q[1 - a]));
+    GraspSequenceConfig sequence_config;
+    sequence_config.precatch_distance_m = planner_config.precatch_distance_m;
+    sequence_config.precatch_tolerance.position_m = 0.01;
+    sequence_config.precatch_timeout_s = 10.0;
+    sequence_config.grasp_timeout_s = 5.0;
+    sequence_config.grasp_tolerance.position_m = 0.006;
+    sequence_config.close_time_s = platform.config().gripper.close_time_s;
+    sequence[a] = std::make_unique<GraspSequence>(servo[a].get(), sequence_config);
+    sequence[a]->HoldAtPreCatch(hover);  // hover: stay at the pre-catch pose; else move in (the gripper stays open)
   }
 
   fs::create_directories(options.out_dir);
@@ -281,13 +305,14 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
   const double dt_s = 1.0 / kServoRateHz;
   const double frame_period_s = 1.0 / world->config().camera.frame_rate_hz;
   const double t_start = world->now_s();
-  auto place_object = [&](double t_s) { world->PlaceObject(wMd * ScriptedDmo(t_s - t_start, options.path_period_s)); };
+  auto place_object = [&](double t_s) { world->PlaceObject(wMd * ScriptedDmo(t_s - t_start, options.path_period_s, options.path_scale)); };
 
   Stats perception_vs_tags, tags_vs_truth, perception_vs_truth;
   int tag_frames = 0, found_frames = 0, plans = 0, no_grasp_plans = 0, switches = 0;
   std::vector<double> frame_ms;
   std::vector<double> servo_error_tracking_m, servo_error_all_m, servo_error_to_truth_m;
   ServoTrace servo_traces[2];
+  std::map<std::string, int> status_cycles;  // servo cycles per status, both arms
   PoseTrace tags_trace, est_trace;
   tags_trace.name = "tags";
   est_trace.name = "perception";
@@ -298,7 +323,13 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
   std::optional<ObjectEstimate> estimate;  // the last found one
   SwitchState choice;
   bool has_grasp = false;
-  Eigen::Isometry3d oMh[2];  // the servo targets (grasp or hover point) on the object
+  int pair[2] = {-1, -1};  // the followed dual grasp's contact pair per arm
+  // The followed pair solved again each cycle where the object is (as the
+  // mission does): the tool at the grasp and at the pre-catch (hover) pose,
+  // in the arm base, with the joints they were solved for.
+  Eigen::Isometry3d reached_bMg[2], reached_bMp[2];
+  Eigen::VectorXd reached_q[2];
+  double reached_t[2] = {0.0, 0.0};
   bool tracking[2] = {false, false};
   Eigen::VectorXd q_command[2] = {q[0], q[1]};
   double next_frame_s = t_start, next_plan_s = t_start;
@@ -316,13 +347,18 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
       const CameraIntrinsics& K = hw->camera().intrinsics();
       // The tags' independent pose of the object.
       const BoardPose board_pose = EstimateBoardPose(tag_detector.Detect(rgbd.color), board, K);
-      const bool tags_ok = board_pose.valid && board_pose.reprojection_rms_px <= kMaxTagReprojectionPx;
+      const bool tags_ok = board_pose.valid && board_pose.tags_used >= kMinBoardTags &&
+                           board_pose.reprojection_rms_px <= kMaxTagReprojectionPx;
       const Eigen::Isometry3d cMo_tags = board_pose.cMt * oMt.inverse();
       // Our perception, as in replay and the mission (the filter in the camera frame: the camera stands still).
       const FrameReport r = tracker.Process(rgbd.color, rgbd.depth, rgbd.stamp_s, K, hw->camera().depth_scale_m());
       frame_ms.push_back(r.times.total_ms);
       const bool found = r.estimate.valid && r.estimate.state == TrackState::kFound;
       if (found) estimate = r.estimate;
+      // Lost (the arms come between the camera and the object): the last found
+      // pose seeds the next frame, as the mission's held world pose does (the
+      // camera stands still, the object moves slowly).
+      if (!found && estimate) tracker.SetInitialPose(estimate->cMo);
       const Eigen::Isometry3d cMo_truth = world->wMc().inverse() * world->wMo();
       tag_frames += tags_ok;
       found_frames += found;
@@ -393,12 +429,11 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
         switches += has_grasp && decision.status == SwitchDecision::Status::kSwitch;
         const ArmGrasp* grasps[2] = {&decision.grasp.left, &decision.grasp.right};
         for (int a = 0; a < 2; ++a) {
-          // The hover point: the grasp moved back along its approach axis z_g.
-          oMh[a] = query.dMo.inverse() * grasps[a]->dMg *
-                   MakeTransform(Eigen::Vector3d(0.0, 0.0, -options.hover_m), Eigen::Vector3d::Zero());
-          if (changed) {
+          if (changed || sequence[a]->phase() == GraspPhase::kTimedOut) {
+            pair[a] = grasps[a]->pair;
+            reached_q[a].resize(0);
             tracking[a] = false;
-            servo[a]->SetSeedHints({grasps[a]->q_grasp, grasps[a]->q_precatch});
+            sequence[a]->Start(t);
           }
         }
         has_grasp = true;
@@ -411,17 +446,44 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
       const Side side = kSides[a];
       double to_target = kNaN, to_truth = kNaN;
       if (has_grasp && estimate) {
+        const Eigen::Isometry3d dMo = dMc * estimate->cMo;
+        // The planner's closed-form IK for the followed pair where the object
+        // is now: targets the arm reaches exactly. A solution far in joint
+        // space from the last is another IK branch and is not followed (the
+        // allowance grows with the time since the last one, as the object
+        // moves on); out of reach, the last targets stand.
+        ArmGrasp solved;
+        Infeasibility why = Infeasibility::kNone;
+        if (planner.EvaluateArm(side, pair[a], dMo, q[a], &solved, &why) &&
+            (reached_q[a].size() == 0 || (solved.q_grasp - reached_q[a]).cwiseAbs().maxCoeff() <
+                                             kBranchJumpRad + kBranchDriftRadPerS * (t - reached_t[a]))) {
+          reached_q[a] = solved.q_grasp;
+          reached_t[a] = t;
+          reached_bMg[a] = platform.arm(side).ForwardKinematics(solved.q_grasp);
+          reached_bMp[a] = platform.arm(side).ForwardKinematics(solved.q_precatch);
+          servo[a]->SetSeedHints({solved.q_precatch, solved.q_grasp});
+        }
+      }
+      if (has_grasp && estimate && reached_q[a].size() > 0) {
         const Eigen::Isometry3d bMd = platform.dMb(side).inverse();
-        const Eigen::Isometry3d bMh = bMd * dMc * estimate->cMo * oMh[a];
-        servo[a]->SetTarget(bMh, estimate->stamp_s);
-        ServoCommand command;
-        const ServoStatus status = servo[a]->Step(q[a], t, dt_s, &command);
-        q_command[a] = command.q_target_rad;
+        const Eigen::Isometry3d bMo = bMd * dMc * estimate->cMo;
+        // A briefly lost object is held where it was last found (the mission
+        // holds its world pose for lost_timeout_s); after that the target is stale and the arm holds.
+        const bool held = t - estimate->stamp_s < MissionConfig{}.lost_timeout_s;
+        sequence[a]->SetGrasp(reached_bMg[a], reached_bMp[a], held ? t : estimate->stamp_s);
+        GraspCommand command;
+        const GraspPhase phase = sequence[a]->Step(q[a], t, dt_s, &command);
+        const ServoStatus status = command.servo_status;
+        ++status_cycles[ServoStatusName(status)];
+        q_command[a] = command.joints.q_target_rad;
         hw->arms().SetJointTargets(side, q_command[a]);
+        // The pose the arm servoes to in this phase: the pre-catch (hover) pose, then the grasp.
+        const Eigen::Isometry3d& bMh = phase == GraspPhase::kPreCatch ? reached_bMp[a] : reached_bMg[a];
         const Eigen::Vector3d p_b = platform.arm(side).ForwardKinematics(q[a]).translation();
         if (status == ServoStatus::kMoving) {
           to_target = (p_b - bMh.translation()).norm();
-          const Eigen::Isometry3d bMh_truth = bMd * wMd.inverse() * world->wMo() * oMh[a];
+          // The same target relative to the object, on the true object.
+          const Eigen::Isometry3d bMh_truth = bMd * wMd.inverse() * world->wMo() * bMo.inverse() * bMh;
           to_truth = (p_b - bMh_truth.translation()).norm();
           tracking[a] = tracking[a] || to_target < kTrackingWithinM;
           servo_error_all_m.push_back(to_target);
@@ -470,6 +532,7 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
       "distance from the tool point (measured joints) to its target (the estimated object times the planned grasp "
       "or hover point), over the servo cycles an arm tracks: from its first cycle within 0.01 m of the target "
       "until the grasp changes or the target is refused; _all_cycles counts every moving cycle";
+  summary["servo_status_cycles"] = status_cycles;
   summary["grasp_plans"] = plans;
   summary["grasp_plans_without_grasp"] = no_grasp_plans;
   summary["grasp_switches"] = switches;

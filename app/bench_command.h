@@ -33,6 +33,10 @@ struct BenchCommandOptions {
   /// approach axis (a hover point: nothing is grasped); 0 = the grasp itself. [0, 0.3] m.
   double hover_m = 0.04;
   double path_period_s = 10.0;  ///< the scripted path repeats with this period, [1, 1000] s
+  /// Scale of the scripted path's amplitudes (1: +-6 cm fore and aft, +-2 cm
+  /// sideways and vertically, +-0.1 rad of yaw); 0 holds the object still at
+  /// the mission's grasp point. [0, 3]
+  double path_scale = 1.0;
   /// The board (frame t) on the object (frame o); empty: centred on the top of
   /// the object, printed face up (for the crawler: in the recess between its tracks).
   std::optional<Eigen::Isometry3d> oMt;

@@ -202,6 +202,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   bench_cmd->add_option("--path-period", bench.path_period_s, "Period of the object's scripted path, s")
       ->capture_default_str();
+  bench_cmd->add_option("--path-scale", bench.path_scale,
+                        "Scale of the scripted path (1: +-6 cm fore and aft; 0: the object held still at the grasp point)")
+      ->capture_default_str();
   bench_cmd->add_option("--board-pose", bench_board_pose,
                         "The tag board on the object, oMt: x y z (m) qw qx qy qz [centred on its top, face up]")
       ->expected(7);
