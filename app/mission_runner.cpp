@@ -215,6 +215,9 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
     if (options.sway_frequency_hz >= 0) w->vehicle.sway_frequency_hz.setConstant(options.sway_frequency_hz);
   };
   hw_ = Hardware::Open(hw_config, options.seed, adjust);
+  for (int a = 0; a < 2; ++a) {  // camera-to-arm calibrations (calibration_left / _right): dMb = dMc * cMb
+    if (config_.calibrated_cMb[a]) hw_->SetArmBase(kSides[a], hw_->platform().dMc() * *config_.calibrated_cMb[a]);
+  }
   world_ = hw_->world();
   const Platform& platform = hw_->platform();
 
