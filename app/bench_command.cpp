@@ -28,6 +28,7 @@
 #include "core/collision.h"
 #include "core/config.h"
 #include "core/data_dir.h"
+#include "core/mesh.h"
 #include "core/transforms.h"
 #include "detection/object_tracker.h"
 #include "grasp/contacts.h"
@@ -69,23 +70,11 @@ TagBoardConfig BenchBoard() {
   return board;
 }
 
-/// The highest upward-facing surface of the mesh over the origin of o (x = y = 0), m along z_o.
+/// Where a ray down the z axis of o first meets the mesh (its top over the origin), m along z_o.
 double TopSurfaceAtCentre(const TriangleMesh& mesh_o) {
-  double top = -std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < mesh_o.triangles.size(); ++i) {
-    if (mesh_o.TriangleNormal(i).z() < 0.5) continue;
-    const Eigen::Vector3i& tri = mesh_o.triangles[i];
-    const Eigen::Vector3d a = mesh_o.vertices[tri[0]], b = mesh_o.vertices[tri[1]], c = mesh_o.vertices[tri[2]];
-    // Barycentric coordinates of (0, 0) in the triangle's xy projection.
-    const double det = (b.y() - c.y()) * (a.x() - c.x()) + (c.x() - b.x()) * (a.y() - c.y());
-    if (std::abs(det) < 1e-12) continue;
-    const double l1 = ((b.y() - c.y()) * (-c.x()) + (c.x() - b.x()) * (-c.y())) / det;
-    const double l2 = ((c.y() - a.y()) * (-c.x()) + (a.x() - c.x()) * (-c.y())) / det;
-    const double l3 = 1.0 - l1 - l2;
-    if (l1 < -1e-9 || l2 < -1e-9 || l3 < -1e-9) continue;
-    top = std::max(top, l1 * a.z() + l2 * b.z() + l3 * c.z());
-  }
-  return std::isfinite(top) ? top : mesh_o.BoundsMax().z();
+  const double above_m = mesh_o.BoundsMax().z() + 1.0;
+  const std::vector<double> hits = IntersectRay(mesh_o, Eigen::Vector3d(0.0, 0.0, above_m), -Eigen::Vector3d::UnitZ());
+  return hits.empty() ? mesh_o.BoundsMax().z() : above_m - hits.front();
 }
 
 /// The board centred on the object's top, printed face up (+z_o; t's z points
