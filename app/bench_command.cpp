@@ -471,8 +471,11 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
         const Eigen::Vector3d p_b = platform.arm(side).ForwardKinematics(q[a]).translation();
         if (status == ServoStatus::kMoving) {
           to_target = (p_b - bMh.translation()).norm();
-          // The same target relative to the object, on the true object.
-          const Eigen::Isometry3d bMh_truth = bMd * wMd.inverse() * world->wMo() * bMo.inverse() * bMh;
+          // The same target relative to the object, on the true object turned
+          // by the symmetry nearest the estimate (the crawler's half turns look alike).
+          Eigen::Isometry3d cMo_truth = world->wMc().inverse() * world->wMo();
+          cMo_truth.linear() = ClosestSymmetricRotation(cMo_truth.linear(), estimate->cMo.linear(), symmetry);
+          const Eigen::Isometry3d bMh_truth = bMd * dMc * cMo_truth * bMo.inverse() * bMh;
           to_truth = (p_b - bMh_truth.translation()).norm();
           tracking[a] = tracking[a] || to_target < kTrackingWithinM;
           servo_error_all_m.push_back(to_target);
