@@ -59,6 +59,16 @@ int main(int argc, char** argv) {
   record_cmd->add_option("--motion", record.motion, "Object motion along the pipe")
       ->check(CLI::IsMember({"static", "crawl"}));
   record_cmd->add_flag("--overwrite", record.overwrite, "Replace a sequence already in --out");
+  record_cmd->add_option("--occlude-at", record.occlude_at_s,
+                         "A panel hides the object fully from this simulated time on, s (off by default)")
+      ->check(CLI::Range(0.0, 1e6));
+  record_cmd->add_option("--occlude-for", record.occlude_for_s, "How long the panel hides the object, s")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-3, 1e6));
+  record_cmd->add_option("--occlude-every", record.occlude_every_s,
+                         "The panel hides the object again every this many seconds (0: once)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e6));
 
   CLI::App* benchmark_cmd =
       app.add_subcommand("benchmark", "Speed and accuracy figures of one stage, printed and in DIR/summary.json");

@@ -46,6 +46,12 @@ void RunRecordCommand(const RecordCommandOptions& options, std::ostream& out, st
   WorldConfig config = WorldConfig::Load(world_path);
   if (!options.object.empty()) config.object.name = options.object;
   if (!options.motion.empty()) config.object.motion = options.motion;
+  if (options.occlude_at_s >= 0.0) {
+    config.occluder.enabled = true;
+    config.occluder.start_s = options.occlude_at_s;
+    config.occluder.duration_s = options.occlude_for_s;
+    config.occluder.period_s = options.occlude_every_s;
+  }
   config.Validate();
   if (options.frames < 1) throw HardwareError("--frames: must be at least 1");
 

@@ -402,6 +402,12 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
     out << fmt::format("  translation RMSE {} mm, rotation RMSE {} deg, detection recall {} %, ADD-S recall {} %\n",
                        num("translation_rmse_m", 1e3), num("rotation_rmse_deg", 1), num("detection_recall", 100),
                        num("add_s_recall", 100));
+    const nlohmann::json& acc = summary;
+    if (acc.value("reacquisitions", 0) + acc.value("never_reacquired", 0) > 0) {
+      out << fmt::format("  fully hidden and seen again {} times: found again within {} frames at most, {} never\n",
+                         acc.value("reacquisitions", 0) + acc.value("never_reacquired", 0),
+                         acc.value("reacquire_max_frames", 0), acc.value("never_reacquired", 0));
+    }
   }
   out << "  wrote " << summary_path << "\n";
 }

@@ -109,7 +109,8 @@ PeerResult VispPeerTracker::Track(const ColorImage& color, const DepthImage& dep
     result.ok = result.cMo.matrix().allFinite();
   } catch (const vpException& e) {
     result.error = e.getStringMessage();
-    initialized_ = false;
+  } catch (const std::exception& e) {  // e.g. std::length_error from a track with no features left
+    result.error = e.what();
   }
   result.ms = ThreadCpuMs() - t0;
   if (!result.ok) initialized_ = false;

@@ -24,6 +24,7 @@ SimCamera::SimCamera(World* world)
       arm_ids_[static_cast<int>(side)].push_back(renderer_.AddMesh(mesh));
     }
   }
+  if (world->config().occluder.enabled) occluder_id_ = renderer_.AddMesh(world->occluder_render_mesh());
 }
 
 SimCamera::~SimCamera() = default;
@@ -35,6 +36,7 @@ double SimCamera::depth_scale_m() const { return world_->config().camera.d435.de
 bool SimCamera::Grab(RgbdFrame* frame) {
   const CameraSimConfig& config = world_->config().camera;
   renderer_.SetPose(object_id_, world_->wMo());
+  if (occluder_id_ >= 0) renderer_.SetPose(occluder_id_, world_->wMh());
   for (Side side : {Side::kLeft, Side::kRight}) {
     const std::vector<Eigen::Isometry3d> wMs = world_->ArmSegmentPoses(side);
     const auto& ids = arm_ids_[static_cast<int>(side)];

@@ -40,6 +40,7 @@ class SimCamera : public RgbdCamera {
   FastRandom rng_;
   int object_id_ = -1;
   std::vector<int> arm_ids_[2];
+  int occluder_id_ = -1;             // when the world has an occluder
   std::vector<int> attachment_ids_;  // one per World::attachments(), added as they appear
   std::int64_t next_index_ = 0;
   RenderBuffers truth_;

@@ -81,6 +81,30 @@ World::World(const WorldConfig& config, std::uint64_t seed)
   static_scene_ = BuildStaticScene(config.scene, seed * 0x9E3779B97F4A7C15ull + kSceneStream);
   object_render_.mesh = object_.mesh_o;
   wMo_ = ObjectOnPipe(config.object.start_along_pipe_m);
+  if (config.occluder.enabled) {
+    const double side_m = config.occluder.size_m;
+    occluder_render_.mesh = MakeBoxMesh(Eigen::Vector3d(side_m, side_m, 0.01));
+    occluder_render_.material.albedo = {0.3f, 0.25f, 0.2f};  // a cardboard sheet
+  }
+}
+
+bool World::occluder_active() const {
+  const OccluderConfig& h = config_.occluder;
+  if (!h.enabled || now_s_ < h.start_s) return false;
+  const double since_s = now_s_ - h.start_s;
+  return (h.period_s > 0.0 ? std::fmod(since_s, h.period_s) : since_s) < h.duration_s;
+}
+
+Eigen::Isometry3d World::wMh() const {
+  const Eigen::Isometry3d wMc_now = wMc();
+  Eigen::Isometry3d wMh_now = wMc_now;
+  if (occluder_active()) {
+    const Eigen::Vector3d to_object_w = wMo_.translation() - wMc_now.translation();
+    wMh_now.translation() += config_.occluder.distance_m * to_object_w.normalized();
+  } else {
+    wMh_now.translation() -= wMc_now.linear().col(2);
+  }
+  return wMh_now;
 }
 
 World::~World() = default;

@@ -107,6 +107,14 @@ class World {
   /// Where an attachment's mesh frame is now, in w.
   Eigen::Isometry3d wMattachment(const Attachment& attachment) const;
 
+  /// The occluder (WorldConfig::occluder): its panel, whether it hides the
+  /// object now, and wMh, its pose: on the line from the camera to the object
+  /// at distance_m, parallel to the image plane, while it hides the object;
+  /// 1 m behind the camera otherwise (out of every view).
+  const RenderMesh& occluder_render_mesh() const { return occluder_render_; }
+  bool occluder_active() const;
+  Eigen::Isometry3d wMh() const;
+
   /// Where the object rests on the pipe at `along_m` from the pipe's centre.
   Eigen::Isometry3d ObjectOnPipe(double along_m) const;
 
@@ -132,6 +140,7 @@ class World {
   bool object_free_ = false;  // grasped once: no longer crawls
   std::vector<RenderMesh> static_scene_;
   RenderMesh object_render_;
+  RenderMesh occluder_render_;
   std::array<std::vector<RenderMesh>, 2> arm_render_;
   std::vector<Attachment> attachments_;
 };

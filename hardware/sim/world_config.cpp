@@ -16,7 +16,8 @@ Eigen::Vector3d GetVector3Or(const ConfigNode& node, const std::string& key,
 
 WorldConfig WorldConfig::Load(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);
-  root.RequireOnlyKeys({"platform", "physics_step_s", "scene", "object", "vehicle", "arms", "camera"});
+  root.RequireOnlyKeys({"platform", "physics_step_s", "scene", "object", "vehicle", "arms", "camera",
+                     "occluder"});
   WorldConfig c;
   c.source = path;
   if (root.Has("platform")) c.platform = root.GetPath("platform");
@@ -93,6 +94,17 @@ WorldConfig WorldConfig::Load(const std::string& path) {
     k.ambient = n.GetDouble("ambient", k.ambient);
     k.light_variation = n.GetDouble("light_variation", k.light_variation);
   }
+  if (root.Has("occluder")) {
+    const ConfigNode n = root.Child("occluder");
+    n.RequireOnlyKeys({"enabled", "start_s", "duration_s", "period_s", "distance_m", "size_m"});
+    OccluderConfig& h = c.occluder;
+    h.enabled = n.GetBool("enabled", true);
+    h.start_s = n.GetDouble("start_s", h.start_s);
+    h.duration_s = n.GetDouble("duration_s", h.duration_s);
+    h.period_s = n.GetDouble("period_s", h.period_s);
+    h.distance_m = n.GetDouble("distance_m", h.distance_m);
+    h.size_m = n.GetDouble("size_m", h.size_m);
+  }
   c.Validate();
   return c;
 }
@@ -153,6 +165,15 @@ void WorldConfig::Validate() const {
   CheckRange(src, "camera.light_intensity", camera.light_intensity, 0.0, 2.0, "");
   CheckRange(src, "camera.ambient", camera.ambient, 0.0, 1.0, "");
   CheckRange(src, "camera.light_variation", camera.light_variation, 0.0, 0.5, "");
+
+  CheckRange(src, "occluder.start_s", occluder.start_s, 0.0, 1e6, "s");
+  CheckRange(src, "occluder.duration_s", occluder.duration_s, 1e-3, 1e6, "s");
+  if (occluder.period_s != 0.0) {
+    CheckRange(src, "occluder.period_s", occluder.period_s, occluder.duration_s + 1e-3, 1e6,
+               "s (0 hides once; else longer than duration_s)");
+  }
+  CheckRange(src, "occluder.distance_m", occluder.distance_m, 0.2, 2.0, "m");
+  CheckRange(src, "occluder.size_m", occluder.size_m, 1e-3, 5.0, "m");
 }
 
 }  // namespace aerograsp

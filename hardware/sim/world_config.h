@@ -70,6 +70,18 @@ struct CameraSimConfig {
   double light_variation{0.1};      ///< slow relative change of the intensity, [0, 0.5]
 };
 
+/// A dark panel that passes between the camera and the object and hides it
+/// fully for a while (the "re-acquired after being hidden" test). Off unless
+/// the world file has an `occluder` section.
+struct OccluderConfig {
+  bool enabled{false};
+  double start_s{2.0};     ///< first time it hides the object, simulated s, [0, 1e6]
+  double duration_s{1.0};  ///< how long each time, (0, 1e6] s
+  double period_s{0.0};    ///< hides again every period (0: once), 0 or > duration_s, s
+  double distance_m{0.3};  ///< from the camera along the line to the object, [0.2, 2] m (the D435 sees from 0.2 m)
+  double size_m{0.35};     ///< side of the square panel, (0, 5] m
+};
+
 struct WorldConfig {
   std::string source;               ///< file it was read from (for messages)
   std::string platform{"platform_4dof.yaml"};  ///< platform YAML, relative to this file's folder
@@ -79,6 +91,7 @@ struct WorldConfig {
   VehicleSimConfig vehicle;
   ArmsSimConfig arms;
   CameraSimConfig camera;
+  OccluderConfig occluder;
 
   /// @throws ConfigError "<file>: <key>: ..." for a missing file, an unknown
   /// key, a wrong type or a value out of range.

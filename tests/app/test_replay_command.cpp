@@ -126,6 +126,31 @@ TEST_F(ReplayCommandTest, TheFilterRunsInTheWorldWithTheRecordedVehicleStates) {
   fs::remove_all(copy);
 }
 
+TEST_F(ReplayCommandTest, AnObjectFullyHiddenIsFoundAgainWithinFiveFramesOfReappearing) {
+  // Frames 6-11 hidden by a panel in front of the camera, then 10 frames in view.
+  const std::string hidden =
+      (fs::temp_directory_path() / ("aerograsp_replay_test_hidden_" + std::to_string(getpid()))).string();
+  fs::remove_all(hidden);
+  RecordCommandOptions record;
+  record.out_dir = hidden;
+  record.frames = 22;
+  record.seed = 23;
+  record.motion = "crawl";
+  record.occlude_at_s = 0.19;
+  record.occlude_for_s = 0.2;
+  std::ostringstream record_out, progress;
+  RunRecordCommand(record, record_out, progress);
+  options_.sequence = hidden;
+  const nlohmann::json s = Run();  // with ViSP's tracker beside ours: it must survive the hidden frames too
+  fs::remove_all(hidden);
+  EXPECT_EQ(s["reacquisitions"], 1);
+  EXPECT_EQ(s["never_reacquired"], 0);
+  EXPECT_GE(s["reacquire_max_frames"].get<int>(), 1);
+  EXPECT_LE(s["reacquire_max_frames"].get<int>(), 5);
+  EXPECT_EQ(s["frames_visible"], 16);
+  EXPECT_LT(s["translation_rmse_m"].get<double>(), 0.01);
+}
+
 TEST_F(ReplayCommandTest, AMissingOrCorruptModelIsAClearError) {
   options_.object = "no_such_object";
   EXPECT_THAT([&] { Run(); }, ::testing::Throws<std::exception>());

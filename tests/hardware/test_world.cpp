@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -308,6 +309,39 @@ TEST(SimCameraTest, AMeshOnTheObjectMovesWithItAndIsRendered) {
   ASSERT_TRUE(u >= 0 && u < 640 && v >= 0 && v < 480) << uv.transpose();
   EXPECT_NE(camera.last_truth().object_id.at(u, v), camera.object_render_id());  // the square hides the object
   EXPECT_NEAR(camera.last_truth().depth_m.at(u, v), centre_c.z(), 2e-3);
+}
+
+TEST(SimCameraTest, TheOccluderHidesTheObjectFullyOnlyInItsWindows) {
+  WorldConfig config = DefaultConfig();
+  config.occluder.enabled = true;
+  config.occluder.start_s = 0.5;
+  config.occluder.duration_s = 0.3;
+  config.occluder.period_s = 1.0;
+  config.Validate();
+  World world(config, 3);
+  SimCamera camera(&world);
+  RgbdFrame frame;
+  auto object_pixels = [&] {
+    const auto& ids = camera.last_truth().object_id.data;
+    return std::count(ids.begin(), ids.end(), camera.object_render_id());
+  };
+  // Before, between and after its windows [0.5, 0.8) and [1.5, 1.8) s.
+  for (double t_s : {0.4, 0.6, 0.79, 1.2, 1.6, 1.9}) {
+    world.StepTo(t_s);
+    ASSERT_TRUE(camera.Grab(&frame));
+    const bool hidden = (t_s >= 0.5 && t_s < 0.8) || (t_s >= 1.5 && t_s < 1.8);
+    EXPECT_EQ(world.occluder_active(), hidden) << t_s;
+    if (hidden) {
+      EXPECT_EQ(object_pixels(), 0) << t_s;
+      // The panel is at its distance on the line of sight: the image centre sees it.
+      const int u = camera.intrinsics().width / 2, v = camera.intrinsics().height / 2;
+      EXPECT_NEAR(camera.last_truth().depth_m.at(u, v), config.occluder.distance_m, 0.05) << t_s;
+    } else {
+      EXPECT_GT(object_pixels(), 1000) << t_s;
+    }
+  }
+  config.occluder.period_s = 0.2;  // shorter than the hide: it would never end
+  EXPECT_THROW(config.Validate(), ConfigError);
 }
 
 }  // namespace
