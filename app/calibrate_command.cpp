@@ -13,6 +13,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "app/calibration_file.h"
 #include "app/progress.h"
 #include "app/summary_file.h"
 #include "app/tag_board_mesh.h"
@@ -118,14 +119,6 @@ std::vector<Eigen::VectorXd> PlanPoses(const Platform& platform, Side side, cons
   return chosen;
 }
 
-std::vector<double> Flatten(const Eigen::Isometry3d& aMb) {
-  std::vector<double> v;
-  for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c) v.push_back(aMb.matrix()(r, c));
-  }
-  return v;
-}
-
 void WriteSamplesYaml(const std::string& path, const std::string& platform_path, Side side,
                       const TagBoardConfig& board, const std::vector<Sample>& samples) {
   YAML::Emitter y;
@@ -146,7 +139,7 @@ void WriteSamplesYaml(const std::string& path, const std::string& platform_path,
     y << YAML::Key << "accepted" << YAML::Value << s.accepted;
     y << YAML::Key << "reject_reason" << YAML::Value << s.reject_reason;
     y << YAML::Key << "q_rad" << YAML::Value << YAML::Flow << std::vector<double>(s.q_rad.data(), s.q_rad.data() + s.q_rad.size());
-    y << YAML::Key << "cMt" << YAML::Value << YAML::Flow << Flatten(s.data.cMt);
+    y << YAML::Key << "cMt" << YAML::Value << YAML::Flow << FlattenRowMajor(s.data.cMt);
     y << YAML::Key << "corners" << YAML::Value << YAML::BeginSeq;
     for (const auto& [p_t, px] : s.data.corners) {
       y << YAML::Flow << std::vector<double>{p_t.x(), p_t.y(), p_t.z(), px.x(), px.y()};
@@ -311,25 +304,15 @@ void SolveAndReport(const std::string& folder, const std::string& platform_path,
   // The calibration the mission loads: cMb, and dMb through the nominal dMc.
   const Eigen::Isometry3d dMb = platform.dMc() * best.cMb;
   const std::string yaml_path = (fs::path(folder) / fmt::format("calibration_{}.yaml", SideName(side))).string();
-  {
-    YAML::Emitter y;
-    y.SetDoublePrecision(12);
-    y << YAML::BeginMap;
-    y << YAML::Key << "arm" << YAML::Value << SideName(side);
-    y << YAML::Key << "method" << YAML::Value << best.method;
-    y << YAML::Key << "cMb" << YAML::Value << YAML::Flow << Flatten(best.cMb);
-    y << YAML::Key << "dMb" << YAML::Value << YAML::Flow << Flatten(dMb);
-    y << YAML::Key << "eMt" << YAML::Value << YAML::Flow << Flatten(best.eMt);
-    y << YAML::Key << "residual_mm" << YAML::Value << best.residual_mm_rms;
-    y << YAML::Key << "residual_deg" << YAML::Value << best.residual_deg_rms;
-    y << YAML::Key << "samples" << YAML::Value << "samples.yaml";
-    y << YAML::EndMap;
-    std::ofstream file(yaml_path);
-    file << "# aerograsp camera-to-arm calibration (cMb: arm base in the camera frame; dMb through the nominal "
-            "dMc).\n"
-         << y.c_str() << "\n";
-    if (!file) throw std::runtime_error(yaml_path + ": cannot be written");
-  }
+  ArmCalibration calibration;
+  calibration.side = side;
+  calibration.method = best.method;
+  calibration.cMb = best.cMb;
+  calibration.dMb = dMb;
+  calibration.eMt = best.eMt;
+  calibration.residual_mm = best.residual_mm_rms;
+  calibration.residual_deg = best.residual_deg_rms;
+  calibration.Write(yaml_path);
   nlohmann::json summary = {{"arm", SideName(side)},
                             {"samples_used", used.size()},
                             {"samples_rejected", rejected},

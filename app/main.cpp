@@ -5,6 +5,7 @@
 #include <iostream>
 #include <vector>
 
+#include "app/bench_command.h"
 #include "app/calibrate_command.h"
 #include "app/hardware_check_command.h"
 #include "app/mission_command.h"
@@ -191,6 +192,33 @@ int main(int argc, char** argv) {
                  "lift, home, land; report in DIR");
   aerograsp::AddMissionOptions(mission_cmd, &mission);
   // ---- end mission ----
+  // ---- bench: perception and servo against tags on a test stand (issue 9) ----
+  aerograsp::BenchCommandOptions bench;
+  std::vector<double> bench_board_pose;
+  CLI::App* bench_cmd = app.add_subcommand(
+      "bench", "Vehicle on a test stand, the object with a tag board moved by script: perception against the tags, "
+               "servo error to the grasp or a hover point off it; report in DIR");
+  bench_cmd->add_option("--out", bench.out_dir, "Report folder (index.html, summary.json, frames.csv)")->required();
+  bench_cmd->add_option("--hardware", bench.hardware_path,
+                        "Hardware YAML (e.g. data/config/hardware_sim.yaml: the real drivers against simulated devices)")
+      ->check(CLI::ExistingFile);
+  bench_cmd->add_option("--world", bench.world_config, "World YAML [data/config/world_default.yaml]")
+      ->check(CLI::ExistingFile);
+  bench_cmd->add_option("--object", bench.object, "Object: a shipped name or a model path [the world's]");
+  bench_cmd->add_option("--frames", bench.frames, "Camera frames")->capture_default_str()->check(CLI::Range(1, 100000));
+  bench_cmd->add_option("--seed", bench.seed, "World seed")->capture_default_str();
+  bench_cmd->add_option("--hover-m", bench.hover_m,
+                        "Servo to the grasp moved back this far along its approach (0: the grasp itself), m")
+      ->capture_default_str();
+  bench_cmd->add_option("--path-period", bench.path_period_s, "Period of the object's scripted path, s")
+      ->capture_default_str();
+  bench_cmd->add_option("--path-scale", bench.path_scale,
+                        "Scale of the scripted path (1: +-6 cm fore and aft; 0: the object held still at the grasp point)")
+      ->capture_default_str();
+  bench_cmd->add_option("--board-pose", bench_board_pose,
+                        "The tag board on the object, oMt: x y z (m) qw qx qy qz [centred on its top, face up]")
+      ->expected(7);
+  // ---- end bench ----
 
   try {
     app.parse(argc, argv);
@@ -217,6 +245,10 @@ int main(int argc, char** argv) {
     }
     if (*dataset_cmd) aerograsp::RunDatasetCommand(dataset, std::cout, std::cerr);
     if (*mission_cmd) aerograsp::RunMissionCommand(mission, std::cout, std::cerr);
+    if (*bench_cmd) {
+      if (!bench_board_pose.empty()) bench.oMt = aerograsp::PoseFromValues(bench_board_pose, "--board-pose");
+      aerograsp::RunBenchCommand(bench, std::cout, std::cerr);
+    }
   } catch (const std::exception& e) {
     std::cerr << "aerograsp: error: " << e.what() << "\n";
     return 1;

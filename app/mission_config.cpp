@@ -2,9 +2,31 @@
 
 #include <cmath>
 
+#include "app/calibration_file.h"
 #include "core/config.h"
 
 namespace aerograsp {
+namespace {
+
+/// The cMb of a calibration file named by `key` (none for an empty path).
+std::optional<Eigen::Isometry3d> LoadCalibration(const std::string& source, const std::string& key,
+                                                 const std::string& path, Side side) {
+  if (path.empty()) return std::nullopt;
+  CheckFileExists(source, key, path);
+  ArmCalibration calibration;
+  try {
+    calibration = ArmCalibration::Load(path);
+  } catch (const ConfigError& e) {
+    throw ConfigError(source + ": " + key + ": " + e.what());
+  }
+  if (calibration.side != side) {
+    throw ConfigError(source + ": " + key + ": " + path + ": arm: the file calibrates the " + SideName(calibration.side) +
+                      " arm, not the " + SideName(side) + " one");
+  }
+  return calibration.cMb;
+}
+
+}  // namespace
 
 MissionConfig MissionConfig::Load(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);
@@ -12,7 +34,7 @@ MissionConfig MissionConfig::Load(const std::string& path) {
                         "arrive_tolerance_m", "near_tolerance_m", "tracking_radius_m", "lift_m", "servo_rate_hz", "setpoint_rate_hz",
                         "reevaluate_rate_hz", "object_filter_s", "settle_s", "max_attempts", "lost_timeout_s",
                         "search_timeout_s", "planning_timeout_s", "timeout_s", "servo_margin_m",
-                        "grasp_edge_margin_m"});
+                        "grasp_edge_margin_m", "calibration_left", "calibration_right"});
   MissionConfig c;
   c.source = path;
   if (root.Has("world")) c.world = root.GetPath("world");
@@ -36,7 +58,14 @@ MissionConfig MissionConfig::Load(const std::string& path) {
   c.timeout_s = root.GetDouble("timeout_s", c.timeout_s);
   c.servo_margin_m = root.GetDouble("servo_margin_m", c.servo_margin_m);
   c.grasp_edge_margin_m = root.GetDouble("grasp_edge_margin_m", c.grasp_edge_margin_m);
+  for (const char* key : {"calibration_left", "calibration_right"}) {
+    if (root.Has(key) && !root.GetString(key).empty()) {
+      (std::string(key) == "calibration_left" ? c.calibration_left : c.calibration_right) = root.GetPath(key);
+    }
+  }
   c.Validate();
+  c.calibrated_cMb[0] = LoadCalibration(c.source, "calibration_left", c.calibration_left, Side::kLeft);
+  c.calibrated_cMb[1] = LoadCalibration(c.source, "calibration_right", c.calibration_right, Side::kRight);
   return c;
 }
 
@@ -63,6 +92,8 @@ void MissionConfig::Validate() const {
   CheckRange(s, "timeout_s", timeout_s, 1e-6, 3600.0, "s");
   CheckRange(s, "servo_margin_m", servo_margin_m, 0.0, 0.05, "m");
   CheckRange(s, "grasp_edge_margin_m", grasp_edge_margin_m, 0.0, 0.05, "m");
+  LoadCalibration(s, "calibration_left", calibration_left, Side::kLeft);
+  LoadCalibration(s, "calibration_right", calibration_right, Side::kRight);
 }
 
 }  // namespace aerograsp

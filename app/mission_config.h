@@ -4,7 +4,8 @@
 // Frame w is NED with its origin at the take-off point; d is FRD.
 #pragma once
 
-#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <optional>
 #include <string>
 
 namespace aerograsp {
@@ -41,10 +42,21 @@ struct MissionConfig {
   /// [0, 0.05] m.
   double grasp_edge_margin_m{0.015};
 
+  /// Camera-to-arm calibrations written by `aerograsp calibrate`
+  /// (calibration_<arm>.yaml), resolved against this file's folder; the arm's
+  /// base is then dMc * cMb from the file instead of the platform's nominal
+  /// mount. Empty: the nominal one.
+  std::string calibration_left;
+  std::string calibration_right;
+  /// The files' cMb (the arm base in the camera frame), read by Load.
+  std::optional<Eigen::Isometry3d> calibrated_cMb[2];
+
   /// Reads a mission YAML; absent keys keep their defaults.
   /// @throws ConfigError "<file>: <key>: ..." for unknown keys, wrong types or values out of range.
   static MissionConfig Load(const std::string& path);
-  /// @throws ConfigError naming `source`, the key and the bound.
+  /// @throws ConfigError naming `source`, the key and the bound; for a
+  /// calibration file "<file>: calibration_left: <calibration file>: <key>: ..."
+  /// (missing, malformed, not a rigid transform, or of the other arm).
   void Validate() const;
 };
 

@@ -9,62 +9,11 @@
 #include <system_error>
 
 #include "app/mission_plots.h"
+#include "app/report_html.h"
 
 namespace aerograsp {
 namespace {
 namespace fs = std::filesystem;
-
-std::string EscapeHtml(const std::string& text) {
-  std::string out;
-  out.reserve(text.size());
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&#39;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
-/// A table with the given header cells; every cell is escaped.
-void WriteTable(const std::vector<std::string>& header,
-                const std::vector<std::vector<std::string>>& rows, std::ostream& html) {
-  html << "<table>\n<tr>";
-  for (const std::string& cell : header) html << "<th>" << EscapeHtml(cell) << "</th>";
-  html << "</tr>\n";
-  for (const std::vector<std::string>& row : rows) {
-    html << "<tr>";
-    for (const std::string& cell : row) html << "<td>" << EscapeHtml(cell) << "</td>";
-    html << "</tr>\n";
-  }
-  html << "</table>\n";
-}
-
-/// The figure of `image` when it was written, `missing` (a sentence) otherwise.
-void WriteFigure(bool written, const std::string& image, const std::string& caption,
-                 const std::string& missing, std::ostream& html) {
-  if (!written) {
-    html << "<p class=\"missing\">" << EscapeHtml(missing) << "</p>\n";
-    return;
-  }
-  html << "<figure><img src=\"" << EscapeHtml(image) << "\" alt=\"" << EscapeHtml(caption) << "\">"
-       << "<figcaption>" << EscapeHtml(caption) << "</figcaption></figure>\n";
-}
 
 std::string Seconds(double t_s) { return fmt::format("{:.3f}", t_s); }
 
@@ -76,7 +25,7 @@ void WriteRunsTable(const std::vector<ReportRow>& runs, std::ostream& html) {
     rows.emplace_back();
     for (const auto& [column, value] : run) rows.back().push_back(value);
   }
-  WriteTable(header, rows, html);
+  WriteHtmlTable(header, rows, html);
 }
 
 void WriteTransitionsTable(const MissionRecord& record, std::ostream& html) {
@@ -84,7 +33,7 @@ void WriteTransitionsTable(const MissionRecord& record, std::ostream& html) {
   for (const MissionTransition& tr : record.transitions) {
     rows.push_back({Seconds(tr.t_s), tr.machine, tr.from + " -> " + tr.to, tr.cause});
   }
-  WriteTable({"time (s)", "machine", "from -> to", "cause"}, rows, html);
+  WriteHtmlTable({"time (s)", "machine", "from -> to", "cause"}, rows, html);
 }
 
 void WriteSwitchesTable(const MissionRecord& record, std::ostream& html) {
@@ -94,15 +43,8 @@ void WriteSwitchesTable(const MissionRecord& record, std::ostream& html) {
     rows.push_back({std::to_string(k + 1), Seconds(sw.t_s), std::to_string(sw.left_pair),
                     std::to_string(sw.right_pair), sw.reason});
   }
-  WriteTable({"switch", "time (s)", "left pair", "right pair", "reason"}, rows, html);
+  WriteHtmlTable({"switch", "time (s)", "left pair", "right pair", "reason"}, rows, html);
 }
-
-constexpr const char* kStyle =
-    "body{font-family:sans-serif;margin:2em;max-width:1500px}"
-    "table{border-collapse:collapse;margin:0.5em 0 1.5em}"
-    "th,td{border:1px solid #bbb;padding:0.25em 0.6em;text-align:left}"
-    "th{background:#eee}img{max-width:100%;border:1px solid #ddd}"
-    "figure{margin:0 0 1.5em}figcaption{color:#444;font-size:0.9em}.missing{color:#888}";
 
 }  // namespace
 
@@ -124,30 +66,28 @@ void WriteMissionReport(const MissionRecord& record, const TriangleMesh& object_
     WriteMissionCameraImage(*record.snapshot, object_mesh_o, (dir / "camera.png").string());
 
   std::ostringstream html;
-  const std::string title = EscapeHtml("Mission report: " + record.object_name);
-  html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" << title
-       << "</title>\n<style>" << kStyle << "</style>\n</head>\n<body>\n<h1>" << title << "</h1>\n";
+  BeginHtmlPage("Mission report: " + record.object_name, html);
   std::vector<std::vector<std::string>> headline_rows;
   for (const auto& [name, value] : headline) headline_rows.push_back({name, value});
-  if (!headline_rows.empty()) WriteTable({"result", "value"}, headline_rows, html);
+  if (!headline_rows.empty()) WriteHtmlTable({"result", "value"}, headline_rows, html);
 
   html << "<h2>Object pose</h2>\n";
-  WriteFigure(
+  WriteHtmlFigure(
       has_samples, "pose.png",
       "The object's position in the body frame d (dto, m), estimate vs truth; the rotation error "
       "(deg, over the object's symmetries) and whether vision had the object.",
       "No samples were recorded.", html);
   html << "<h2>Joints</h2>\n";
-  WriteFigure(has_joints, "joints.png",
+  WriteHtmlFigure(has_joints, "joints.png",
               "Joint targets (thin) vs measured positions (thick) of each arm, deg; red lines mark "
               "the grasp switches, numbered as in the table below.",
               "No joint samples were recorded.", html);
   html << "<h2>State machines</h2>\n";
-  WriteFigure(has_timeline, "timeline.png",
+  WriteHtmlFigure(has_timeline, "timeline.png",
               "The state of each machine over time; red lines mark the grasp switches.",
               "No state transitions were recorded.", html);
   html << "<h2>Camera</h2>\n";
-  WriteFigure(record.snapshot.has_value(), "camera.png",
+  WriteHtmlFigure(record.snapshot.has_value(), "camera.png",
               record.snapshot
                   ? fmt::format("Camera frame at t = {:.2f} s: the detector box (green) and the "
                                 "object model at the estimated pose cMo (cyan).",
@@ -168,13 +108,7 @@ void WriteMissionReport(const MissionRecord& record, const TriangleMesh& object_
     html << "<p class=\"missing\">None.</p>\n";
   else
     WriteSwitchesTable(record, html);
-  html << "</body>\n</html>\n";
-
-  const std::string path = (dir / "index.html").string();
-  std::ofstream file(path, std::ios::binary);
-  file << html.str();
-  file.close();
-  if (!file) throw std::runtime_error(path + ": cannot be written");
+  WriteHtmlPage(html.str(), out_dir);
 }
 
 }  // namespace aerograsp

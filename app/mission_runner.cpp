@@ -51,17 +51,6 @@ Eigen::Isometry3d PredictCmo(const ObjectEstimate& e, double t_s) {
   return cMo;
 }
 
-HardwareConfig SimulatedHardware(const std::string& platform_path, const std::string& world_path) {
-  HardwareConfig c;
-  c.source = "built-in simulation";
-  c.platform = platform_path;
-  c.world = world_path;
-  c.arms.backend = "sim";
-  c.autopilot.backend = "sim";
-  c.camera.backend = "sim";
-  return c;
-}
-
 /// One frame's result with the truth at its stamp (NaN without a world).
 struct Perceived {
   FrameReport report;
@@ -211,7 +200,7 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
   const std::string platform_path = DataPath("config/platform_" + options.arm_type + ".yaml");
   HardwareConfig hw_config;
   if (options.hardware_path.empty()) {
-    hw_config = SimulatedHardware(platform_path, config_.world);
+    hw_config = HardwareConfig::InProcessSimulation(platform_path, config_.world);
   } else {
     hw_config = HardwareConfig::Load(options.hardware_path);
     hw_config.world = config_.world;  // simulated devices fly the mission's world
@@ -226,6 +215,9 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
     if (options.sway_frequency_hz >= 0) w->vehicle.sway_frequency_hz.setConstant(options.sway_frequency_hz);
   };
   hw_ = Hardware::Open(hw_config, options.seed, adjust);
+  for (int a = 0; a < 2; ++a) {  // camera-to-arm calibrations (calibration_left / _right): dMb = dMc * cMb
+    if (config_.calibrated_cMb[a]) hw_->SetArmBase(kSides[a], hw_->platform().dMc() * *config_.calibrated_cMb[a]);
+  }
   world_ = hw_->world();
   const Platform& platform = hw_->platform();
 

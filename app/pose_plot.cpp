@@ -43,7 +43,7 @@ void WritePosePlot(const PoseTrace& truth, const std::vector<PoseTrace>& estimat
     for (const PoseTrace& e : estimates) ExpandRange(pick(e), &lo, &hi);
     if (!std::isfinite(lo)) lo = 0.0, hi = 1.0;
     const double pad = std::max(0.005, 0.1 * (hi - lo));
-    const std::string title = fmt::format("{} {} (m): truth black, {}", position_label, axes[a], names);
+    const std::string title = fmt::format("{} {} (m): {} black, {}", position_label, axes[a], truth.name, names);
     const PlotPanel p = MakePanel(title, t0, t1, lo - pad, hi + pad, kTop + a * (kPanelHeight + kGap));
     DrawPanelAxes(&img, p, "");
     DrawPanelSeries(&img, p, truth.stamp_s, pick(truth), kBlack, 2);

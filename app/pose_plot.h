@@ -16,7 +16,8 @@ struct PoseTrace {
   std::vector<int> found;           ///< 1 found, 0 lost (optional: may be empty)
 };
 
-/// `truth` has positions only; every trace shares its time axis.
+/// `truth` (the reference, drawn black and named by its `name`: the ground
+/// truth, or the tags on a bench) has positions only; every trace shares its time axis.
 /// `position_label` names the plotted position in the panel titles, with its frames.
 /// @throws std::runtime_error when the file cannot be written.
 void WritePosePlot(const PoseTrace& truth, const std::vector<PoseTrace>& estimates, const std::string& path,

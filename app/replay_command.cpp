@@ -152,13 +152,13 @@ Eigen::Isometry3d ParsePose(const std::string& text) {
   return PoseFromValues(v);
 }
 
-Eigen::Isometry3d PoseFromValues(const std::vector<double>& v) {
+Eigen::Isometry3d PoseFromValues(const std::vector<double>& v, const std::string& option) {
   for (double x : v) {
-    if (!std::isfinite(x)) throw std::invalid_argument("--init-pose: values must be finite");
+    if (!std::isfinite(x)) throw std::invalid_argument(option + ": values must be finite");
   }
-  if (v.size() != 7) throw std::invalid_argument(fmt::format("--init-pose: expected 7 numbers (x y z qw qx qy qz), got {}", v.size()));
+  if (v.size() != 7) throw std::invalid_argument(fmt::format("{}: expected 7 numbers (x y z qw qx qy qz), got {}", option, v.size()));
   const Eigen::Vector4d q(v[3], v[4], v[5], v[6]);
-  if (q.norm() < 1e-9) throw std::invalid_argument("--init-pose: the quaternion is zero");
+  if (q.norm() < 1e-9) throw std::invalid_argument(option + ": the quaternion is zero");
   return MakeTransformWxyz(Eigen::Vector3d(v[0], v[1], v[2]), q);
 }
 

@@ -36,8 +36,8 @@ struct ReplayCommandOptions {
 /// Reads "x y z qw qx qy qz" (metres, unit quaternion w first) as cMo.
 /// @throws std::invalid_argument for a wrong count, non-numbers or a zero quaternion.
 Eigen::Isometry3d ParsePose(const std::string& text);
-/// The same from the seven numbers.
-Eigen::Isometry3d PoseFromValues(const std::vector<double>& xyz_qwxyz);
+/// The same from the seven numbers; messages name `option`.
+Eigen::Isometry3d PoseFromValues(const std::vector<double>& xyz_qwxyz, const std::string& option = "--init-pose");
 
 /// @throws HardwareError / ConfigError / MeshError naming the file (missing or
 /// truncated sequence, unknown object, corrupt detector model), std::runtime_error

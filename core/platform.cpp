@@ -1,5 +1,7 @@
 #include "core/platform.h"
 
+#include "core/transforms.h"
+
 #include "core/config.h"
 
 namespace aerograsp {
@@ -95,6 +97,15 @@ auto ForKey(const PlatformConfig& config, const std::string& key, Load load) -> 
 }
 
 }  // namespace
+
+Platform Platform::WithArmBase(Side side, const Eigen::Isometry3d& dMb) const {
+  if (!IsValidTransform(dMb, 1e-5)) {
+    throw std::invalid_argument(std::string("the ") + SideName(side) + " arm's base dMb is not a rigid transform");
+  }
+  Platform copy = *this;
+  copy.dMb_[static_cast<int>(side)] = dMb;
+  return copy;
+}
 
 Platform Platform::FromConfig(const PlatformConfig& config) {
   config.Validate();

@@ -67,6 +67,11 @@ class Platform {
   /// when a link is missing, a home vector has the wrong size or is out of limits.
   static Platform FromConfig(const PlatformConfig& config);
 
+  /// A copy with one arm's base at dMb (a calibration's, e.g. dMc * cMb from
+  /// `aerograsp calibrate`) instead of the URDF's mount; vehicle() keeps the
+  /// nominal tree. @throws std::invalid_argument when dMb is not a rigid transform.
+  Platform WithArmBase(Side side, const Eigen::Isometry3d& dMb) const;
+
   const PlatformConfig& config() const { return config_; }
   const StaticFrameTree& vehicle() const { return vehicle_; }
   const ArmModel& arm(Side side) const { return arms_[static_cast<int>(side)]; }

@@ -34,6 +34,17 @@ std::string Beside(const std::string& config_path, const std::string& name) {
 
 }  // namespace
 
+HardwareConfig HardwareConfig::InProcessSimulation(const std::string& platform_path, const std::string& world_path) {
+  HardwareConfig c;
+  c.source = "built-in simulation";
+  c.platform = platform_path;
+  c.world = world_path;
+  c.arms.backend = "sim";
+  c.autopilot.backend = "sim";
+  c.camera.backend = "sim";
+  return c;
+}
+
 bool HardwareConfig::NeedsWorld() const {
   return arms.backend != "scs" || autopilot.backend != "px4" || camera.backend == "sim";
 }

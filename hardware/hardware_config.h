@@ -48,6 +48,9 @@ struct HardwareConfig {
   AutopilotHardwareConfig autopilot;
   CameraHardwareConfig camera;
 
+  /// Every device simulated in-process (no pseudo-terminal, no UDP): what the
+  /// mission and the bench run without --hardware.
+  static HardwareConfig InProcessSimulation(const std::string& platform_path, const std::string& world_path);
   /// True when any device is simulated (a World is needed).
   bool NeedsWorld() const;
   /// @throws ConfigError "<file>: <key>: ..." for a missing file, unknown key,

@@ -43,6 +43,10 @@ class Hardware {
   Hardware& operator=(const Hardware&) = delete;
 
   const Platform& platform() const { return *platform_; }
+  /// From now on platform() has this arm's base at dMb (a calibration's; the
+  /// simulated world keeps its own, true, platform). The drivers' references
+  /// to platform() stay valid. @throws std::invalid_argument for a non-rigid dMb.
+  void SetArmBase(Side side, const Eigen::Isometry3d& dMb) { *platform_ = platform_->WithArmBase(side, dMb); }
   /// Null when every device is real.
   World* world() { return world_.get(); }
   ArmsDriver& arms() { return *arms_; }

@@ -42,12 +42,12 @@ bool SimCamera::Grab(RgbdFrame* frame) {
     const auto& ids = arm_ids_[static_cast<int>(side)];
     for (std::size_t i = 0; i < ids.size(); ++i) renderer_.SetPose(ids[i], wMs[i]);
   }
-  const auto& attachments = world_->tool_attachments();
+  const auto& attachments = world_->attachments();
   while (attachment_ids_.size() < attachments.size()) {
     attachment_ids_.push_back(renderer_.AddMesh(attachments[attachment_ids_.size()].mesh));
   }
   for (std::size_t i = 0; i < attachments.size(); ++i) {
-    renderer_.SetPose(attachment_ids_[i], world_->wMe(attachments[i].side) * attachments[i].eMm);
+    renderer_.SetPose(attachment_ids_[i], world_->wMattachment(attachments[i]));
   }
   const double t = world_->now_s();
   const double az = config.light_azimuth_deg * M_PI / 180.0;

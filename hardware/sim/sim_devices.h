@@ -41,7 +41,7 @@ class SimCamera : public RgbdCamera {
   int object_id_ = -1;
   std::vector<int> arm_ids_[2];
   int occluder_id_ = -1;             // when the world has an occluder
-  std::vector<int> attachment_ids_;  // one per World::tool_attachments(), added as they appear
+  std::vector<int> attachment_ids_;  // one per World::attachments(), added as they appear
   std::int64_t next_index_ = 0;
   RenderBuffers truth_;
   Lighting lighting_;

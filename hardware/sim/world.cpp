@@ -133,7 +133,15 @@ std::vector<Eigen::Isometry3d> World::ArmSegmentPoses(Side side) const {
 }
 
 void World::AttachToTool(Side side, const RenderMesh& mesh, const Eigen::Isometry3d& eMm) {
-  attachments_.push_back({side, mesh, eMm});
+  attachments_.push_back({false, side, mesh, eMm});
+}
+
+void World::AttachToObject(const RenderMesh& mesh, const Eigen::Isometry3d& oMm) {
+  attachments_.push_back({true, Side::kLeft, mesh, oMm});
+}
+
+Eigen::Isometry3d World::wMattachment(const Attachment& attachment) const {
+  return (attachment.on_object ? wMo_ : wMe(attachment.side)) * attachment.pMm;
 }
 
 void World::PlaceObject(const Eigen::Isometry3d& wMo) {

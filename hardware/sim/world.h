@@ -92,15 +92,20 @@ class World {
   /// there (no crawling) until a gripper takes it.
   void PlaceObject(const Eigen::Isometry3d& wMo);
 
-  /// A mesh fixed to an arm's tool frame (e.g. a tag board on the gripper):
-  /// eMm places the mesh frame in the tool frame. Rendered by SimCamera.
-  struct ToolAttachment {
-    Side side;
+  /// A mesh carried by an arm's tool frame e (a tag board on the gripper) or by
+  /// the object o (a tag board on a bench object): pMm places the mesh frame m
+  /// in its carrier p. Rendered by SimCamera.
+  struct Attachment {
+    bool on_object = false;   ///< true: carried by the object; false: by `side`'s tool
+    Side side = Side::kLeft;  ///< the arm, when carried by a tool
     RenderMesh mesh;
-    Eigen::Isometry3d eMm;
+    Eigen::Isometry3d pMm = Eigen::Isometry3d::Identity();
   };
   void AttachToTool(Side side, const RenderMesh& mesh, const Eigen::Isometry3d& eMm);
-  const std::vector<ToolAttachment>& tool_attachments() const { return attachments_; }
+  void AttachToObject(const RenderMesh& mesh, const Eigen::Isometry3d& oMm);
+  const std::vector<Attachment>& attachments() const { return attachments_; }
+  /// Where an attachment's mesh frame is now, in w.
+  Eigen::Isometry3d wMattachment(const Attachment& attachment) const;
 
   /// The occluder (WorldConfig::occluder): its panel, whether it hides the
   /// object now, and wMh, its pose: on the line from the camera to the object
@@ -137,7 +142,7 @@ class World {
   RenderMesh object_render_;
   RenderMesh occluder_render_;
   std::array<std::vector<RenderMesh>, 2> arm_render_;
-  std::vector<ToolAttachment> attachments_;
+  std::vector<Attachment> attachments_;
 };
 
 }  // namespace aerograsp

@@ -286,6 +286,31 @@ TEST(SimCameraTest, TheObjectIsWhereTheGroundTruthSaysItIs) {
   }
 }
 
+TEST(SimCameraTest, AMeshOnTheObjectMovesWithItAndIsRendered) {
+  World world(CalmConfig(), 3);
+  SimCamera camera(&world);
+  // A 4 cm white square 1 mm above the middle of the crawler's top, facing up (+z_o).
+  RenderMesh square;
+  square.mesh.vertices = {{-0.02, -0.02, 0.0}, {0.02, -0.02, 0.0}, {0.02, 0.02, 0.0}, {-0.02, 0.02, 0.0}};
+  square.mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+  square.material.albedo = {1.0f, 1.0f, 1.0f};
+  const Eigen::Isometry3d oMm = MakeTransform(Eigen::Vector3d(0, 0, 0.5 * world.object().dimensions_m.z() + 0.001),
+                                              Eigen::Vector3d::Zero());
+  world.AttachToObject(square, oMm);
+  const Eigen::Isometry3d wMo = world.wMo() * MakeTransform(Eigen::Vector3d(0.05, 0.02, 0), Eigen::Vector3d(0, 0, 0.3));
+  world.PlaceObject(wMo);
+  ASSERT_EQ(world.attachments().size(), 1u);
+  EXPECT_TRUE(world.wMattachment(world.attachments()[0]).isApprox(wMo * oMm, 1e-12));
+  RgbdFrame frame;
+  ASSERT_TRUE(camera.Grab(&frame));
+  const Eigen::Vector3d centre_c = world.wMc().inverse() * wMo * oMm.translation();
+  const Eigen::Vector2d uv = camera.intrinsics().Project(centre_c);
+  const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+  ASSERT_TRUE(u >= 0 && u < 640 && v >= 0 && v < 480) << uv.transpose();
+  EXPECT_NE(camera.last_truth().object_id.at(u, v), camera.object_render_id());  // the square hides the object
+  EXPECT_NEAR(camera.last_truth().depth_m.at(u, v), centre_c.z(), 2e-3);
+}
+
 TEST(SimCameraTest, TheOccluderHidesTheObjectFullyOnlyInItsWindows) {
   WorldConfig config = DefaultConfig();
   config.occluder.enabled = true;

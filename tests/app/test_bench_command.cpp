@@ -1,0 +1,124 @@
+#include "app/bench_command.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/config.h"
+#include "core/data_dir.h"
+#include "core/transforms.h"
+
+namespace aerograsp {
+namespace {
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+class BenchCommandTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = (fs::temp_directory_path() /
+               (std::string("aerograsp_bench_") + ::testing::UnitTest::GetInstance()->current_test_info()->name()))
+                  .string();  // one folder per test: ctest runs them in parallel
+    fs::remove_all(folder_);
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+  nlohmann::json Summary() const {
+    std::ifstream in(fs::path(folder_) / "summary.json");
+    return nlohmann::json::parse(in);
+  }
+  std::string folder_;
+};
+
+TEST_F(BenchCommandTest, TagsAgreeWithTheTruthAndPerceptionWithTheTags) {
+  BenchCommandOptions options;
+  options.out_dir = folder_;
+  options.frames = 20;
+  std::ostringstream out, progress;
+  RunBenchCommand(options, out, progress);
+  const nlohmann::json s = Summary();
+  EXPECT_EQ(s["frames"], 20);
+  EXPECT_GE(s["tag_frames"].get<int>(), 18) << out.str();
+  EXPECT_GE(s["compared_frames"].get<int>(), 10) << out.str();
+  // The tags' own error, in simulation: well under a millimetre and a degree.
+  EXPECT_LT(s["tags_vs_truth"]["translation_rmse_m"].get<double>(), 0.002);
+  EXPECT_LT(s["tags_vs_truth"]["rotation_rmse_deg"].get<double>(), 1.0);
+  // Perception against the tags: the design's budget (5 mm, 2 deg).
+  EXPECT_LT(s["translation_rmse_m"].get<double>(), 0.005) << out.str();
+  EXPECT_LT(s["rotation_rmse_deg"].get<double>(), 2.0);
+  EXPECT_GT(s["translation_rmse_m"].get<double>(), 0.0);
+  for (const char* file : {"index.html", "pose_vs_tags.png", "servo_error.png", "frames.csv", "camera.png"}) {
+    EXPECT_TRUE(fs::exists(fs::path(folder_) / file)) << file;
+  }
+  EXPECT_THAT(out.str(), HasSubstr("perception vs tags: translation RMSE"));
+}
+
+TEST_F(BenchCommandTest, ArmsReachTheHoverPointOffTheGrasp) {
+  BenchCommandOptions options;
+  options.out_dir = folder_;
+  options.frames = 75;      // 2.5 s: the arms come from home
+  options.path_scale = 0.0;  // the object held still at the mission's grasp point
+  options.hover_m = 0.04;
+  std::ostringstream out, progress;
+  RunBenchCommand(options, out, progress);
+  const nlohmann::json s = Summary();
+  ASSERT_TRUE(s["servo_error_m_median"].is_number()) << out.str();
+  EXPECT_GT(s["servo_tracking_cycles"].get<int>(), 20);
+  EXPECT_LT(s["servo_error_m_median"].get<double>(), 0.01) << out.str();
+  EXPECT_EQ(s["hover_m"].get<double>(), 0.04);
+  EXPECT_TRUE(fs::exists(fs::path(folder_) / "joints.png"));
+}
+
+TEST_F(BenchCommandTest, ABoardFacingAwayIsNeverSeenAndSaysSo) {
+  BenchCommandOptions options;
+  options.out_dir = folder_;
+  options.frames = 4;
+  // Under the object, printed face down (z_t = z_o points into the object).
+  options.oMt = MakeTransform(Eigen::Vector3d(0.0, 0.0, -0.0405), Eigen::Vector3d::Zero());
+  std::ostringstream out, progress;
+  try {
+    RunBenchCommand(options, out, progress);
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("the tag board was never detected in 4 frames"));
+    EXPECT_THAT(e.what(), HasSubstr("--board-pose"));
+  }
+  EXPECT_EQ(Summary()["tag_frames"], 0);  // the report is written first
+}
+
+TEST_F(BenchCommandTest, AHardwareConfigWithARealCameraIsRefusedWithTheReason) {
+  BenchCommandOptions options;
+  options.out_dir = folder_;
+  options.hardware_path = DataPath("config/hardware_example.yaml");
+  std::ostringstream out, progress;
+  try {
+    RunBenchCommand(options, out, progress);
+    FAIL() << "expected an error";
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("hardware_example.yaml: camera.backend: 'realsense'"));
+    EXPECT_THAT(e.what(), HasSubstr("only the simulated camera"));
+  }
+}
+
+TEST_F(BenchCommandTest, BadOptionsNameTheOptionAndTheBound) {
+  std::ostringstream out, progress;
+  BenchCommandOptions options;
+  options.out_dir = folder_;
+  options.hover_m = 0.5;
+  EXPECT_THAT([&] { RunBenchCommand(options, out, progress); },
+              ::testing::ThrowsMessage<ConfigError>(HasSubstr("--hover-m")));
+  options.hover_m = 0.04;
+  options.frames = 0;
+  EXPECT_THAT([&] { RunBenchCommand(options, out, progress); },
+              ::testing::ThrowsMessage<ConfigError>(HasSubstr("--frames")));
+  options.frames = 5;
+  options.oMt = Eigen::Isometry3d(Eigen::Matrix4d::Constant(2.0));
+  EXPECT_THAT([&] { RunBenchCommand(options, out, progress); },
+              ::testing::ThrowsMessage<ConfigError>(HasSubstr("--board-pose: not a rigid transform")));
+}
+
+}  // namespace
+}  // namespace aerograsp
