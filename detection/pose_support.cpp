@@ -36,33 +36,19 @@ PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& c
     const std::uint16_t d = depth.at(u, v);
     if (d == 0) continue;
     ++support.projected;
+    const double z_obs = d * depth_scale_m;
     const double tolerance =
         std::max(options.min_tolerance_m, 3.0 * options.depth_noise_per_m2 * p.z() * p.z());
-    // Whether pixel (x, y) shows this point: its depth and colour.
-    const auto agrees_at = [&](int x, int y) {
-      const std::uint16_t dxy = depth.at(x, y);
-      if (dxy == 0 || std::abs(dxy * depth_scale_m - p.z()) > tolerance) return false;
-      return !check_color ||
-             ColorDistance(Eigen::Vector3f(color.at(x, y, 0), color.at(x, y, 1), color.at(x, y, 2)),
-                           model.colors[i]) <= options.max_color_distance;
-    };
-    const double z_obs = d * depth_scale_m;
-    bool agrees = agrees_at(u, v);
-    const bool nearer = !agrees && z_obs < p.z() - tolerance;  // something in front: an occlusion
-    if (!agrees && !nearer && options.neighbour_px > 0) {
-      const int r = options.neighbour_px;
-      for (int y = std::max(0, v - r); !agrees && y <= std::min(depth.height - 1, v + r); ++y) {
-        for (int x = std::max(0, u - r); !agrees && x <= std::min(depth.width - 1, u + r); ++x) {
-          agrees = agrees_at(x, y);
-        }
-      }
-    }
-    if (agrees) {
-      ++support.agree;
-    } else if (nearer) {
-      ++support.occluded;
+    if (std::abs(z_obs - p.z()) <= tolerance) {
+      const bool color_ok =
+          !check_color ||
+          ColorDistance(Eigen::Vector3f(color.at(u, v, 0), color.at(u, v, 1), color.at(u, v, 2)), model.colors[i]) <=
+              options.max_color_distance;
+      ++(color_ok ? support.agree : support.see_through);
+    } else if (z_obs > p.z()) {
+      ++support.see_through;
     } else {
-      ++support.see_through;  // the camera sees through the model, or the colour differs
+      ++support.occluded;
     }
   }
   if (support.box.x0 == INT_MAX) support.box = {};

@@ -35,11 +35,6 @@ struct PoseSupportOptions {
   double depth_noise_per_m2 = 0.0047; ///< depth tolerance max(min_tolerance_m, 3 * this * z^2)
   double min_tolerance_m = 0.01;
   double max_color_distance = 100.0;  ///< colour check (ColorDistance); >= 768 disables it
-  /// A point that does not agree at its pixel still agrees when a pixel this
-  /// near does (depth and colour): the projection's rounding and the mixed
-  /// pixels of silhouettes and colour seams, one pixel wide at any range, then
-  /// contradict no pose. 0: its own pixel only.
-  int neighbour_px = 1;
 };
 
 /// `color` may be empty (no colour check). Never throws; bad input gives an empty support.
