@@ -86,6 +86,7 @@ std::vector<Eigen::Isometry3d> PlanBoardViews(const CameraIntrinsics& K, const T
 struct ViewsFile {
   TagBoardConfig board;
   CameraIntrinsics factory;  // the camera's own intrinsics; in simulation the truth
+  std::string camera_name{"Camera"};  // the platform's name for it in camera XML (platform.h: camera_name)
   bool simulated = false;
   std::vector<View> views;
 };
@@ -98,6 +99,7 @@ void WriteViewsYaml(const std::string& folder, const ViewsFile& file) {
   y << YAML::BeginMap;
   y << YAML::Key << "kind" << YAML::Value << "intrinsics";
   y << YAML::Key << "simulated" << YAML::Value << file.simulated;
+  y << YAML::Key << "camera_name" << YAML::Value << file.camera_name;
   y << YAML::Key << "factory" << YAML::Value << YAML::Flow << YAML::BeginMap;
   const CameraIntrinsics& K = file.factory;
   y << YAML::Key << "width" << YAML::Value << K.width << YAML::Key << "height" << YAML::Value << K.height
@@ -126,10 +128,11 @@ void WriteViewsYaml(const std::string& folder, const ViewsFile& file) {
 ViewsFile ReadViewsYaml(const std::string& folder) {
   const std::string path = ViewsPath(folder);
   const ConfigNode root = ConfigNode::LoadFile(path);
-  root.RequireOnlyKeys({"kind", "simulated", "factory", "board", "views"});
+  root.RequireOnlyKeys({"kind", "simulated", "camera_name", "factory", "board", "views"});
   if (root.GetString("kind") != "intrinsics") root.Fail("kind", "expected 'intrinsics'");
   ViewsFile file;
   file.simulated = root.GetBool("simulated", false);
+  file.camera_name = root.GetString("camera_name", file.camera_name);
   const ConfigNode factory = root.Child("factory");
   factory.RequireOnlyKeys({"width", "height", "fx_px", "fy_px", "cx_px", "cy_px"});
   file.factory.width = factory.GetInt("width");
@@ -255,7 +258,7 @@ void SolveAndReport(const std::string& folder, ViewsFile* file, std::ostream& ou
 
   const std::string yaml_path = (fs::path(folder) / "intrinsics.yaml").string();
   WriteIntrinsicsYaml(yaml_path, r, F, static_cast<int>(used.size()));
-  SaveCameraXml(r.K, "Camera", (fs::path(folder) / "camera.xml").string());
+  SaveCameraXml(r.K, file->camera_name, (fs::path(folder) / "camera.xml").string());
   nlohmann::json rejected_views = nlohmann::json::array();
   for (std::size_t i = 0; i < file->views.size(); ++i) {
     if (!file->views[i].accepted) rejected_views.push_back({{"view", i}, {"reason", file->views[i].reject_reason}});
@@ -321,6 +324,7 @@ void RunCalibrateIntrinsics(const CalibrateCommandOptions& options, std::ostream
   file.board = IntrinsicsBoard();
   file.factory = camera.intrinsics();
   file.simulated = true;  // OpenCalibrationHardware opens the simulated camera only
+  file.camera_name = hw.devices->platform().config().camera_name;
   const std::vector<Eigen::Isometry3d> views = PlanBoardViews(file.factory, file.board, options.poses, options.seed);
   if (views.empty()) throw std::runtime_error("no board pose in front of the camera keeps the whole board in view");
   out << fmt::format("planned {} views of a {} x {} board of {:.0f} mm tags (of {} requested); devices: {}\n",

@@ -62,8 +62,8 @@ TEST_F(CalibrateIntrinsicsTest, RecoversTheSimulatedCamerasIntrinsics) {
   EXPECT_EQ(s["per_view_rms_px"].size(), s["views_used"].get<std::size_t>());
   EXPECT_TRUE(fs::exists(fs::path(folder_) / "views" / "014.png"));
   EXPECT_TRUE(fs::exists(fs::path(folder_) / "intrinsics.yaml"));
-  // camera.xml reads back as the platform reads its camera.
-  const CameraIntrinsics K = LoadCameraXml((fs::path(folder_) / "camera.xml").string());
+  // camera.xml reads back as the platform reads its camera (by the platform's camera name).
+  const CameraIntrinsics K = LoadCameraXml((fs::path(folder_) / "camera.xml").string(), "d435_color");
   EXPECT_NEAR(K.fx, s["fx"].get<double>(), 1e-3);
   EXPECT_NEAR(K.cy, s["cy"].get<double>(), 1e-3);
 
