@@ -13,7 +13,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "app/calibrate_intrinsics.h"
 #include "app/calibration_file.h"
+#include "app/calibration_hardware.h"
+#include "app/calibration_samples.h"
 #include "app/progress.h"
 #include "app/summary_file.h"
 #include "app/tag_board_mesh.h"
@@ -24,7 +27,6 @@
 #include "core/data_dir.h"
 #include "core/random.h"
 #include "core/transforms.h"
-#include "hardware/sim/sim_devices.h"
 #include "hardware/sim/world.h"
 
 namespace aerograsp {
@@ -126,12 +128,8 @@ void WriteSamplesYaml(const std::string& path, const std::string& platform_path,
   y << YAML::BeginMap;
   y << YAML::Key << "platform" << YAML::Value << platform_path;
   y << YAML::Key << "arm" << YAML::Value << SideName(side);
-  y << YAML::Key << "board" << YAML::Value << YAML::BeginMap;
-  y << YAML::Key << "family" << YAML::Value << board.family << YAML::Key << "rows" << YAML::Value << board.rows
-    << YAML::Key << "cols" << YAML::Value << board.cols << YAML::Key << "tag_size_m" << YAML::Value
-    << board.tag_size_m << YAML::Key << "spacing_m" << YAML::Value << board.spacing_m << YAML::Key << "margin_m"
-    << YAML::Value << board.margin_m << YAML::Key << "first_id" << YAML::Value << board.first_id;
-  y << YAML::EndMap;
+  y << YAML::Key << "board" << YAML::Value;
+  EmitTagBoard(board, &y);
   y << YAML::Key << "samples" << YAML::Value << YAML::BeginSeq;
   for (const Sample& s : samples) {
     y << YAML::BeginMap;
@@ -140,11 +138,9 @@ void WriteSamplesYaml(const std::string& path, const std::string& platform_path,
     y << YAML::Key << "reject_reason" << YAML::Value << s.reject_reason;
     y << YAML::Key << "q_rad" << YAML::Value << YAML::Flow << std::vector<double>(s.q_rad.data(), s.q_rad.data() + s.q_rad.size());
     y << YAML::Key << "cMt" << YAML::Value << YAML::Flow << FlattenRowMajor(s.data.cMt);
-    y << YAML::Key << "corners" << YAML::Value << YAML::BeginSeq;
-    for (const auto& [p_t, px] : s.data.corners) {
-      y << YAML::Flow << std::vector<double>{p_t.x(), p_t.y(), p_t.z(), px.x(), px.y()};
-    }
-    y << YAML::EndSeq << YAML::EndMap;
+    y << YAML::Key << "corners" << YAML::Value;
+    EmitCorners(s.data.corners, &y);
+    y << YAML::EndMap;
   }
   y << YAML::EndSeq << YAML::EndMap;
   std::ofstream out(path);
@@ -180,11 +176,7 @@ std::vector<Sample> ReadSamplesYaml(const std::string& path, std::string* platfo
       for (int r = 0; r < 4; ++r) {
         for (int c = 0; c < 4; ++c) s.data.cMt.matrix()(r, c) = m[4 * r + c];
       }
-      for (const auto& row : all[i]["corners"]) {
-        const auto v = row.as<std::vector<double>>();
-        if (v.size() != 5) root.Fail(where + ".corners", "each corner is x, y, z, u, v");
-        s.data.corners.emplace_back(Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Vector2d(v[3], v[4]));
-      }
+      s.data.corners = ReadCorners(all[i]["corners"], root, where + ".corners");
       samples.push_back(std::move(s));
     } catch (const YAML::Exception& e) {
       root.Fail(where, std::string("malformed: ") + e.what());
@@ -339,6 +331,10 @@ void SolveAndReport(const std::string& folder, const std::string& platform_path,
 
 void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& out, std::ostream& progress) {
   if (!options.resolve_dir.empty()) {
+    if (IsIntrinsicsFolder(options.resolve_dir)) {
+      ResolveIntrinsics(options.resolve_dir, out);
+      return;
+    }
     std::string platform_path;
     Side side;
     TagBoardConfig board;
@@ -347,17 +343,19 @@ void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& o
     SolveAndReport(options.resolve_dir, platform_path, side, board, samples, std::nullopt, out);
     return;
   }
+  if (options.intrinsics) {
+    RunCalibrateIntrinsics(options, out, progress);
+    return;
+  }
   const Side side = ParseSide(options.arm);
   if (options.out_dir.empty()) throw ConfigError("--out: an output folder is required");
-  const std::string world_path =
-      options.world_config.empty() ? DataPath("config/world_default.yaml") : options.world_config;
-  const WorldConfig config = WorldConfig::Load(world_path);
-  World world(config, options.seed);
+  const CalibrationHardware hw = OpenCalibrationHardware(options.hardware_path, options.world_config, options.seed);
+  World& world = *hw.devices->world();
   const TagBoardConfig board;
   world.AttachToTool(side, MakeBoardRenderMesh(board), NominalBoardOnGripper());
-  SimCamera camera(&world);
-  SimArmsDriver arms(&world);
-  const Platform& platform = world.platform();
+  RgbdCamera& camera = hw.devices->camera();
+  ArmsDriver& arms = hw.devices->arms();
+  const Platform& platform = hw.devices->platform();
 
   const std::vector<Eigen::VectorXd> poses = PlanPoses(platform, side, board, options.poses, options.seed);
   if (poses.empty()) {
@@ -365,23 +363,27 @@ void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& o
                                          "clear of the safe volume",
                                          SideName(side)));
   }
-  out << fmt::format("planned {} poses of the {} arm (of {} requested)\n", poses.size(), SideName(side),
-                     options.poses);
+  out << fmt::format("planned {} poses of the {} arm (of {} requested); devices: {}\n", poses.size(),
+                     SideName(side), options.poses, hw.config.source);
   fs::create_directories(fs::path(options.out_dir) / "samples");
   TagDetector detector(board.family);
   const int board_tags = board.rows * board.cols;
   std::vector<Sample> samples;
   Progress bar(progress, "calibrate", static_cast<std::int64_t>(poses.size()), "poses");
   const std::string samples_yaml = (fs::path(options.out_dir) / "samples.yaml").string();
+  constexpr double kSettleStep_s = 0.05;
   for (const Eigen::VectorXd& target : poses) {
-    arms.SetJointTargets(side, target);
-    // Settle: the measured joints stop changing and sit on the target.
+    // Settle: the measured joints stop changing and sit on the target the
+    // servos were given. The target is sent every cycle, as a control loop
+    // does (the bus driver's watchdog holds targets that grow stale).
     const double quantum = world.arm(side).quantum_rad();
     const double start = world.now_s();
+    arms.SetJointTargets(side, target);
     Eigen::VectorXd last = arms.JointPositions(side);
     bool settled = false;
     while (world.now_s() - start < options.settle_timeout_s && !settled) {
-      world.Step(0.05);
+      hw.devices->StepSimulation(kSettleStep_s);
+      arms.SetJointTargets(side, target);
       const Eigen::VectorXd q = arms.JointPositions(side);
       settled = (q - last).cwiseAbs().maxCoeff() < 0.5 * quantum &&
                 (q - world.arm(side).target_rad()).cwiseAbs().maxCoeff() < 1.5 * quantum;
@@ -393,20 +395,11 @@ void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& o
     s.image = fmt::format("samples/{:03d}.png", samples.size());
     s.q_rad = arms.JointPositions(side);
     s.data.bMe = platform.arm(side).ForwardKinematics(s.q_rad);
-    const cv::Mat rgb(frame.color.height, frame.color.width, CV_8UC3, frame.color.data.data());
-    cv::Mat bgr;
-    cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
-    cv::imwrite((fs::path(options.out_dir) / s.image).string(), bgr);
+    WriteColorPng(frame.color, (fs::path(options.out_dir) / s.image).string());
     const std::vector<TagDetection> detections = detector.Detect(frame.color);
     const BoardPose pose = EstimateBoardPose(detections, board, camera.intrinsics());
     s.data.cMt = pose.cMt;
-    const std::vector<BoardTag> tags = BoardTags(board);
-    for (const TagDetection& d : detections) {
-      for (const BoardTag& tag : tags) {
-        if (tag.id != d.id) continue;
-        for (int k = 0; k < 4; ++k) s.data.corners.emplace_back(tag.corners_t[k], d.corners_px[k]);
-      }
-    }
+    s.data.corners = MatchBoardCorners(detections, board);
     if (!settled) {
       s.reject_reason = fmt::format("arm not settled after {:.1f} s", options.settle_timeout_s);
     } else if (!pose.valid || pose.tags_used < kMinBoardFraction * board_tags) {
@@ -416,16 +409,17 @@ void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& o
     }
     s.accepted = s.reject_reason.empty();
     samples.push_back(s);
-    WriteSamplesYaml(samples_yaml, config.platform, side, board, samples);  // nothing is lost on an error
+    WriteSamplesYaml(samples_yaml, hw.config.platform, side, board, samples);  // nothing is lost on an error
     bar.Update(static_cast<std::int64_t>(samples.size()));
   }
   bar.Finish();
   for (std::size_t i = 0; i < samples.size(); ++i) {
     if (!samples[i].accepted) out << fmt::format("  sample {:3d} rejected: {}\n", i, samples[i].reject_reason);
   }
-  // In the simulator the truth is the platform's nominal geometry.
-  const Eigen::Isometry3d truth_cMb = platform.dMc().inverse() * platform.dMb(side);
-  SolveAndReport(options.out_dir, config.platform, side, board, samples, truth_cMb, out);
+  // In the simulator the truth is the world's platform's nominal geometry.
+  const Platform& truth = world.platform();
+  const Eigen::Isometry3d truth_cMb = truth.dMc().inverse() * truth.dMb(side);
+  SolveAndReport(options.out_dir, hw.config.platform, side, board, samples, truth_cMb, out);
 }
 
 }  // namespace aerograsp

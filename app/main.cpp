@@ -142,18 +142,23 @@ int main(int argc, char** argv) {
 
   aerograsp::CalibrateCommandOptions calibrate;
   CLI::App* calibrate_cmd = app.add_subcommand(
-      "calibrate", "Camera-to-arm calibration from an AprilTag board on the gripper (simulator)");
+      "calibrate", "Camera-to-arm calibration from an AprilTag board on the gripper, or the camera's intrinsics");
   calibrate_cmd->add_option("--arm", calibrate.arm, "Arm to calibrate")
       ->capture_default_str()
       ->check(CLI::IsMember({"left", "right"}));
+  calibrate_cmd->add_flag("--intrinsics", calibrate.intrinsics,
+                          "Calibrate the camera's intrinsics from a board shown in varied poses (not an arm)");
   calibrate_cmd->add_option("--out", calibrate.out_dir, "Folder for the samples, the calibration and the report");
   calibrate_cmd->add_option("--resolve", calibrate.resolve_dir, "Solve again from the samples saved in this folder")
       ->check(CLI::ExistingDirectory);
-  calibrate_cmd->add_option("--poses", calibrate.poses, "Arm poses to visit")
+  calibrate_cmd->add_option("--poses", calibrate.poses, "Arm poses (or board views, with --intrinsics) to visit")
       ->capture_default_str()
       ->check(CLI::Range(4, 100));
   calibrate_cmd->add_option("--seed", calibrate.seed, "World and pose-planning seed")->capture_default_str();
   calibrate_cmd->add_option("--world", calibrate.world_config, "World YAML")->check(CLI::ExistingFile);
+  calibrate_cmd->add_option("--hardware", calibrate.hardware_path,
+                            "Hardware YAML (the built-in simulation when absent); simulated devices only")
+      ->check(CLI::ExistingFile);
   // ---- replay and dataset: perception (issue 4) ----
   aerograsp::ReplayCommandOptions replay;
   std::vector<double> replay_init;

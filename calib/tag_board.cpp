@@ -184,19 +184,27 @@ std::vector<TagDetection> TagDetector::Detect(const ColorImage& image) {
   return detections;
 }
 
-BoardPose EstimateBoardPose(const std::vector<TagDetection>& detections, const TagBoardConfig& board,
-                            const CameraIntrinsics& K) {
+std::vector<BoardCorner> MatchBoardCorners(const std::vector<TagDetection>& detections, const TagBoardConfig& board,
+                                           int* tags_used) {
   std::map<int, const BoardTag*> by_id;
   const std::vector<BoardTag> tags = BoardTags(board);
   for (const BoardTag& t : tags) by_id[t.id] = &t;
-  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector2d>> matches;  // (p_t, pixel)
-  BoardPose result;
+  std::vector<BoardCorner> matches;
+  int used = 0;
   for (const TagDetection& d : detections) {
     const auto it = by_id.find(d.id);
     if (it == by_id.end()) continue;
-    ++result.tags_used;
+    ++used;
     for (int k = 0; k < 4; ++k) matches.emplace_back(it->second->corners_t[k], d.corners_px[k]);
   }
+  if (tags_used) *tags_used = used;
+  return matches;
+}
+
+BoardPose EstimateBoardPose(const std::vector<TagDetection>& detections, const TagBoardConfig& board,
+                            const CameraIntrinsics& K) {
+  BoardPose result;
+  const std::vector<BoardCorner> matches = MatchBoardCorners(detections, board, &result.tags_used);
   if (matches.size() < 4) return result;
   vpPose pose;
   for (const auto& [p_t, px] : matches) {

@@ -11,6 +11,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/camera_model.h"
@@ -74,6 +75,15 @@ class TagDetector {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// A board corner seen in an image: the point in t and its pixel.
+using BoardCorner = std::pair<Eigen::Vector3d, Eigen::Vector2d>;
+
+/// The corners of the detections that belong to the board (others ignored),
+/// each with its place on the board; `tags_used`, when given, receives how many
+/// detections belonged to the board.
+std::vector<BoardCorner> MatchBoardCorners(const std::vector<TagDetection>& detections, const TagBoardConfig& board,
+                                           int* tags_used = nullptr);
 
 struct BoardPose {
   bool valid = false;

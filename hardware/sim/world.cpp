@@ -133,15 +133,32 @@ std::vector<Eigen::Isometry3d> World::ArmSegmentPoses(Side side) const {
 }
 
 void World::AttachToTool(Side side, const RenderMesh& mesh, const Eigen::Isometry3d& eMm) {
-  attachments_.push_back({false, side, mesh, eMm});
+  attachments_.push_back({Attachment::Carrier::kTool, side, mesh, eMm});
 }
 
 void World::AttachToObject(const RenderMesh& mesh, const Eigen::Isometry3d& oMm) {
-  attachments_.push_back({true, Side::kLeft, mesh, oMm});
+  attachments_.push_back({Attachment::Carrier::kObject, Side::kLeft, mesh, oMm});
+}
+
+std::size_t World::AttachToCamera(const RenderMesh& mesh, const Eigen::Isometry3d& cMm) {
+  attachments_.push_back({Attachment::Carrier::kCamera, Side::kLeft, mesh, cMm});
+  return attachments_.size() - 1;
+}
+
+void World::MoveAttachment(std::size_t index, const Eigen::Isometry3d& pMm) {
+  attachments_.at(index).pMm = pMm;
 }
 
 Eigen::Isometry3d World::wMattachment(const Attachment& attachment) const {
-  return (attachment.on_object ? wMo_ : wMe(attachment.side)) * attachment.pMm;
+  switch (attachment.carrier) {
+    case Attachment::Carrier::kObject:
+      return wMo_ * attachment.pMm;
+    case Attachment::Carrier::kCamera:
+      return wMc() * attachment.pMm;
+    case Attachment::Carrier::kTool:
+      break;
+  }
+  return wMe(attachment.side) * attachment.pMm;
 }
 
 void World::PlaceObject(const Eigen::Isometry3d& wMo) {

@@ -92,17 +92,24 @@ class World {
   /// there (no crawling) until a gripper takes it.
   void PlaceObject(const Eigen::Isometry3d& wMo);
 
-  /// A mesh carried by an arm's tool frame e (a tag board on the gripper) or by
-  /// the object o (a tag board on a bench object): pMm places the mesh frame m
-  /// in its carrier p. Rendered by SimCamera.
+  /// A mesh carried by an arm's tool frame e (a tag board on the gripper), by
+  /// the object o (a tag board on a bench object) or held in front of the
+  /// camera c (a board a person shows to the camera): pMm places the mesh frame
+  /// m in its carrier p. Rendered by SimCamera.
   struct Attachment {
-    bool on_object = false;   ///< true: carried by the object; false: by `side`'s tool
+    enum class Carrier { kTool, kObject, kCamera };
+    Carrier carrier = Carrier::kTool;
     Side side = Side::kLeft;  ///< the arm, when carried by a tool
     RenderMesh mesh;
     Eigen::Isometry3d pMm = Eigen::Isometry3d::Identity();
   };
   void AttachToTool(Side side, const RenderMesh& mesh, const Eigen::Isometry3d& eMm);
   void AttachToObject(const RenderMesh& mesh, const Eigen::Isometry3d& oMm);
+  /// Returns the attachment's index, for MoveAttachment.
+  std::size_t AttachToCamera(const RenderMesh& mesh, const Eigen::Isometry3d& cMm);
+  /// Places attachment `index` at pMm in its carrier.
+  /// @throws std::out_of_range for an index that names no attachment.
+  void MoveAttachment(std::size_t index, const Eigen::Isometry3d& pMm);
   const std::vector<Attachment>& attachments() const { return attachments_; }
   /// Where an attachment's mesh frame is now, in w.
   Eigen::Isometry3d wMattachment(const Attachment& attachment) const;

@@ -311,6 +311,31 @@ TEST(SimCameraTest, AMeshOnTheObjectMovesWithItAndIsRendered) {
   EXPECT_NEAR(camera.last_truth().depth_m.at(u, v), centre_c.z(), 2e-3);
 }
 
+TEST(SimCameraTest, AMeshHeldInFrontOfTheCameraStaysInPlaceInTheImageAndMoves) {
+  World world(DefaultConfig(), 3);  // the vehicle sways: the mesh follows the camera
+  SimCamera camera(&world);
+  RenderMesh square;  // 4 cm, facing the camera (-z_m towards it)
+  square.mesh.vertices = {{-0.02, -0.02, 0.0}, {0.02, -0.02, 0.0}, {0.02, 0.02, 0.0}, {-0.02, 0.02, 0.0}};
+  square.mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+  square.material.albedo = {1.0f, 1.0f, 1.0f};
+  const Eigen::Isometry3d cMm = MakeTransform(Eigen::Vector3d(0.1, -0.05, 0.3), Eigen::Vector3d::Zero());
+  const std::size_t index = world.AttachToCamera(square, cMm);
+  RgbdFrame frame;
+  for (double t_s : {0.0, 0.7}) {
+    world.StepTo(t_s);
+    EXPECT_TRUE(world.wMattachment(world.attachments()[index]).isApprox(world.wMc() * cMm, 1e-12));
+    ASSERT_TRUE(camera.Grab(&frame));
+    const Eigen::Vector2d uv = camera.intrinsics().Project(cMm.translation());
+    EXPECT_NEAR(camera.last_truth().depth_m.at(static_cast<int>(uv.x()), static_cast<int>(uv.y())), 0.3, 1e-3);
+  }
+  const Eigen::Isometry3d moved = MakeTransform(Eigen::Vector3d(-0.1, 0.05, 0.4), Eigen::Vector3d::Zero());
+  world.MoveAttachment(index, moved);
+  ASSERT_TRUE(camera.Grab(&frame));
+  const Eigen::Vector2d uv = camera.intrinsics().Project(moved.translation());
+  EXPECT_NEAR(camera.last_truth().depth_m.at(static_cast<int>(uv.x()), static_cast<int>(uv.y())), 0.4, 1e-3);
+  EXPECT_THROW(world.MoveAttachment(index + 1, moved), std::out_of_range);
+}
+
 TEST(SimCameraTest, TheOccluderHidesTheObjectFullyOnlyInItsWindows) {
   WorldConfig config = DefaultConfig();
   config.occluder.enabled = true;

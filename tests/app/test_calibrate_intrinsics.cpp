@@ -1,0 +1,148 @@
+#include "app/calibrate_intrinsics.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "app/calibrate_command.h"
+#include "core/camera_model.h"
+#include "core/data_dir.h"
+
+namespace aerograsp {
+namespace {
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+class CalibrateIntrinsicsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = (fs::temp_directory_path() /
+               (std::string("aerograsp_intrinsics_") + ::testing::UnitTest::GetInstance()->current_test_info()->name()))
+                  .string();  // one folder per test: ctest runs them in parallel
+    fs::remove_all(folder_);
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+  nlohmann::json Summary() const {
+    std::ifstream in(fs::path(folder_) / "summary.json");
+    return nlohmann::json::parse(in);
+  }
+  std::string folder_;
+};
+
+// The whole path: the renderer draws the board, libapriltag finds its corners,
+// OpenCV's calibrateCamera solves; the simulated camera's intrinsics are the truth.
+TEST_F(CalibrateIntrinsicsTest, RecoversTheSimulatedCamerasIntrinsics) {
+  CalibrateCommandOptions options;
+  options.intrinsics = true;
+  options.out_dir = folder_;
+  options.poses = 15;
+  std::ostringstream out, progress;
+  RunCalibrateCommand(options, out, progress);
+  EXPECT_THAT(out.str(), HasSubstr("planned 15 views"));
+  const nlohmann::json s = Summary();
+  const CameraIntrinsics truth;  // the D435 colour stream of data/camera (640 x 480, 615, 615, 320, 240)
+  ASSERT_EQ(s["factory"]["fx"].get<double>(), truth.fx);
+  EXPECT_GE(s["views_used"].get<int>(), 12);
+  EXPECT_EQ(s["views_used"].get<int>() + s["views_rejected"].get<int>(), 15);
+  // Measured with 15 views on seeds 1-6 (README): the focal lengths within
+  // 2.5 px (0.4 %), the principal point within 1.6 px, from corners that
+  // libapriltag finds to 0.25-0.31 px rms on the rendered board. The
+  // tolerances, 0.75 % and 3 px, leave about twice that.
+  EXPECT_NEAR(s["fx"].get<double>(), truth.fx, 0.0075 * truth.fx);
+  EXPECT_NEAR(s["fy"].get<double>(), truth.fy, 0.0075 * truth.fy);
+  EXPECT_NEAR(s["cx"].get<double>(), truth.cx, 3.0);
+  EXPECT_NEAR(s["cy"].get<double>(), truth.cy, 3.0);
+  EXPECT_LT(s["rms_px"].get<double>(), 0.5);
+  EXPECT_NEAR(s["factory"]["difference_px"]["fx"].get<double>(), s["fx"].get<double>() - truth.fx, 1e-9);
+  ASSERT_EQ(s["dist"].size(), 5u);
+  EXPECT_EQ(s["per_view_rms_px"].size(), s["views_used"].get<std::size_t>());
+  EXPECT_TRUE(fs::exists(fs::path(folder_) / "views" / "014.png"));
+  EXPECT_TRUE(fs::exists(fs::path(folder_) / "intrinsics.yaml"));
+  // camera.xml reads back as the platform reads its camera (by the platform's camera name).
+  const CameraIntrinsics K = LoadCameraXml((fs::path(folder_) / "camera.xml").string(), "d435_color");
+  EXPECT_NEAR(K.fx, s["fx"].get<double>(), 1e-3);
+  EXPECT_NEAR(K.cy, s["cy"].get<double>(), 1e-3);
+
+  // Solving again from the saved views gives the same figures.
+  CalibrateCommandOptions again;
+  again.resolve_dir = folder_;
+  std::ostringstream out2;
+  RunCalibrateCommand(again, out2, progress);
+  const nlohmann::json s2 = Summary();
+  EXPECT_NEAR(s2["fx"].get<double>(), s["fx"].get<double>(), 1e-6);
+  EXPECT_NEAR(s2["rms_px"].get<double>(), s["rms_px"].get<double>(), 1e-6);
+}
+
+// A dark room (no light at all): the board is never seen.
+TEST_F(CalibrateIntrinsicsTest, ABoardNeverSeenSaysSoAndKeepsTheViews) {
+  fs::create_directories(folder_);
+  std::ifstream in(DataPath("config/world_default.yaml"));
+  std::string world((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto replace = [&](const std::string& from, const std::string& to) {
+    const std::size_t at = world.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    world.replace(at, from.size(), to);
+  };
+  replace("platform: platform_4dof.yaml", "platform: " + DataPath("config/platform_4dof.yaml"));
+  replace("light_intensity: 0.8", "light_intensity: 0.0");
+  replace("ambient: 0.35", "ambient: 0.0");
+  const std::string world_path = (fs::path(folder_) / "dark.yaml").string();
+  std::ofstream(world_path) << world;
+
+  CalibrateCommandOptions options;
+  options.intrinsics = true;
+  options.out_dir = (fs::path(folder_) / "out").string();
+  options.world_config = world_path;
+  options.poses = 4;
+  std::ostringstream out, progress;
+  try {
+    RunCalibrateCommand(options, out, progress);
+    FAIL() << "expected an error";
+  } catch (const std::exception& e) {
+    EXPECT_THAT(e.what(), HasSubstr("only 0 usable views of the board (at least 4 needed; 4 rejected"));
+    EXPECT_THAT(e.what(), HasSubstr("views.yaml"));
+  }
+  EXPECT_TRUE(fs::exists(fs::path(options.out_dir) / "views.yaml"));
+  EXPECT_TRUE(fs::exists(fs::path(options.out_dir) / "views" / "003.png"));
+  std::ifstream views(fs::path(options.out_dir) / "views.yaml");
+  const std::string text((std::istreambuf_iterator<char>(views)), std::istreambuf_iterator<char>());
+  EXPECT_THAT(text, HasSubstr("board not seen"));
+}
+
+TEST_F(CalibrateIntrinsicsTest, AHardwareConfigWithARealCameraIsRefusedWithTheReason) {
+  CalibrateCommandOptions options;
+  options.intrinsics = true;
+  options.out_dir = folder_;
+  options.hardware_path = DataPath("config/hardware_example.yaml");
+  std::ostringstream out, progress;
+  try {
+    RunCalibrateCommand(options, out, progress);
+    FAIL() << "expected an error";
+  } catch (const std::exception& e) {
+    EXPECT_THAT(e.what(), HasSubstr("hardware_example.yaml: camera.backend: 'realsense'"));
+    EXPECT_THAT(e.what(), HasSubstr("not supported yet"));
+  }
+}
+
+TEST_F(CalibrateIntrinsicsTest, AMalformedViewsFileNamesTheField) {
+  fs::create_directories(folder_);
+  std::ofstream(fs::path(folder_) / "views.yaml") << "kind: intrinsics\nfactory: {width: 640, height: 480, fx_px: "
+                                                     "615, fy_px: 615, cx_px: 320, cy_px: 240}\nboard: {}\nviews:\n"
+                                                     "  - {image: a.png, accepted: true, corners: [[1, 2, 3]]}\n";
+  CalibrateCommandOptions options;
+  options.resolve_dir = folder_;
+  std::ostringstream out, progress;
+  try {
+    RunCalibrateCommand(options, out, progress);
+    FAIL() << "expected an error";
+  } catch (const std::exception& e) {
+    EXPECT_THAT(e.what(), HasSubstr("views.yaml: views[0].corners: each corner is x, y, z, u, v"));
+  }
+}
+
+}  // namespace
+}  // namespace aerograsp
