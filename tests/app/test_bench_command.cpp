@@ -12,25 +12,16 @@
 #include "core/data_dir.h"
 #include "core/transforms.h"
 
+#include "tests/common/output_folder_test.h"
+
 namespace aerograsp {
 namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-class BenchCommandTest : public ::testing::Test {
+class BenchCommandTest : public testing::OutputFolderTest {
  protected:
-  void SetUp() override {
-    folder_ = (fs::temp_directory_path() /
-               (std::string("aerograsp_bench_") + ::testing::UnitTest::GetInstance()->current_test_info()->name()))
-                  .string();  // one folder per test: ctest runs them in parallel
-    fs::remove_all(folder_);
-  }
-  void TearDown() override { fs::remove_all(folder_); }
-  nlohmann::json Summary() const {
-    std::ifstream in(fs::path(folder_) / "summary.json");
-    return nlohmann::json::parse(in);
-  }
-  std::string folder_;
+  BenchCommandTest() : OutputFolderTest("aerograsp_bench_") {}
 };
 
 TEST_F(BenchCommandTest, TagsAgreeWithTheTruthAndPerceptionWithTheTags) {

@@ -12,25 +12,16 @@
 #include "core/camera_model.h"
 #include "core/data_dir.h"
 
+#include "tests/common/output_folder_test.h"
+
 namespace aerograsp {
 namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-class CalibrateIntrinsicsTest : public ::testing::Test {
+class CalibrateIntrinsicsTest : public testing::OutputFolderTest {
  protected:
-  void SetUp() override {
-    folder_ = (fs::temp_directory_path() /
-               (std::string("aerograsp_intrinsics_") + ::testing::UnitTest::GetInstance()->current_test_info()->name()))
-                  .string();  // one folder per test: ctest runs them in parallel
-    fs::remove_all(folder_);
-  }
-  void TearDown() override { fs::remove_all(folder_); }
-  nlohmann::json Summary() const {
-    std::ifstream in(fs::path(folder_) / "summary.json");
-    return nlohmann::json::parse(in);
-  }
-  std::string folder_;
+  CalibrateIntrinsicsTest() : OutputFolderTest("aerograsp_intrinsics_") {}
 };
 
 // The whole path: the renderer draws the board, libapriltag finds its corners,
