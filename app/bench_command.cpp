@@ -52,9 +52,9 @@ constexpr double kMaxTagReprojectionPx = 1.0;  // a board pose above this is not
 // A board pose from fewer tags is not used: from one 36 mm tag (the grippers
 // hide the others) its rotation was 4.1 deg RMS off the truth, from two 0.5, from three 0.4.
 constexpr int kMinBoardTags = 2;
-constexpr double kTrackingWithinM = 0.01;
+constexpr double kTrackingWithinM = 0.01;    // an arm tracks its target from the first cycle this close
 constexpr double kBranchJumpRad = 0.3;       // a re-solved grasp this far in joint space is another IK branch,
-constexpr double kBranchDriftRadPerS = 0.5;  // ... plus this per second since the last one accepted    // an arm tracks its target from the first cycle this close
+constexpr double kBranchDriftRadPerS = 0.5;  // ... plus this per second since the last one accepted (OnSameIkBranch)
 constexpr double kBoardAboveSurfaceM = 0.0005;  // the printed board lies this far above the face
 
 /// The bench's board: one row of three 36 mm tags (44 x 132 mm), which fits
@@ -444,8 +444,8 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
         ArmGrasp solved;
         Infeasibility why = Infeasibility::kNone;
         if (planner.EvaluateArm(side, pair[a], dMo, q[a], &solved, &why) &&
-            (reached_q[a].size() == 0 || (solved.q_grasp - reached_q[a]).cwiseAbs().maxCoeff() <
-                                             kBranchJumpRad + kBranchDriftRadPerS * (t - reached_t[a]))) {
+            (reached_q[a].size() == 0 ||
+             OnSameIkBranch(solved.q_grasp, reached_q[a], kBranchJumpRad, kBranchDriftRadPerS, t - reached_t[a]))) {
           reached_q[a] = solved.q_grasp;
           reached_t[a] = t;
           reached_bMg[a] = platform.arm(side).ForwardKinematics(solved.q_grasp);

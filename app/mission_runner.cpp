@@ -827,13 +827,12 @@ bool Mission::SolveFollowed(int a, const Eigen::Isometry3d& dMo) {
   const int pair = a == 0 ? choice_.left_pair : choice_.right_pair;
   Infeasibility why = Infeasibility::kNone;
   if (!planner_->EvaluateArm(kSides[a], pair, dMo, q_[a], &solved_[a], &why)) return false;
-  // A solution far in joint space from the last one is another IK branch or
-  // depth: following it would throw the arm across. The object moves on
-  // while the pair is out of reach, so the allowance grows with the time
-  // since the last solution (with a fixed one, a pair out of reach for a
-  // while stayed refused for good, its stale target standing).
-  const double allowed_rad = kBranchJumpRad + kBranchDriftRadPerS * (t - reached_stamp_s_[a]);
-  if ((solved_[a].q_grasp - reached_q_grasp_[a]).cwiseAbs().maxCoeff() >= allowed_rad) return false;
+  // Another IK branch or depth is not followed (with a fixed allowance, a pair
+  // out of reach for a while stayed refused for good, its stale target standing).
+  if (!OnSameIkBranch(solved_[a].q_grasp, reached_q_grasp_[a], kBranchJumpRad, kBranchDriftRadPerS,
+                      t - reached_stamp_s_[a])) {
+    return false;
+  }
   reached_q_grasp_[a] = solved_[a].q_grasp;
   reached_stamp_s_[a] = t;
   return true;

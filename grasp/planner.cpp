@@ -284,6 +284,11 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
   return result;
 }
 
+bool OnSameIkBranch(const Eigen::VectorXd& q_new_rad, const Eigen::VectorXd& q_last_rad, double jump_rad,
+                    double drift_rad_per_s, double since_s) {
+  return (q_new_rad - q_last_rad).cwiseAbs().maxCoeff() < jump_rad + drift_rad_per_s * since_s;
+}
+
 SwitchDecision GraspPlanner::Reevaluate(const PlanQuery& query, const SwitchState& state) const {
   const PlanResult plan = Plan(query);
   SwitchDecision decision;

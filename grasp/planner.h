@@ -160,6 +160,14 @@ struct SwitchDecision {
   SwitchState next;         ///< state for the next call
 };
 
+/// Whether a grasp solved again (joints q_new_rad) is on the IK branch of the
+/// last one followed (q_last_rad): no joint moved jump_rad + drift_rad_per_s *
+/// since_s or more. A solution far in joint space is another branch or depth,
+/// and following it would throw the arm across; the allowance grows with the
+/// time since the last one (the object moves on while a pair is out of reach).
+bool OnSameIkBranch(const Eigen::VectorXd& q_new_rad, const Eigen::VectorXd& q_last_rad, double jump_rad,
+                    double drift_rad_per_s, double since_s);
+
 class GraspPlanner {
  public:
   /// Copies what it needs from `platform`. Precomputes, per contact pair, its wrenches (torques about the centre of
