@@ -39,6 +39,35 @@ void PerceptionOptions::Validate() const {
           "must be above cloud.min_depth_m > 0");
   Require(ekf.gate_nis > 0.0, "ekf.gate_nis", "must be > 0");
   Require(gated_frames_to_reset >= 1, "gated_frames_to_reset", "must be >= 1");
+  Require(whole_frame_points >= 50 && whole_frame_points <= 100000, "whole_frame_points", "must be in [50, 100000]");
+  Require(weak_direction_ratio >= 0.0 && weak_direction_ratio <= 1.0, "weak_direction_ratio", "must be in [0, 1]");
+  // The stages' own options (their headers document these bounds).
+  Require(model.spacing_m >= 0.001 && model.spacing_m <= 0.05, "model.spacing_m", "must be in [0.001, 0.05] m");
+  Require(model.cell_m >= 0.001 && model.cell_m <= 0.05, "model.cell_m", "must be in [0.001, 0.05] m");
+  Require(model.margin_m > 0.0 && model.margin_m <= 0.5, "model.margin_m", "must be in (0, 0.5] m");
+  Require(cloud.target_points <= 100000, "cloud.target_points", "must be at most 100000");
+  Require(cloud.normal_radius_m > 0.0, "cloud.normal_radius_m", "must be > 0 m");
+  Require(cloud.max_normal_jump_m > 0.0, "cloud.max_normal_jump_m", "must be > 0 m");
+  Require(icp.depth_noise_per_m2 >= 0.0, "icp.depth_noise_per_m2", "must be >= 0 (1/m)");
+  Require(icp.point_to_point_weight >= 0.0 && icp.point_to_point_weight <= 1.0, "icp.point_to_point_weight",
+          "must be in [0, 1]");
+  Require(icp.damping >= 0.0, "icp.damping", "must be >= 0");
+  Require(icp.converged_step_m >= 0.0, "icp.converged_step_m", "must be >= 0 m");
+  Require(icp.min_inliers >= 6, "icp.min_inliers", "must be >= 6 (a pose has 6 degrees of freedom)");
+  Require(global.voxel_m > 0.0, "global.voxel_m", "must be > 0 m");
+  Require(global.feature_radius_m > 0.0, "global.feature_radius_m", "must be > 0 m");
+  Require(global.max_iterations >= 1, "global.max_iterations", "must be >= 1");
+  Require(global.attempts >= 0, "global.attempts", "must be >= 0 (0: no feature matching)");
+  Require(global.orientations >= 0, "global.orientations", "must be >= 0 (0: off)");
+  Require(global.refined_orientations >= 0, "global.refined_orientations", "must be >= 0");
+  Require(global.inlier_fraction >= 0.0 && global.inlier_fraction <= 1.0, "global.inlier_fraction", "must be in [0, 1]");
+  Require(ekf.accel_noise_mps2 > 0.0, "ekf.accel_noise_mps2", "must be > 0 m/s^2");
+  Require(ekf.angular_accel_noise_radps2 > 0.0, "ekf.angular_accel_noise_radps2", "must be > 0 rad/s^2");
+  Require(ekf.init_position_std_m > 0.0, "ekf.init_position_std_m", "must be > 0 m");
+  Require(ekf.init_rotation_std_rad > 0.0, "ekf.init_rotation_std_rad", "must be > 0 rad");
+  Require(ekf.init_velocity_std_mps > 0.0, "ekf.init_velocity_std_mps", "must be > 0 m/s");
+  Require(ekf.init_angular_velocity_std_radps > 0.0, "ekf.init_angular_velocity_std_radps", "must be > 0 rad/s");
+  Require(ekf.max_predict_dt_s > 0.0, "ekf.max_predict_dt_s", "must be > 0 s");
 }
 
 ObjectTracker::ObjectTracker(const ObjectModel& object, const PerceptionOptions& options,

@@ -34,8 +34,8 @@ struct PerceptionOptions {
   double box_margin = 0.15;          ///< the crop is the box grown by this fraction per side
   double min_support_ratio = 0.9;    ///< a pose must explain this fraction of the compared depth, (0, 1]
   double min_coverage = 0.4;         ///< ... and this fraction of the visible model, (0, 1]
-  int min_cloud_points = 60;         ///< fewer points in the crop: no measurement
-  int whole_frame_points = 8000;     ///< cloud size when the crop is the whole frame (no detector, no prior)
+  int min_cloud_points = 60;         ///< fewer points in the crop: no measurement, >= 10
+  int whole_frame_points = 8000;     ///< cloud size when the crop is the whole frame (no detector, no prior), [50, 100000]
   /// The global registration (~0.1 s of CPU a frame) runs only for an object
   /// centre (from the depth in its box) this far from the camera, m: beyond
   /// the 1.5 m it is validated at it fails anyway, and nearer than the
@@ -52,7 +52,10 @@ struct PerceptionOptions {
   /// setting only with the camera's pose given to Process (a filter in the
   /// world, where the object moves slowly); 0 leaves the noise isotropic.
   double weak_direction_std_m = 0.0;
-  /// @throws std::invalid_argument naming the field that is out of range.
+  /// Checks every field, the stages' options included (the bounds in their
+  /// comments; detection/perception_config.h reads them from a file).
+  /// @throws std::invalid_argument naming the field ("perception.icp.max_iterations")
+  /// and its bound.
   void Validate() const;
 };
 
