@@ -31,6 +31,7 @@
 #include "core/mesh.h"
 #include "core/transforms.h"
 #include "detection/object_tracker.h"
+#include "detection/perception_config.h"
 #include "grasp/contacts.h"
 #include "grasp/planner.h"
 #include "hardware/hardware_factory.h"
@@ -206,6 +207,8 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
   if (options.oMt && !IsValidTransform(*options.oMt)) {
     throw ConfigError("--board-pose: not a rigid transform (a unit quaternion and a finite position are needed)");
   }
+  const PerceptionOptions perception =
+      options.perception_config.empty() ? PerceptionOptions{} : LoadPerceptionOptions(options.perception_config);
 
   HardwareConfig hw_config;
   if (options.hardware_path.empty()) {
@@ -241,7 +244,7 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
   std::unique_ptr<BoxDetector> box_detector;
   const fs::path onnx = fs::path(object.source).parent_path() / "detector.onnx";
   if (fs::exists(onnx)) box_detector = std::make_unique<BoxDetector>(onnx.string());
-  ObjectTracker tracker(object, PerceptionOptions{}, std::move(box_detector));
+  ObjectTracker tracker(object, perception, std::move(box_detector));
   const ObjectSymmetry& symmetry = tracker.model().symmetry;
 
   // Grasps as the mission plans them (contacts 2.5 cm behind the tool point);
@@ -504,6 +507,7 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
   summary["object"] = object.name;
   summary["hardware"] = hw_config.source;
   summary["seed"] = options.seed;
+  summary["perception"] = options.perception_config.empty() ? "code defaults" : options.perception_config;
   summary["frames"] = frame;
   summary["tag_frames"] = tag_frames;
   summary["found_frames"] = found_frames;

@@ -40,9 +40,10 @@ struct BenchCommandOptions {
   /// The board (frame t) on the object (frame o); empty: centred on the top of
   /// the object, printed face up (for the crawler: in the recess between its tracks).
   std::optional<Eigen::Isometry3d> oMt;
+  std::string perception_config;  ///< perception YAML (detection/perception_config.h); empty: the code's defaults
 };
 
-/// @throws ConfigError for bad options or a hardware config the bench cannot
+/// @throws ConfigError for bad options, a bad perception YAML or a hardware config the bench cannot
 /// run with (it needs the simulated camera to move the object by script);
 /// std::runtime_error when the board was never seen or the object never found
 /// (the report and summary.json are written first), or DIR cannot be written.

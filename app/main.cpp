@@ -179,6 +179,9 @@ int main(int argc, char** argv) {
   replay_cmd->add_option("--frames", replay.max_frames, "Process at most this many frames (0: all)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  replay_cmd->add_option("--perception", replay.perception_config,
+                         "Perception YAML (see data/config/perception_default.yaml) [the code's defaults]")
+      ->check(CLI::ExistingFile);
 
   aerograsp::DatasetCommandOptions dataset;
   CLI::App* dataset_cmd = app.add_subcommand(
@@ -223,6 +226,9 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--board-pose", bench_board_pose,
                         "The tag board on the object, oMt: x y z (m) qw qx qy qz [centred on its top, face up]")
       ->expected(7);
+  bench_cmd->add_option("--perception", bench.perception_config,
+                        "Perception YAML (see data/config/perception_default.yaml) [the code's defaults]")
+      ->check(CLI::ExistingFile);
   // ---- end bench ----
 
   try {

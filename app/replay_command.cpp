@@ -21,6 +21,7 @@
 #include "core/platform.h"
 #include "core/transforms.h"
 #include "detection/object_tracker.h"
+#include "detection/perception_config.h"
 #include "hardware/sequence.h"
 
 namespace aerograsp {
@@ -163,6 +164,11 @@ Eigen::Isometry3d PoseFromValues(const std::vector<double>& v, const std::string
 }
 
 void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, std::ostream& progress) {
+  // The filter in the world gets noise along ICP's weak direction, unless the file says otherwise.
+  PerceptionOptions perception;
+  if (options.filter_frame == "world") perception.weak_direction_std_m = kWorldWeakDirectionStdM;
+  if (!options.perception_config.empty()) perception = LoadPerceptionOptions(options.perception_config, perception);
+
   ReplayCamera camera(options.sequence);
   const SequenceInfo& info = camera.info();
   const std::string object_name = options.object.empty() ? info.object : options.object;
@@ -180,14 +186,12 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
     }
     if (!detector_path.empty()) detector = std::make_unique<BoxDetector>(detector_path);
   }
-  PerceptionOptions perception;
   std::optional<Eigen::Isometry3d> dMc;  // the camera mount, for a filter in the world
   if (options.filter_frame == "world") {
     if (info.frame_count > 0 && !camera.extras(0).vehicle) {
       throw std::invalid_argument(options.sequence + ": --filter-frame world needs the vehicle states (vehicle.csv)");
     }
     dMc = Platform::Load(options.platform.empty() ? DataPath("config/platform_4dof.yaml") : options.platform).dMc();
-    perception.weak_direction_std_m = kWorldWeakDirectionStdM;
   } else if (options.filter_frame != "camera") {
     throw std::invalid_argument("--filter-frame: '" + options.filter_frame + "' is not one of camera, world");
   }
@@ -336,6 +340,7 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
   summary["object"] = object.name;
   summary["frames"] = frames;
   summary["filter_frame"] = options.filter_frame;
+  summary["perception"] = options.perception_config.empty() ? "code defaults" : options.perception_config;
   if (!stop_reason.empty()) summary["stopped_early"] = stop_reason;
   summary["detector"] = tracker.has_detector() ? detector_path : "none (global registration on the whole frame)";
   summary["symmetry"] = {{"discrete_rotations", model.symmetry.rotations.size()},

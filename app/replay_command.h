@@ -31,6 +31,9 @@ struct ReplayCommandOptions {
   /// the recorded vehicle state (vehicle.csv) and the camera mount of `platform`.
   std::string filter_frame = "camera";
   std::string platform;          ///< platform YAML for the camera mount; "" = config/platform_4dof.yaml
+  /// Perception YAML (detection/perception_config.h); "" = the code's defaults.
+  /// With filter_frame "world", weak_direction_std_m is 0.02 m unless the file sets it.
+  std::string perception_config;
 };
 
 /// Reads "x y z qw qx qy qz" (metres, unit quaternion w first) as cMo.
@@ -40,7 +43,8 @@ Eigen::Isometry3d ParsePose(const std::string& text);
 Eigen::Isometry3d PoseFromValues(const std::vector<double>& xyz_qwxyz, const std::string& option = "--init-pose");
 
 /// @throws HardwareError / ConfigError / MeshError naming the file (missing or
-/// truncated sequence, unknown object, corrupt detector model), std::runtime_error
+/// truncated sequence, unknown object, corrupt detector model, bad perception
+/// YAML: checked first), std::runtime_error
 /// when DIR cannot be written.
 void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, std::ostream& progress);
 

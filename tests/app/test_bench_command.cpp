@@ -109,6 +109,13 @@ TEST_F(BenchCommandTest, BadOptionsNameTheOptionAndTheBound) {
   options.oMt = Eigen::Isometry3d(Eigen::Matrix4d::Constant(2.0));
   EXPECT_THAT([&] { RunBenchCommand(options, out, progress); },
               ::testing::ThrowsMessage<ConfigError>(HasSubstr("--board-pose: not a rigid transform")));
+  options.oMt.reset();
+  fs::create_directories(folder_);
+  options.perception_config = (fs::path(folder_) / "perception.yaml").string();
+  std::ofstream(options.perception_config) << "ekf:\n  gate_nis: -1\n";
+  EXPECT_THAT([&] { RunBenchCommand(options, out, progress); },
+              ::testing::ThrowsMessage<ConfigError>(
+                  HasSubstr(options.perception_config + ": ekf.gate_nis: must be > 0")));
 }
 
 }  // namespace

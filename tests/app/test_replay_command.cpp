@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "app/record_command.h"
+#include "core/config.h"
 #include "core/transforms.h"
 #include "hardware/rgbd_camera.h"
 
@@ -161,6 +162,23 @@ TEST_F(ReplayCommandTest, AMissingOrCorruptModelIsAClearError) {
   EXPECT_THAT([&] { Run(); },
               ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("cannot load the detector model")));
   fs::remove(options_.detector);
+}
+
+TEST_F(ReplayCommandTest, APerceptionFileTunesThePipeline) {
+  options_.init_from_truth = true;
+  options_.run_peer = false;
+  options_.perception_config =
+      (fs::temp_directory_path() / ("aerograsp_replay_perception_" + std::to_string(getpid()) + ".yaml")).string();
+  std::ofstream(options_.perception_config) << "track:\n  frames_to_find: 5\n";
+  const nlohmann::json s = Run();
+  EXPECT_EQ(s["perception"], options_.perception_config);
+  EXPECT_EQ(s["frames_found"], 4);  // from the fifth of 8 frames, not the second
+  // A bad file is named with the key and its bound before the sequence is read.
+  std::ofstream(options_.perception_config) << "icp:\n  max_iterations: 0\n";
+  options_.sequence = "/no/such/sequence";
+  EXPECT_THAT([&] { Run(); }, ::testing::ThrowsMessage<ConfigError>(HasSubstr(
+                                  options_.perception_config + ": icp.max_iterations: must be in [1, 100]")));
+  fs::remove(options_.perception_config);
 }
 
 TEST(ParsePoseTest, ReadsSevenNumbersAndRejectsTheRest) {
