@@ -30,7 +30,7 @@ std::optional<Eigen::Isometry3d> LoadCalibration(const std::string& source, cons
 
 MissionConfig MissionConfig::Load(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);
-  root.RequireOnlyKeys({"world", "takeoff_altitude_m", "approach_w_m", "yaw_rad", "grasp_dto_m",
+  root.RequireOnlyKeys({"world", "perception", "takeoff_altitude_m", "approach_w_m", "yaw_rad", "grasp_dto_m",
                         "arrive_tolerance_m", "near_tolerance_m", "tracking_radius_m", "lift_m", "servo_rate_hz", "setpoint_rate_hz",
                         "reevaluate_rate_hz", "object_filter_s", "settle_s", "max_attempts", "lost_timeout_s",
                         "search_timeout_s", "planning_timeout_s", "timeout_s", "servo_margin_m",
@@ -38,6 +38,7 @@ MissionConfig MissionConfig::Load(const std::string& path) {
   MissionConfig c;
   c.source = path;
   if (root.Has("world")) c.world = root.GetPath("world");
+  if (root.Has("perception") && !root.GetString("perception").empty()) c.perception = root.GetPath("perception");
   c.takeoff_altitude_m = root.GetDouble("takeoff_altitude_m", c.takeoff_altitude_m);
   if (root.Has("approach_w_m")) c.approach_w_m = root.GetVector3("approach_w_m");
   c.yaw_rad = root.GetDouble("yaw_rad", c.yaw_rad);
@@ -72,6 +73,7 @@ MissionConfig MissionConfig::Load(const std::string& path) {
 void MissionConfig::Validate() const {
   const std::string& s = source;
   CheckFileExists(s, "world", world);
+  if (!perception.empty()) CheckFileExists(s, "perception", perception);
   CheckRange(s, "takeoff_altitude_m", takeoff_altitude_m, 0.5, 20.0, "m");
   CheckRange(s, "approach_w_m", approach_w_m, -100.0, 100.0, "m");
   CheckRange(s, "yaw_rad", yaw_rad, -M_PI, M_PI, "rad");

@@ -13,6 +13,9 @@ namespace aerograsp {
 struct MissionConfig {
   std::string source;                            ///< the file (for messages)
   std::string world{"world_mission.yaml"};       ///< simulated world, resolved against the file's folder
+  /// Perception settings (detection/perception_config.h), resolved against the
+  /// file's folder; empty: the code's defaults.
+  std::string perception;
   double takeoff_altitude_m{2.0};                ///< above the take-off point, [0.5, 20] m
   Eigen::Vector3d approach_w_m{2.70, 0.0, -2.2}; ///< waypoint near the object (NED), each [-100, 100] m
   double yaw_rad{0.0};                           ///< heading held through the mission, [-pi, pi] rad

@@ -16,6 +16,7 @@
 #include "core/data_dir.h"
 #include "core/object_model.h"
 #include "detection/object_tracker.h"
+#include "detection/perception_config.h"
 #include "grasp/planner.h"
 #include "hardware/hardware_factory.h"
 #include "hardware/sim/world.h"
@@ -227,7 +228,9 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
   std::unique_ptr<BoxDetector> detector;
   const fs::path onnx = fs::path(object_->source).parent_path() / "detector.onnx";
   if (fs::exists(onnx)) detector = std::make_unique<BoxDetector>(onnx.string());
-  tracker_ = std::make_unique<ObjectTracker>(*object_, PerceptionOptions{}, std::move(detector));
+  const PerceptionOptions perception =
+      config_.perception.empty() ? PerceptionOptions{} : LoadPerceptionOptions(config_.perception);
+  tracker_ = std::make_unique<ObjectTracker>(*object_, perception, std::move(detector));
 
   GraspPlannerConfig planner_config;
   // Contacts at least 2.5 cm behind the tool point: the closing line then

@@ -116,6 +116,8 @@ TEST(MissionConfigTest, TheShippedConfigLoadsAndBadFieldsAreNamed) {
   EXPECT_NE(message("approach_w_m: [1, 2]\n").find("approach_w_m"), std::string::npos);
   EXPECT_NE(message("servo_rate: 100\n").find("servo_rate"), std::string::npos);  // unknown key
   EXPECT_NE(message("max_attempts: 0\n").find("max_attempts"), std::string::npos);
+  EXPECT_NE(message("perception: no_such_perception.yaml\n").find("no_such_perception.yaml"), std::string::npos);
+  EXPECT_EQ(shipped.perception, DataDir() + "/config/perception_default.yaml");
   fs::remove_all(dir);
 }
 
