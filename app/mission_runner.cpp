@@ -421,6 +421,21 @@ void Mission::HandlePerceived(Perceived p) {
     Log(t, fmt::format("vision: the object is seen {:.2f} m from the approach waypoint, beyond the tracking "
                        "radius: not followed", (object_w - config_.approach_w_m).norm()));
   }
+  if (found && holding_arm_ >= 0) {
+    // Held by one gripper the object moves with it: each frame's estimate
+    // refines where it sits in that gripper (it was taken from the estimate
+    // when the gripper closed, often while the fingers hid the object).
+    const Side side = kSides[holding_arm_];
+    const Eigen::Isometry3d dMe = hw_->platform().dMb(side) * hw_->platform().arm(side).ForwardKinematics(q_[holding_arm_]);
+    Eigen::Isometry3d eMo = dMe.inverse() * dMo_est;
+    eMo.linear() = ClosestSymmetricRotation(eMo.linear(), eMo_held_.linear(), tracker_->model().symmetry);
+    const double alpha = std::min(1.0, frame_period_s_ / config_.object_filter_s);
+    eMo_held_.translation() += alpha * (eMo.translation() - eMo_held_.translation());
+    eMo_held_.linear() = Eigen::Quaterniond(eMo_held_.linear())
+                             .slerp(alpha, Eigen::Quaterniond(eMo.linear()))
+                             .normalized()
+                             .toRotationMatrix();
+  }
   if (found && !beyond) {
     logged_beyond_ = false;
     const double alpha = std::min(1.0, frame_period_s_ / config_.object_filter_s);
@@ -602,14 +617,20 @@ bool Mission::AimFreeArm(int holding) {
     return free == 0 ? collision_->ArmsCollide(q_free, q_held, planner_->config().arms_margin_m)
                      : collision_->ArmsCollide(q_held, q_free, planner_->config().arms_margin_m);
   };
+  // Grasps clear of the faces' edges first (one near an end closes past it
+  // with a few millimetres of error), then the nearest the arm's joints.
   const ArmGrasp* best = nullptr;
   for (const ArmGrasp& g : candidates) {
     if (collide(g.q_grasp) || collide(g.q_precatch)) continue;
-    if (!best || g.cost_rad < best->cost_rad) best = &g;
+    if (!best || std::make_pair(!g.clear_of_edges, g.cost_rad) < std::make_pair(!best->clear_of_edges, best->cost_rad)) {
+      best = &g;
+    }
   }
   if (!best) {
-    Log(t, fmt::format("planner: the {} gripper holds the object but no pair clears it for the {} arm",
-                       kArmNames[holding], kArmNames[free]));
+    Log(t, fmt::format("planner: the {} gripper holds the object but no pair clears it for the {} arm ({} feasible "
+                       "for it{})",
+                       kArmNames[holding], kArmNames[free], candidates.size(),
+                       candidates.empty() ? "" : ", each too near the holding arm"));
     return false;
   }
   if (holding_arm_ < 0) {
@@ -731,9 +752,19 @@ void Mission::Planner() {
   // Each gripper read once per cycle (on hardware a read is a bus transaction).
   const GripperState gl = hw_->arms().Gripper(Side::kLeft), gr = hw_->arms().Gripper(Side::kRight);
   const bool held = gl.holding && gr.holding;
-  if (done && gl.holding != gr.holding && reaims_ < kMaxReaims && AimFreeArm(gl.holding ? 0 : 1)) {
-    ++reaims_;
-    return;
+  // One gripper holds: it stays closed (opened, it would drop the object).
+  // Once it has closed and the other's attempt has ended (closed on nothing,
+  // timed out, or the object hidden by the fingers), the free arm aims again.
+  if (gl.holding != gr.holding) {
+    const int holder = gl.holding ? 0 : 1;
+    const GraspPhase free_phase = sequence_[1 - holder]->phase();
+    const bool free_ended = free_phase == GraspPhase::kDone || free_phase == GraspPhase::kTimedOut || !retry.empty();
+    if (sequence_[holder]->phase() != GraspPhase::kDone) {
+      if (free_ended) return;  // still closing
+    } else if (free_ended && reaims_ < kMaxReaims && AimFreeArm(holder)) {
+      ++reaims_;
+      return;
+    }
   }
   if (done && !held) {
     retry = fmt::format("the grippers closed without holding the object (left {} at {:.0f} mm, right {} at {:.0f} mm)",
