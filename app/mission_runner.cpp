@@ -103,6 +103,8 @@ class Mission {
   /// the camera's view), then held.
   void Retract();
   Eigen::Isometry3d dMoNow() const;
+  /// Arm a's tool in the body frame, at its measured joints.
+  Eigen::Isometry3d dMe(int a) const;
   /// True while the object is briefly lost and held at its last world pose.
   bool HoldingObjectInWorld() const;
   PlanQuery Query() const;
@@ -331,12 +333,14 @@ bool Mission::HoldingObjectInWorld() const {
          Now() - lost_since_s_ <= config_.lost_timeout_s;
 }
 
+Eigen::Isometry3d Mission::dMe(int a) const {
+  const Side side = kSides[a];
+  return hw_->platform().dMb(side) * hw_->platform().arm(side).ForwardKinematics(q_[a]);
+}
+
 Eigen::Isometry3d Mission::dMoNow() const {
   // Held by one gripper: the object goes where that gripper goes.
-  if (holding_arm_ >= 0) {
-    const Side side = kSides[holding_arm_];
-    return hw_->platform().dMb(side) * hw_->platform().arm(side).ForwardKinematics(q_[holding_arm_]) * eMo_held_;
-  }
+  if (holding_arm_ >= 0) return dMe(holding_arm_) * eMo_held_;
   // Briefly lost (the grippers hide the object as they close in): the object
   // stays where it was last seen in the world, and the vehicle's own pose
   // carries it into the body frame through the sway.
@@ -421,15 +425,13 @@ void Mission::HandlePerceived(Perceived p) {
     Log(t, fmt::format("vision: the object is seen {:.2f} m from the approach waypoint, beyond the tracking "
                        "radius: not followed", (object_w - config_.approach_w_m).norm()));
   }
+  const double alpha = std::min(1.0, frame_period_s_ / config_.object_filter_s);  // low-pass gain per frame
   if (found && holding_arm_ >= 0) {
     // Held by one gripper the object moves with it: each frame's estimate
     // refines where it sits in that gripper (it was taken from the estimate
     // when the gripper closed, often while the fingers hid the object).
-    const Side side = kSides[holding_arm_];
-    const Eigen::Isometry3d dMe = hw_->platform().dMb(side) * hw_->platform().arm(side).ForwardKinematics(q_[holding_arm_]);
-    Eigen::Isometry3d eMo = dMe.inverse() * dMo_est;
+    Eigen::Isometry3d eMo = dMe(holding_arm_).inverse() * dMo_est;
     eMo.linear() = ClosestSymmetricRotation(eMo.linear(), eMo_held_.linear(), tracker_->model().symmetry);
-    const double alpha = std::min(1.0, frame_period_s_ / config_.object_filter_s);
     eMo_held_.translation() += alpha * (eMo.translation() - eMo_held_.translation());
     eMo_held_.linear() = Eigen::Quaterniond(eMo_held_.linear())
                              .slerp(alpha, Eigen::Quaterniond(eMo.linear()))
@@ -438,7 +440,6 @@ void Mission::HandlePerceived(Perceived p) {
   }
   if (found && !beyond) {
     logged_beyond_ = false;
-    const double alpha = std::min(1.0, frame_period_s_ / config_.object_filter_s);
     object_w_filtered_ = have_wMo_ ? object_w_filtered_ + alpha * (object_w - object_w_filtered_) : object_w;
     wMo_last_ = p.wMd * dMo_est;
     have_wMo_ = true;
@@ -633,12 +634,7 @@ bool Mission::AimFreeArm(int holding) {
                        candidates.empty() ? "" : ", each too near the holding arm"));
     return false;
   }
-  if (holding_arm_ < 0) {
-    const Side side = kSides[holding];
-    const Eigen::Isometry3d dMe =
-        hw_->platform().dMb(side) * hw_->platform().arm(side).ForwardKinematics(q_[holding]);
-    eMo_held_ = dMe.inverse() * query.dMo;
-  }
+  if (holding_arm_ < 0) eMo_held_ = dMe(holding).inverse() * query.dMo;
   holding_arm_ = holding;
   (free == 0 ? choice_.left_pair : choice_.right_pair) = best->pair;
   (holding == 0 ? choice_.left_pair : choice_.right_pair) = -1;  // the holding arm is not re-solved
@@ -957,7 +953,7 @@ void Mission::LogClosing(int a, const Eigen::Isometry3d& dMo_est) {
   const ObjectSymmetry& symmetry = tracker_->model().symmetry;
   dMo_true.linear() = ClosestSymmetricRotation(dMo_true.linear(), dMo_est.linear(), symmetry);
   const Eigen::Isometry3d dMb = hw_->platform().dMb(side);
-  const Eigen::Vector3d tool_d = (dMb * hw_->platform().arm(side).ForwardKinematics(q_[a])).translation();
+  const Eigen::Vector3d tool_d = dMe(a).translation();
   const Eigen::Vector3d target_o = (dMo_est.inverse() * dMb * reached_bMg_[a]).translation();
   const Eigen::Vector3d error_o = dMo_est.linear().transpose() * (dMo_est.translation() - dMo_true.translation());
   Log(Now(), fmt::format("servo   {} arm closes: the tool is {:.1f} mm from its target and {:.1f} mm from the grasp "
