@@ -18,8 +18,17 @@ float ColorDistance(const Eigen::Vector3f& rgb_a, const Eigen::Vector3f& rgb_b) 
 Rejection ClassifyPair(const Eigen::Vector3f& p, const Eigen::Vector3f& n_p, const Eigen::Vector3f& rgb_p,
                        const Eigen::Vector3f& q, const Eigen::Vector3f& n_q, const Eigen::Vector3f& rgb_q,
                        const RejectorThresholds& thresholds) {
-  // Eq. 1: Euclidean distance.
-  if ((p - q).squaredNorm() > thresholds.max_distance_m * thresholds.max_distance_m) return Rejection::kDistance;
+  // Eq. 1: Euclidean distance, or across and along the pixel's ray.
+  const Eigen::Vector3f e = p - q;
+  if (thresholds.ray.isZero()) {
+    if (e.squaredNorm() > thresholds.max_distance_m * thresholds.max_distance_m) return Rejection::kDistance;
+  } else {
+    const float along = e.dot(thresholds.ray);
+    if (std::abs(along) > thresholds.max_along_ray_m ||
+        (e - along * thresholds.ray).squaredNorm() > thresholds.max_distance_m * thresholds.max_distance_m) {
+      return Rejection::kDistance;
+    }
+  }
   // Eq. 2: cosine of the angle between the normals (a zero normal could not be fitted).
   if (thresholds.min_normal_cos > -1.0 && !n_p.isZero() && n_p.dot(n_q) < thresholds.min_normal_cos) {
     return Rejection::kNormal;
@@ -32,6 +41,28 @@ Rejection ClassifyPair(const Eigen::Vector3f& p, const Eigen::Vector3f& n_p, con
 }
 
 namespace {
+
+/// The model point where the ray through p (unit direction d, frame o) meets
+/// the model's surface near p: from the nearest point j, a few steps to the
+/// plane of the current point along the ray, at most `limit_m` from p. Returns
+/// j unchanged where the ray grazes the surface.
+int FollowRayToSurface(const ModelCloud& model, const Eigen::Vector3f& p, const Eigen::Vector3f& d, float limit_m,
+                       int j) {
+  float t = 0.0f;
+  for (int step = 0; step < 3; ++step) {
+    const Eigen::Vector3f& n = model.normals_o[j];
+    const float along = n.dot(d);
+    if (std::abs(along) < 0.3f) break;  // grazing: the plane's crossing is far off
+    const float offset_m = n.dot(p + t * d - model.points_o[j]);
+    if (std::abs(offset_m) < 2e-4f) break;
+    const float t_next = std::clamp(t - offset_m / along, -limit_m, limit_m);
+    const int j_next = model.Nearest(p + t_next * d);
+    if (j_next < 0) break;
+    t = t_next;
+    j = j_next;
+  }
+  return j;
+}
 
 struct PassStats {
   int inliers = 0, no_model = 0, distance = 0, normal = 0, color = 0;
@@ -46,18 +77,24 @@ PassStats Associate(const ModelCloud& model, const SceneCloud& scene, const Eige
                     Eigen::Matrix<double, 6, 1>* g) {
   PassStats stats;
   RejectorThresholds thresholds;
+  thresholds.max_distance_m = max_distance_m;
   thresholds.min_normal_cos = options.min_normal_cos;
   thresholds.max_color_distance = options.max_color_distance;
   const Eigen::Matrix3f oRc = oMc.linear();
   for (std::size_t i = 0; i < scene.points_c.size(); ++i) {
     const Eigen::Vector3f p = oMc * scene.points_c[i];
-    const int j = model.Nearest(p);
+    int j = model.Nearest(p);
     if (j < 0) {
       ++stats.no_model;
       continue;
     }
     const double z = scene.points_c[i].z();
-    thresholds.max_distance_m = std::max(max_distance_m, 3.0 * options.depth_noise_per_m2 * z * z);
+    thresholds.ray = oRc * scene.points_c[i].normalized();
+    const double noise_3sigma_m = 3.0 * options.depth_noise_per_m2 * z * z;
+    thresholds.max_along_ray_m = std::max(max_distance_m, noise_3sigma_m);
+    // Noise moves a point at most about 3 sigma along its ray; farther, the
+    // pose is off, and the nearest point is the better guess.
+    j = FollowRayToSurface(model, p, thresholds.ray, static_cast<float>(noise_3sigma_m), j);
     const Eigen::Vector3f& q = model.points_o[j];
     const Eigen::Vector3f& n = model.normals_o[j];
     switch (ClassifyPair(p, oRc * scene.normals_c[i], scene.colors[i], q, n, model.colors[j], thresholds)) {

@@ -305,7 +305,9 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
       report.measured ? std::min(1.0, report.support.ratio()) * std::min(1.0, report.support.coverage() / 0.5) *
                             (report.gated ? 0.5 : 1.0)
                       : 0.0;
-  const TrackState state = monitor_.Update(confidence);
+  const bool continues = was_found_ && report.measured && !report.global_init;
+  const TrackState state = monitor_.Update(confidence, continues);
+  was_found_ = was_found_ || state == TrackState::kFound;
   if (state == TrackState::kLost && !report.measured && ekf_.initialized()) {
     // Lost and nothing seen: drop the filter (a stale velocity must not carry the
     // pose away); the last good pose seeds the next attempt.

@@ -76,10 +76,11 @@ void ReadEkf(const ConfigNode& n, PoseEkfOptions* e) {
 }
 
 void ReadTrack(const ConfigNode& n, TrackMonitorOptions* t) {
-  n.RequireOnlyKeys({"find_confidence", "keep_confidence", "frames_to_find", "frames_to_lose"});
+  n.RequireOnlyKeys({"find_confidence", "keep_confidence", "frames_to_find", "frames_to_refind", "frames_to_lose"});
   t->find_confidence = n.GetDouble("find_confidence", t->find_confidence);
   t->keep_confidence = n.GetDouble("keep_confidence", t->keep_confidence);
   t->frames_to_find = n.GetInt("frames_to_find", t->frames_to_find);
+  t->frames_to_refind = n.GetInt("frames_to_refind", t->frames_to_refind);
   t->frames_to_lose = n.GetInt("frames_to_lose", t->frames_to_lose);
 }
 

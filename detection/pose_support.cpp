@@ -7,6 +7,31 @@
 #include <cmath>
 
 namespace aerograsp {
+namespace {
+
+/// Whether the model hides its own point i from the camera at c_o (frame o):
+/// marching from the point towards the camera, the ray meets the model's
+/// surface well above the point's own tangent plane (a track beside the body,
+/// taller than it). Front-facing points can be hidden so; when the hiding part
+/// is nearer by less than the depth tolerance (15 mm against 32 mm at 1.5 m),
+/// their depth agrees and their colour is the hiding part's.
+bool SelfOccluded(const ModelCloud& model, std::size_t i, const Eigen::Vector3f& c_o) {
+  const Eigen::Vector3f& p = model.points_o[i];
+  const Eigen::Vector3f& n = model.normals_o[i];
+  const Eigen::Vector3f to_camera = c_o - p;
+  const float range = std::min(to_camera.norm(), static_cast<float>(model.diameter_m));
+  const Eigen::Vector3f d = to_camera.normalized();
+  const float step = model.cell_m, near = 2.0f * model.cell_m;
+  for (float s = 2.0f * step; s <= range; s += step) {
+    const int j = model.Nearest(p + s * d);
+    if (j < 0) return false;  // left the model's grid: nothing above
+    const Eigen::Vector3f& q = model.points_o[j];
+    if ((q - (p + s * d)).squaredNorm() <= near * near && n.dot(q - p) > near) return true;
+  }
+  return false;
+}
+
+}  // namespace
 
 PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo, const ColorImage& color,
                              const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
@@ -21,6 +46,7 @@ PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& c
   }
   const Eigen::Isometry3f cMo_f = cMo.cast<float>();
   const Eigen::Matrix3f cRo = cMo_f.linear();
+  const Eigen::Vector3f c_o = cMo_f.inverse().translation();  // the camera in frame o
   const std::size_t n = model.points_o.size();
   const std::size_t step = std::max<std::size_t>(1, n / std::max(1, 2 * options.max_points));  // about half face the camera
   for (std::size_t i = 0; i < n; i += step) {
@@ -40,11 +66,15 @@ PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& c
     const double tolerance =
         std::max(options.min_tolerance_m, 3.0 * options.depth_noise_per_m2 * p.z() * p.z());
     if (std::abs(z_obs - p.z()) <= tolerance) {
-      const bool color_ok =
-          !check_color ||
+      if (!check_color ||
           ColorDistance(Eigen::Vector3f(color.at(u, v, 0), color.at(u, v, 1), color.at(u, v, 2)), model.colors[i]) <=
-              options.max_color_distance;
-      ++(color_ok ? support.agree : support.see_through);
+              options.max_color_distance) {
+        ++support.agree;
+      } else if (z_obs < p.z() - 0.5 * tolerance && SelfOccluded(model, i, c_o)) {
+        --support.projected;  // a nearer part of the model hides it
+      } else {
+        ++support.see_through;
+      }
     } else if (z_obs > p.z()) {
       ++support.see_through;
     } else {

@@ -13,23 +13,28 @@ void TrackMonitorOptions::Validate() const {
   if (!(keep_confidence >= 0.0)) throw std::invalid_argument("track.keep_confidence: must be >= 0");
   if (frames_to_find < 1) throw std::invalid_argument("track.frames_to_find: must be >= 1");
   if (frames_to_lose < 1) throw std::invalid_argument("track.frames_to_lose: must be >= 1");
+  if (frames_to_refind < 1 || frames_to_refind > frames_to_find) {
+    throw std::invalid_argument("track.frames_to_refind: must be in [1, frames_to_find]");
+  }
 }
 
 TrackMonitor::TrackMonitor(const TrackMonitorOptions& options) : options_(options) { options_.Validate(); }
 
-TrackState TrackMonitor::Update(double confidence) {
+TrackState TrackMonitor::Update(double confidence, bool continues) {
   if (!(confidence == confidence)) confidence = 0.0;  // NaN counts as nothing
   if (state_ == TrackState::kLost) {
-    good_ = confidence >= options_.find_confidence ? good_ + 1 : 0;
-    if (good_ >= options_.frames_to_find) {
+    const bool good = confidence >= options_.find_confidence;
+    good_ = good ? good_ + 1 : 0;
+    continuing_ = good && continues ? continuing_ + 1 : 0;
+    if (good_ >= options_.frames_to_find || continuing_ >= options_.frames_to_refind) {
       state_ = TrackState::kFound;
-      good_ = bad_ = 0;
+      good_ = bad_ = continuing_ = 0;
     }
   } else {
     bad_ = confidence < options_.keep_confidence ? bad_ + 1 : 0;
     if (bad_ >= options_.frames_to_lose) {
       state_ = TrackState::kLost;
-      good_ = bad_ = 0;
+      good_ = bad_ = continuing_ = 0;
     }
   }
   return state_;

@@ -1,7 +1,10 @@
 // Found / lost with hysteresis on the per-frame confidence: a track is found
 // after `frames_to_find` consecutive frames at or above `find_confidence`, and
 // lost after `frames_to_lose` consecutive frames below `keep_confidence`
-// (keep < find, so a confidence wobbling between them changes nothing).
+// (keep < find, so a confidence wobbling between them changes nothing). A
+// lost track is resumed sooner, after `frames_to_refind` frames, when its
+// measurements continue it: the pose was tracked on from where the object was
+// last found (no global search), so it is the same object where it was.
 #pragma once
 
 #include <string>
@@ -15,6 +18,7 @@ struct TrackMonitorOptions {
   double find_confidence = 0.6;  ///< (keep_confidence, 1]
   double keep_confidence = 0.3;  ///< [0, find_confidence)
   int frames_to_find = 2;        ///< >= 1
+  int frames_to_refind = 1;      ///< frames that continue a lost track, [1, frames_to_find]
   int frames_to_lose = 3;        ///< >= 1
   /// @throws std::invalid_argument naming the field that is out of range.
   void Validate() const;
@@ -23,18 +27,19 @@ struct TrackMonitorOptions {
 class TrackMonitor {
  public:
   explicit TrackMonitor(const TrackMonitorOptions& options = {});
-  /// Feeds one frame's confidence, returns the state after it.
-  TrackState Update(double confidence);
+  /// Feeds one frame's confidence, returns the state after it. `continues`:
+  /// the frame's pose was tracked on from the track's last found pose.
+  TrackState Update(double confidence, bool continues = false);
   TrackState state() const { return state_; }
   void Reset() {
     state_ = TrackState::kLost;
-    good_ = bad_ = 0;
+    good_ = bad_ = continuing_ = 0;
   }
 
  private:
   TrackMonitorOptions options_;
   TrackState state_ = TrackState::kLost;
-  int good_ = 0, bad_ = 0;
+  int good_ = 0, bad_ = 0, continuing_ = 0;
 };
 
 }  // namespace aerograsp

@@ -59,6 +59,7 @@ void ExpectSameOptions(const PerceptionOptions& a, const PerceptionOptions& b) {
   EXPECT_SAME_FIELD(track.find_confidence);
   EXPECT_SAME_FIELD(track.keep_confidence);
   EXPECT_SAME_FIELD(track.frames_to_find);
+  EXPECT_SAME_FIELD(track.frames_to_refind);
   EXPECT_SAME_FIELD(track.frames_to_lose);
   EXPECT_SAME_FIELD(min_detection_score);
   EXPECT_SAME_FIELD(box_margin);

@@ -28,6 +28,27 @@ TEST(TrackMonitorTest, HysteresisKeepsATrackThroughWobbles) {
   for (int i = 0; i < 5; ++i) EXPECT_EQ(m.Update(0.5), TrackState::kLost);
 }
 
+TEST(TrackMonitorTest, ALostTrackThatContinuesIsFoundAgainSooner) {
+  TrackMonitor m;  // frames_to_refind 1
+  m.Update(1.0);
+  m.Update(1.0);
+  for (int i = 0; i < 3; ++i) m.Update(0.0);
+  ASSERT_EQ(m.state(), TrackState::kLost);
+  EXPECT_EQ(m.Update(0.5, true), TrackState::kLost);  // too weak, continuing or not
+  EXPECT_EQ(m.Update(0.9, true), TrackState::kFound);
+  for (int i = 0; i < 3; ++i) m.Update(0.0);
+  ASSERT_EQ(m.state(), TrackState::kLost);
+  EXPECT_EQ(m.Update(0.9, false), TrackState::kLost);  // a fresh search still needs frames_to_find
+  EXPECT_EQ(m.Update(0.9, false), TrackState::kFound);
+  TrackMonitorOptions o;
+  o.frames_to_refind = 3;
+  o.frames_to_find = 3;
+  TrackMonitor slow(o);
+  EXPECT_EQ(slow.Update(0.9, true), TrackState::kLost);
+  EXPECT_EQ(slow.Update(0.9, true), TrackState::kLost);
+  EXPECT_EQ(slow.Update(0.9, true), TrackState::kFound);
+}
+
 TEST(TrackMonitorTest, NanCountsAsNothing) {
   TrackMonitor m;
   m.Update(1.0);
@@ -47,6 +68,14 @@ TEST(TrackMonitorTest, BadOptionsAreRejectedByName) {
     FAIL();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("frames_to_lose"), std::string::npos);
+  }
+  o = {};
+  o.frames_to_refind = 3;  // more than frames_to_find
+  try {
+    o.Validate();
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("frames_to_refind"), std::string::npos);
   }
 }
 
