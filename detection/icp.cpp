@@ -89,12 +89,17 @@ PassStats Associate(const ModelCloud& model, const SceneCloud& scene, const Eige
       continue;
     }
     const double z = scene.points_c[i].z();
-    thresholds.ray = oRc * scene.points_c[i].normalized();
     const double noise_3sigma_m = 3.0 * options.depth_noise_per_m2 * z * z;
-    thresholds.max_along_ray_m = std::max(max_distance_m, noise_3sigma_m);
-    // Noise moves a point at most about 3 sigma along its ray; farther, the
-    // pose is off, and the nearest point is the better guess.
-    j = FollowRayToSurface(model, p, thresholds.ray, static_cast<float>(noise_3sigma_m), j);
+    if (noise_3sigma_m > options.end_distance_m) {
+      // Noise beyond Eq. 1's final distance: it moves a point along its ray
+      // by up to about 3 sigma, so pair along the ray. Nearer, the nearest
+      // point is as good.
+      thresholds.ray = oRc * scene.points_c[i].normalized();
+      thresholds.max_along_ray_m = std::max(max_distance_m, noise_3sigma_m);
+      j = FollowRayToSurface(model, p, thresholds.ray, static_cast<float>(noise_3sigma_m), j);
+    } else {
+      thresholds.ray.setZero();
+    }
     const Eigen::Vector3f& q = model.points_o[j];
     const Eigen::Vector3f& n = model.normals_o[j];
     switch (ClassifyPair(p, oRc * scene.normals_c[i], scene.colors[i], q, n, model.colors[j], thresholds)) {

@@ -41,12 +41,14 @@ Rejection ClassifyPair(const Eigen::Vector3f& p, const Eigen::Vector3f& n_p, con
                        const Eigen::Vector3f& q, const Eigen::Vector3f& n_q, const Eigen::Vector3f& rgb_q,
                        const RejectorThresholds& thresholds);
 
-/// Each scene point is paired with the model point where its pixel's ray
-/// meets the model's surface near it (found from the nearest point by a few
-/// steps along the ray, at most the depth noise's 3 sigma), not with the
-/// nearest model point: noise moves a point along its ray, so the nearest
-/// point sits off to the side of it at edges, and that biased a noisy view's
-/// pose by degrees (4 deg of roll at 1.5 m on the crawler).
+/// Where the depth noise's 3 sigma exceeds Eq. 1's final distance (beyond
+/// about 0.75 m on a D435 with the defaults), each scene point is paired with
+/// the model point where its pixel's ray meets the model's surface near it
+/// (found from the nearest point by a few steps along the ray, at most 3
+/// sigma), not with the nearest model point: noise moves a point along its
+/// ray, so the nearest point sits off to the side of it at edges, and that
+/// biased a noisy view's pose by degrees (4 deg of roll at 1.5 m on the
+/// crawler). Nearer, pairs are nearest points, with Eq. 1 in 3D.
 struct IcpOptions {
   int max_iterations = 12;               ///< [1, 100]
   double start_distance_m = 0.03;        ///< Eq. 1 threshold at the first iteration, m

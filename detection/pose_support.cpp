@@ -14,7 +14,10 @@ namespace {
 /// surface well above the point's own tangent plane (a track beside the body,
 /// taller than it). Front-facing points can be hidden so; when the hiding part
 /// is nearer by less than the depth tolerance (15 mm against 32 mm at 1.5 m),
-/// their depth agrees and their colour is the hiding part's.
+/// their depth agrees and their colour is the hiding part's. Only where the
+/// noise widens the tolerance beyond its floor: nearer, such a strip is
+/// occluded by depth alone, and a colour that disagrees there is something
+/// else in front of the object (a gripper's fingers).
 bool SelfOccluded(const ModelCloud& model, std::size_t i, const Eigen::Vector3f& c_o) {
   const Eigen::Vector3f& p = model.points_o[i];
   const Eigen::Vector3f& n = model.normals_o[i];
@@ -70,7 +73,8 @@ PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& c
           ColorDistance(Eigen::Vector3f(color.at(u, v, 0), color.at(u, v, 1), color.at(u, v, 2)), model.colors[i]) <=
               options.max_color_distance) {
         ++support.agree;
-      } else if (z_obs < p.z() - 0.5 * tolerance && SelfOccluded(model, i, c_o)) {
+      } else if (tolerance > options.min_tolerance_m && z_obs < p.z() - 0.5 * tolerance &&
+                 SelfOccluded(model, i, c_o)) {
         --support.projected;  // a nearer part of the model hides it
       } else {
         ++support.see_through;
