@@ -14,6 +14,7 @@
 #include "app/progress.h"
 #include "core/data_dir.h"
 #include "core/object_model.h"
+#include "core/platform.h"
 #include "core/random.h"
 #include "core/shape_mesh.h"
 #include "core/transforms.h"
@@ -50,6 +51,18 @@ Eigen::Matrix3d LookAlong(const Eigen::Vector3d& dir_w) {
   return R;
 }
 
+/// wMc with the optical axis towards `target_w` from `distance` along `to_camera_w` (unit), the
+/// target at pixel (u, v), and the image rolled by `roll` about the axis.
+Eigen::Isometry3d CameraLookingAt(const Eigen::Vector3d& target_w, const Eigen::Vector3d& to_camera_w, double distance,
+                                  const CameraIntrinsics& K, double u, double v, double roll) {
+  Eigen::Isometry3d wMc = Eigen::Isometry3d::Identity();
+  wMc.translation() = target_w + distance * to_camera_w;
+  const Eigen::Vector3d d_c = K.Unproject(u, v, 1.0).normalized();
+  const Eigen::Matrix3d Q = Eigen::Quaterniond::FromTwoVectors(d_c, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  wMc.linear() = LookAlong(-to_camera_w) * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()).toRotationMatrix() * Q;
+  return wMc;
+}
+
 RenderMesh Tinted(const RenderMesh& mesh, FastRandom* rng) {
   RenderMesh m = mesh;
   for (int c = 0; c < 3; ++c) m.material.albedo[c] = static_cast<float>(rng->Uniform(0.8, 1.15));
@@ -60,6 +73,9 @@ RenderMesh Tinted(const RenderMesh& mesh, FastRandom* rng) {
 
 void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out, std::ostream& progress) {
   if (options.count < 1) throw std::invalid_argument("--count: must be at least 1");
+  if (!(options.on_support >= 0.0 && options.on_support <= 1.0)) {
+    throw std::invalid_argument("--on-support: must be in [0, 1]");
+  }
   const ObjectModel object = ObjectModel::Load(options.object);
   const fs::path dir(options.out_dir);
   if (fs::exists(dir / "labels.csv")) {
@@ -84,11 +100,27 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out, 
   }
   RenderMesh object_mesh;
   object_mesh.mesh = object.mesh_o;
+  // --on-support: the vehicle's arms, rendered as the simulator renders them (world.cpp).
+  const bool with_support_views = options.on_support > 0.0;
+  const Platform platform = Platform::Load(world.platform);
+  std::vector<RenderMesh> arm_meshes[2];
+  for (Side side : {Side::kLeft, Side::kRight}) {
+    for (const ArmSegment& segment : platform.arm(side).segments()) {
+      RenderMesh mesh;
+      for (const CollisionShape& shape : segment.collision) {
+        AppendMesh(MeshFromShape(shape), Eigen::Isometry3d::Identity(), &mesh.mesh);
+      }
+      mesh.material.albedo = {0.15f, 0.15f, 0.17f};
+      arm_meshes[static_cast<int>(side)].push_back(std::move(mesh));
+    }
+  }
+  const double object_half_height = -object.mesh_o.BoundsMin().z();  // o: z up, as ObjectOnPipe
 
   FastRandom rng(options.seed * 0x9E3779B97F4A7C15ull + 17);
   std::unique_ptr<RgbdRenderer> renderer;
   int object_id = -1;
-  std::vector<int> occluder_ids, distractor_ids;
+  std::vector<int> occluder_ids, distractor_ids, arm_ids[2];
+  SceneConfig scene = world.scene;
   RenderBuffers truth;
   RgbdFrame frame;
   Progress bar(progress, "dataset", options.count, "images");
@@ -96,7 +128,7 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out, 
   for (int i = 0; i < options.count; ++i) {
     if (i % kImagesPerScene == 0) {
       renderer = std::make_unique<RgbdRenderer>();
-      SceneConfig scene = world.scene;
+      scene = world.scene;
       scene.clutter_count = 10 + static_cast<int>(rng.Uniform(0.0, 30.0));
       scene.clutter_radius_m = rng.Uniform(1.5, 5.0);
       scene.pipe_radius_m = rng.Uniform(0.04, 0.15);
@@ -114,34 +146,83 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out, 
         occluder_ids.push_back(renderer->AddMesh(occluder));
       }
       for (const RenderMesh& d : distractor_meshes) distractor_ids.push_back(renderer->AddMesh(d));
+      if (with_support_views) {
+        for (int side = 0; side < 2; ++side) {
+          arm_ids[side].clear();
+          for (const RenderMesh& m : arm_meshes[side]) arm_ids[side].push_back(renderer->AddMesh(m));
+        }
+      }
     }
-    // The object near the pipe, upright-ish most of the time.
-    const Eigen::Vector3d pipe = world.scene.pipe_center_w_m;
-    Eigen::Isometry3d wMo = Eigen::Isometry3d::Identity();
-    wMo.translation() = pipe + Eigen::Vector3d(rng.Uniform(-1.0, 1.0), rng.Uniform(-0.6, 0.6), rng.Uniform(-0.5, 1.0));
-    if (rng.Uniform() < 0.6) {
-      // z up in o is -z in NED: roll pi, then yaw and a small tilt.
-      wMo.linear() = RotationFromRpy(Eigen::Vector3d(M_PI + rng.Uniform(-0.3, 0.3), rng.Uniform(-0.3, 0.3),
-                                                     rng.Uniform(-M_PI, M_PI)));
+    const bool support_view = with_support_views && rng.Uniform() < options.on_support;
+    Eigen::Isometry3d wMo = Eigen::Isometry3d::Identity(), wMc = Eigen::Isometry3d::Identity();
+    double distance = 0.0;
+    if (support_view) {
+      // The object as the world places it (World::ObjectOnPipe): on top of the support pipe, its
+      // x along the pipe (turned by a small yaw, or any yaw now and then).
+      const double along = rng.Uniform(-0.45, 0.45) * scene.pipe_length_m;
+      const double yaw = rng.Uniform() < 0.7 ? rng.Uniform(-0.2, 0.2) + (rng.Uniform() < 0.5 ? 0.0 : M_PI)
+                                             : rng.Uniform(-M_PI, M_PI);
+      const Eigen::Isometry3d wMp = PipeFrame(scene);
+      wMo = wMp * MakeTransform(Eigen::Vector3d(along, 0.0, -(scene.pipe_radius_m + object_half_height)),
+                                Eigen::Vector3d(M_PI, 0.0, 0.0)) *
+            MakeTransform(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, yaw));
+      // The vehicle's camera: 0.3-2.0 m away, above the pipe (elevation 25-80 deg), mostly from
+      // across the pipe (as the mission approaches it), now and then from any side.
+      const Eigen::Vector3d axis_w = wMp.linear().col(0);
+      const double across = std::atan2(axis_w.x(), -axis_w.y()) + (rng.Uniform() < 0.5 ? 0.0 : M_PI);
+      const double azimuth = across + (rng.Uniform() < 0.75 ? rng.Uniform(-0.6, 0.6) : rng.Uniform(-M_PI, M_PI));
+      const double elevation = rng.Uniform(0.45, 1.4);
+      distance = 0.3 + 1.7 * std::pow(rng.Uniform(), 1.2);
+      const Eigen::Vector3d to_camera(std::cos(elevation) * std::cos(azimuth),
+                                      std::cos(elevation) * std::sin(azimuth), -std::sin(elevation));
+      // The object anywhere in the image (8 %: out of view, the support pipe alone).
+      const bool out_of_view = rng.Uniform() < 0.08;
+      const double u = out_of_view ? (rng.Uniform() < 0.5 ? -400.0 : 1040.0) : rng.Uniform(-20.0, K.width + 20.0);
+      const double v = rng.Uniform(-20.0, K.height + 20.0);
+      wMc = CameraLookingAt(wMo.translation(), to_camera, distance, K, u, v, rng.Uniform(-0.15, 0.15));
+      // The arms where the vehicle carries them, joints near home.
+      const Eigen::Isometry3d wMd = wMc * platform.dMc().inverse();
+      for (Side side : {Side::kLeft, Side::kRight}) {
+        const ArmModel& arm = platform.arm(side);
+        Eigen::VectorXd q = platform.home(side);
+        for (int j = 0; j < q.size(); ++j) q[j] += rng.Uniform(-0.35, 0.35);
+        std::vector<Eigen::Isometry3d> bMs;
+        arm.SegmentPoses(arm.Clamp(q), &bMs);
+        const std::vector<int>& ids = arm_ids[static_cast<int>(side)];
+        for (std::size_t k = 0; k < ids.size() && k < bMs.size(); ++k) {
+          renderer->SetPose(ids[k], wMd * platform.dMb(side) * bMs[k]);
+        }
+      }
     } else {
-      wMo.linear() = RandomRotation(&rng);
+      for (const std::vector<int>& ids : arm_ids) {
+        for (int id : ids) renderer->SetPose(id, MakeTransform(Eigen::Vector3d(0, 0, 100.0), Eigen::Vector3d::Zero()));
+      }
+      // The object near the pipe, upright-ish most of the time.
+      const Eigen::Vector3d pipe = world.scene.pipe_center_w_m;
+      wMo.translation() = pipe + Eigen::Vector3d(rng.Uniform(-1.0, 1.0), rng.Uniform(-0.6, 0.6), rng.Uniform(-0.5, 1.0));
+      if (rng.Uniform() < 0.6) {
+        // z up in o is -z in NED: roll pi, then yaw and a small tilt.
+        wMo.linear() = RotationFromRpy(Eigen::Vector3d(M_PI + rng.Uniform(-0.3, 0.3), rng.Uniform(-0.3, 0.3),
+                                                       rng.Uniform(-M_PI, M_PI)));
+      } else {
+        wMo.linear() = RandomRotation(&rng);
+      }
+      // The camera: distance 0.3-2.5 m (more samples near), above the object.
+      distance = 0.3 + 2.2 * std::pow(rng.Uniform(), 1.3);
+      const double azimuth = rng.Uniform(-M_PI, M_PI), elevation = rng.Uniform(0.05, 1.45);
+      const Eigen::Vector3d to_camera(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                                      -std::sin(elevation));
+      wMc.translation() = wMo.translation() + distance * to_camera;
+      // Put the object at a random pixel (10 % of the images: out of view).
+      const bool out_of_view = rng.Uniform() < 0.1;
+      const double u = out_of_view ? (rng.Uniform() < 0.5 ? -400.0 : 1040.0) : rng.Uniform(-20.0, K.width + 20.0);
+      const double v = rng.Uniform(-20.0, K.height + 20.0);
+      const Eigen::Vector3d d_c = K.Unproject(u, v, 1.0).normalized();
+      const Eigen::Matrix3d Q = Eigen::Quaterniond::FromTwoVectors(d_c, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      const Eigen::Matrix3d roll = Eigen::AngleAxisd(rng.Uniform(-0.4, 0.4), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      wMc.linear() = LookAlong(-to_camera) * roll * Q;
     }
     renderer->SetPose(object_id, wMo);
-    // The camera: distance 0.3-2.5 m (more samples near), above the object.
-    const double distance = 0.3 + 2.2 * std::pow(rng.Uniform(), 1.3);
-    const double azimuth = rng.Uniform(-M_PI, M_PI), elevation = rng.Uniform(0.05, 1.45);
-    const Eigen::Vector3d to_camera(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
-                                    -std::sin(elevation));
-    Eigen::Isometry3d wMc = Eigen::Isometry3d::Identity();
-    wMc.translation() = wMo.translation() + distance * to_camera;
-    // Put the object at a random pixel (10 % of the images: out of view).
-    const bool out_of_view = rng.Uniform() < 0.1;
-    const double u = out_of_view ? (rng.Uniform() < 0.5 ? -400.0 : 1040.0) : rng.Uniform(-20.0, K.width + 20.0);
-    const double v = rng.Uniform(-20.0, K.height + 20.0);
-    const Eigen::Vector3d d_c = K.Unproject(u, v, 1.0).normalized();
-    const Eigen::Matrix3d Q = Eigen::Quaterniond::FromTwoVectors(d_c, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    const Eigen::Matrix3d roll = Eigen::AngleAxisd(rng.Uniform(-0.4, 0.4), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    wMc.linear() = LookAlong(-to_camera) * roll * Q;
     // Occluders between the camera and the object (sometimes), else far away.
     for (int id : occluder_ids) {
       Eigen::Isometry3d wMk = Eigen::Isometry3d::Identity();

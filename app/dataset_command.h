@@ -3,7 +3,12 @@
 // renderer with the D435 colour model: random camera pose around the object
 // (distance 0.3-2.5 m, the object anywhere in the image, sometimes cut by the
 // border or out of view), random object pose and tint, lighting, sky colour,
-// clutter, other objects as distractors, and occluders in front. Writes
+// clutter, other objects as distractors, and occluders in front. With
+// --on-support F, a fraction F of the images shows the object as the world
+// places it instead (world.cpp ObjectOnPipe): lying on the support pipe,
+// along it or turned, seen by the vehicle's camera from 0.3-2.0 m and above
+// the pipe, with the vehicle's arms (platform_4dof.yaml, near home) in view.
+// F = 0 (the default) draws exactly the images it drew before F existed. Writes
 //   DIR/images/NNNNNN.png  the network input (160x120 RGB, DetectorInput())
 //   DIR/labels.csv         index, visible, x0, y0, x1, y1 (box of the visible
 //                          object pixels in the 160x120 image), object_pixels (640x480)
@@ -23,6 +28,7 @@ struct DatasetCommandOptions {
   std::uint64_t seed = 1;    ///< the same seed gives the same images
   bool overwrite = false;    ///< replace an existing dataset in out_dir
   int min_object_pixels = 60;  ///< fewer visible object pixels (640x480) count as "not visible"
+  double on_support = 0.0;   ///< fraction of images with the object on the support pipe, [0, 1]
 };
 
 /// @throws ConfigError / MeshError naming the object; std::runtime_error when

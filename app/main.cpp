@@ -191,6 +191,12 @@ int main(int argc, char** argv) {
   dataset_cmd->add_option("--count", dataset.count, "Images")->capture_default_str()->check(CLI::Range(1, 1000000));
   dataset_cmd->add_option("--seed", dataset.seed, "Seed (same seed, same images)")->capture_default_str();
   dataset_cmd->add_flag("--overwrite", dataset.overwrite, "Replace a dataset already in --out");
+  dataset_cmd
+      ->add_option("--on-support", dataset.on_support,
+                   "Fraction of images with the object lying on the support pipe, seen from the vehicle's camera "
+                   "with its arms in view")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   // ---- end replay and dataset ----
 
   // ---- mission: the simulated mission end to end (issue 7) ----

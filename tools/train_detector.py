@@ -74,12 +74,15 @@ class Net(nn.Module):
         return self.head(self.fuse(torch.cat([up, f4], 1)))
 
 
-def targets(boxes):
-    """Heatmaps (Gaussian at the centre cell), and regression targets + mask at the centre."""
+def targets(boxes, size_radius=0):
+    """Heatmaps (Gaussian at the centre cell), and regression targets + masks: the offset at the
+    centre cell, the log size at the cells within size_radius of it (a peak one cell off the
+    centre then still gives the right size)."""
     n = len(boxes)
     heat = np.zeros((n, 1, H_OUT, W_OUT), np.float32)
     reg = np.zeros((n, 4, H_OUT, W_OUT), np.float32)
     mask = np.zeros((n, 1, H_OUT, W_OUT), np.float32)
+    size_mask = np.zeros((n, 1, H_OUT, W_OUT), np.float32)
     ys, xs = np.mgrid[0:H_OUT, 0:W_OUT]
     for i, b in enumerate(boxes):
         if b is None:
@@ -91,7 +94,12 @@ def targets(boxes):
         heat[i, 0] = np.exp(-((xs - ix) ** 2 + (ys - iy) ** 2) / (2 * sigma * sigma))
         reg[i, :, iy, ix] = [cx - ix, cy - iy, math.log(w), math.log(h)]
         mask[i, 0, iy, ix] = 1.0
-    return torch.from_numpy(heat), torch.from_numpy(reg), torch.from_numpy(mask)
+        y0, y1 = max(0, iy - size_radius), min(H_OUT, iy + size_radius + 1)
+        x0, x1 = max(0, ix - size_radius), min(W_OUT, ix + size_radius + 1)
+        reg[i, 2, y0:y1, x0:x1] = math.log(w)
+        reg[i, 3, y0:y1, x0:x1] = math.log(h)
+        size_mask[i, 0, y0:y1, x0:x1] = 1.0
+    return torch.from_numpy(heat), torch.from_numpy(reg), torch.from_numpy(mask), torch.from_numpy(size_mask)
 
 
 def focal_loss(logits, heat):
@@ -171,6 +179,8 @@ def main():
     ap.add_argument("--batch", type=int, default=32)
     ap.add_argument("--lr", type=float, default=3e-3)
     ap.add_argument("--seed", type=int, default=7)
+    ap.add_argument("--size-radius", type=int, default=0,
+                    help="also train the box size at cells this far (Chebyshev) from the centre cell")
     args = ap.parse_args()
 
     torch.set_num_threads(1)
@@ -193,12 +203,12 @@ def main():
         for s in range(0, len(order), args.batch):
             idx = order[s:s + args.batch]
             batch, boxes = augment(train_images[idx], [train_boxes[i] for i in idx], rng)
-            heat, reg, mask = targets(boxes)
+            heat, reg, mask, size_mask = targets(boxes, args.size_radius)
             out = net(torch.from_numpy(batch).permute(0, 3, 1, 2).contiguous())
             loss_heat = focal_loss(out[:, :1], heat)
             npos = mask.sum().clamp(min=1.0)
             loss_off = (F.l1_loss(out[:, 1:3], reg[:, :2], reduction="none") * mask).sum() / npos
-            loss_size = (F.l1_loss(out[:, 3:5], reg[:, 2:4], reduction="none") * mask).sum() / npos
+            loss_size = (F.l1_loss(out[:, 3:5], reg[:, 2:4], reduction="none") * size_mask).sum() / size_mask.sum().clamp(min=1.0)
             loss = loss_heat + loss_off + loss_size
             opt.zero_grad()
             loss.backward()

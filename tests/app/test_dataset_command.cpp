@@ -1,0 +1,106 @@
+#include "app/dataset_command.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace aerograsp {
+namespace {
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+struct Label {
+  bool visible = false;
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  int pixels = 0;
+};
+
+class DatasetCommandTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = (fs::temp_directory_path() /
+               (std::string("aerograsp_dataset_") + ::testing::UnitTest::GetInstance()->current_test_info()->name()))
+                  .string();  // one folder per test: ctest runs them in parallel
+    fs::remove_all(folder_);
+    options_.object = "pipe";
+    options_.count = 6;
+    options_.seed = 5;
+    options_.overwrite = true;
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+  std::string Run(const std::string& sub) {
+    options_.out_dir = (fs::path(folder_) / sub).string();
+    std::ostringstream out, progress;
+    RunDatasetCommand(options_, out, progress);
+    return out.str();
+  }
+  std::string Read(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  std::vector<Label> Labels(const std::string& sub) {
+    std::istringstream in(Read((fs::path(folder_) / sub / "labels.csv").string()));
+    std::string line;
+    std::getline(in, line);  // header
+    std::vector<Label> labels;
+    while (std::getline(in, line)) {
+      Label l;
+      int index = 0, visible = 0;
+      EXPECT_EQ(std::sscanf(line.c_str(), "%d,%d,%lf,%lf,%lf,%lf,%d", &index, &visible, &l.x0, &l.y0, &l.x1, &l.y1,
+                            &l.pixels),
+                7)
+          << line;
+      l.visible = visible != 0;
+      labels.push_back(l);
+    }
+    return labels;
+  }
+  std::string folder_;
+  DatasetCommandOptions options_;
+};
+
+TEST_F(DatasetCommandTest, SameSeedSameImages) {
+  EXPECT_THAT(Run("a"), HasSubstr("dataset: 6 images of pipe"));
+  Run("b");
+  EXPECT_EQ(Read(folder_ + "/a/labels.csv"), Read(folder_ + "/b/labels.csv"));
+  EXPECT_EQ(Read(folder_ + "/a/images/000003.png"), Read(folder_ + "/b/images/000003.png"));
+}
+
+TEST_F(DatasetCommandTest, OnSupportShowsTheObjectOnItsPipeFromTheVehicle) {
+  options_.count = 12;
+  Run("floating");
+  options_.on_support = 1.0;
+  Run("support");
+  const std::vector<Label> floating = Labels("floating"), support = Labels("support");
+  ASSERT_EQ(support.size(), 12u);
+  // Other images than the floating object's (the same seed).
+  EXPECT_NE(Read(folder_ + "/floating/labels.csv"), Read(folder_ + "/support/labels.csv"));
+  // Seen from 0.3-2.0 m and mostly in view: most images show it, with a box inside the image.
+  int visible = 0;
+  for (const Label& l : support) {
+    if (!l.visible) continue;
+    ++visible;
+    EXPECT_GE(l.x0, 0.0);
+    EXPECT_LE(l.x1, 160.0);
+    EXPECT_GE(l.y0, 0.0);
+    EXPECT_LE(l.y1, 120.0);
+    EXPECT_LT(l.x0, l.x1);
+    EXPECT_LT(l.y0, l.y1);
+  }
+  EXPECT_GE(visible, 7);
+}
+
+TEST_F(DatasetCommandTest, OnSupportOutOfRangeIsRefused) {
+  options_.on_support = 1.5;
+  EXPECT_THROW(Run("bad"), std::invalid_argument);
+  options_.on_support = -0.1;
+  EXPECT_THROW(Run("bad"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace aerograsp
