@@ -201,6 +201,9 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
   } else if (last_good_fMo_) {
     prior = cMf * *last_good_fMo_;
   }
+  // The track's own pose (not a given one) seeds this frame: a pose measured
+  // from it continues the track.
+  const bool own_prior = ekf_.initialized() || (!initial_cMo_ && last_good_fMo_);
 
   // Crop and cloud.
   t = ThreadCpuMs();
@@ -305,7 +308,7 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
       report.measured ? std::min(1.0, report.support.ratio()) * std::min(1.0, report.support.coverage() / 0.5) *
                             (report.gated ? 0.5 : 1.0)
                       : 0.0;
-  const bool continues = was_found_ && report.measured && !report.global_init;
+  const bool continues = was_found_ && own_prior && report.measured && !report.global_init;
   const TrackState state = monitor_.Update(confidence, continues);
   was_found_ = was_found_ || state == TrackState::kFound;
   if (state == TrackState::kLost && !report.measured && ekf_.initialized()) {

@@ -142,7 +142,7 @@ class ObjectTracker {
   PoseEkf ekf_;
   TrackMonitor monitor_;
   std::optional<Eigen::Isometry3d> last_good_fMo_;  // in the filter frame f
-  bool was_found_ = false;  // the track has been found: a pose tracked on from it continues it
+  bool was_found_ = false;  // the track has been found: a pose tracked on from its own last pose continues it
   std::optional<Eigen::Isometry3d> initial_cMo_;
   int gated_in_a_row_ = 0;
   double min_half_extent_m_ = 0.05;

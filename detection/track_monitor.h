@@ -3,8 +3,9 @@
 // lost after `frames_to_lose` consecutive frames below `keep_confidence`
 // (keep < find, so a confidence wobbling between them changes nothing). A
 // lost track is resumed sooner, after `frames_to_refind` frames, when its
-// measurements continue it: the pose was tracked on from where the object was
-// last found (no global search), so it is the same object where it was.
+// measurements continue it: the pose was tracked on from where the track last
+// had it (no global search, no pose given from outside), so it is the same
+// object where it was.
 #pragma once
 
 #include <string>

@@ -176,11 +176,11 @@ TEST(MissionRunnerTest, APlannedGraspSetByItsJointsHoldsTheObjectInTheSimulator)
 }
 
 TEST(MissionRunnerTest, AGripperThatHoldsStaysClosedWhileTheOtherAimsAgain) {
-  // Seed 12: the left gripper closes on air, the right takes hold; the right
-  // keeps the object up while the left arm aims at another pair and takes
+  // Seed 6: the right gripper closes on air, the left takes hold; the left
+  // keeps the object up while the right arm aims at another pair and takes
   // hold too, and the vehicle flies home with it.
   MissionOptions options;
-  options.seed = 12;
+  options.seed = 6;
   std::ostringstream log;
   MissionRecord record;
   const MissionResult result = RunMission(options, &record, &log);
