@@ -220,7 +220,6 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
     }
     report.crop = report.crop.Clipped(depth.width, depth.height);
     SceneCloudOptions cloud_options = options_.cloud;
-    cloud_options.depth_noise_per_m2 = options_.icp.depth_noise_per_m2;  // normals over the noise
     if (report.crop.width() == depth.width && report.crop.height() == depth.height) {
       // The whole frame (no detector, no prior): denser, the object is a small part of it.
       cloud_options.target_points = std::max(cloud_options.target_points, options_.whole_frame_points);

@@ -57,8 +57,7 @@ SceneCloud BuildSceneCloud(const ColorImage& color, const DepthImage& depth, dou
       const double z = d * depth_scale_m;
       const Eigen::Vector3d p = K.Unproject(x, y, z);
       // Plane fit over a 5x5 sample grid spanning about normal_radius_m.
-      const double radius_m = std::max(options.normal_radius_m, 3.0 * options.depth_noise_per_m2 * z * z);
-      const int r = std::clamp(static_cast<int>(std::lround(radius_m * K.fx / z)), 2, 12);
+      const int r = std::clamp(static_cast<int>(std::lround(options.normal_radius_m * K.fx / z)), 2, 12);
       const int step = std::max(1, r / 2);
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       Eigen::Matrix3d sum2 = Eigen::Matrix3d::Zero();

@@ -38,10 +38,7 @@ struct SceneCloudOptions {
   int target_points = 1000;       ///< subsample to about this many points, [50, 100000]
   double min_depth_m = 0.15;      ///< ignore nearer depth, m
   double max_depth_m = 3.0;       ///< ignore farther depth, m
-  double normal_radius_m = 0.015; ///< neighbourhood of the normal fit, m (its pixel radius is capped at 12)
-  /// Depth noise std = this * z^2 (the ICP's); the neighbourhood grows to 3
-  /// sigma where that is larger (32 mm at 1.5 m on a D435), 1/m, >= 0
-  double depth_noise_per_m2 = 0.0;
+  double normal_radius_m = 0.03;  ///< neighbourhood of the normal fit, m (its pixel radius is capped at 12)
   double max_normal_jump_m = 0.03;  ///< neighbours farther in depth than this are another surface, m
 };
 

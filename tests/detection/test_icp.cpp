@@ -139,10 +139,8 @@ TEST(IcpTest, DepthNoiseAlongTheRaysDoesNotTiltThePose) {
     const Eigen::Isometry3d truth = world.wMc().inverse() * world.wMo();
     const PoseSupport support =
         ScorePoseSupport(model, truth, frame.color, frame.depth, camera.depth_scale_m(), camera.intrinsics());
-    SceneCloudOptions cloud_options;
-    cloud_options.depth_noise_per_m2 = IcpOptions{}.depth_noise_per_m2;  // as the tracker builds it
     const SceneCloud scene = BuildSceneCloud(frame.color, frame.depth, camera.depth_scale_m(), camera.intrinsics(),
-                                             support.box.Grown(0.15), cloud_options);
+                                             support.box.Grown(0.15));
     const IcpResult r = RefinePoseIcp(model, scene, truth);
     ASSERT_TRUE(r.ok) << "frame " << k;
     const Eigen::AngleAxisd error(truth.linear().transpose() * r.cMo.linear());
