@@ -11,6 +11,7 @@
 #include "app/mission_config.h"
 #include "app/mission_runner.h"
 #include "core/config.h"
+#include "detection/perception_config.h"
 #include "grasp/planner.h"
 #include "hardware/sim/world.h"
 #include "hardware/sim/world_config.h"
@@ -117,7 +118,10 @@ TEST(MissionConfigTest, TheShippedConfigLoadsAndBadFieldsAreNamed) {
   EXPECT_NE(message("servo_rate: 100\n").find("servo_rate"), std::string::npos);  // unknown key
   EXPECT_NE(message("max_attempts: 0\n").find("max_attempts"), std::string::npos);
   EXPECT_NE(message("perception: no_such_perception.yaml\n").find("no_such_perception.yaml"), std::string::npos);
-  EXPECT_EQ(shipped.perception, DataDir() + "/config/perception_default.yaml");
+  EXPECT_EQ(shipped.perception, DataDir() + "/config/perception_mission.yaml");
+  const PerceptionOptions perception = LoadPerceptionOptions(shipped.perception);
+  EXPECT_EQ(perception.track.frames_to_refind, 2);  // the mission's two changes from the defaults
+  EXPECT_EQ(perception.cloud.normal_radius_m, 0.015);
   fs::remove_all(dir);
 }
 
@@ -176,11 +180,11 @@ TEST(MissionRunnerTest, APlannedGraspSetByItsJointsHoldsTheObjectInTheSimulator)
 }
 
 TEST(MissionRunnerTest, AGripperThatHoldsStaysClosedWhileTheOtherAimsAgain) {
-  // Seed 6: the right gripper closes on air, the left takes hold; the left
-  // keeps the object up while the right arm aims at another pair and takes
-  // hold too, and the vehicle flies home with it.
+  // Seed 7: the right gripper takes hold, the left does not; the right keeps
+  // the object up while the left arm aims at another pair and takes hold too,
+  // and the vehicle flies home with it.
   MissionOptions options;
-  options.seed = 6;
+  options.seed = 7;
   std::ostringstream log;
   MissionRecord record;
   const MissionResult result = RunMission(options, &record, &log);
