@@ -103,17 +103,8 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out, 
   // --on-support: the vehicle's arms, rendered as the simulator renders them (world.cpp).
   const bool with_support_views = options.on_support > 0.0;
   const Platform platform = Platform::Load(world.platform);
-  std::vector<RenderMesh> arm_meshes[2];
-  for (Side side : {Side::kLeft, Side::kRight}) {
-    for (const ArmSegment& segment : platform.arm(side).segments()) {
-      RenderMesh mesh;
-      for (const CollisionShape& shape : segment.collision) {
-        AppendMesh(MeshFromShape(shape), Eigen::Isometry3d::Identity(), &mesh.mesh);
-      }
-      mesh.material.albedo = {0.15f, 0.15f, 0.17f};
-      arm_meshes[static_cast<int>(side)].push_back(std::move(mesh));
-    }
-  }
+  const std::vector<RenderMesh> arm_meshes[2] = {ArmRenderMeshes(platform.arm(Side::kLeft)),
+                                                  ArmRenderMeshes(platform.arm(Side::kRight))};
   const double object_half_height = -object.mesh_o.BoundsMin().z();  // o: z up, as ObjectOnPipe
 
   FastRandom rng(options.seed * 0x9E3779B97F4A7C15ull + 17);
@@ -157,18 +148,15 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out, 
     Eigen::Isometry3d wMo = Eigen::Isometry3d::Identity(), wMc = Eigen::Isometry3d::Identity();
     double distance = 0.0;
     if (support_view) {
-      // The object as the world places it (World::ObjectOnPipe): on top of the support pipe, its
+      // The object as the world places it (ObjectOnPipe): on top of the support pipe, its
       // x along the pipe (turned by a small yaw, or any yaw now and then).
       const double along = rng.Uniform(-0.45, 0.45) * scene.pipe_length_m;
       const double yaw = rng.Uniform() < 0.7 ? rng.Uniform(-0.2, 0.2) + (rng.Uniform() < 0.5 ? 0.0 : M_PI)
                                              : rng.Uniform(-M_PI, M_PI);
-      const Eigen::Isometry3d wMp = PipeFrame(scene);
-      wMo = wMp * MakeTransform(Eigen::Vector3d(along, 0.0, -(scene.pipe_radius_m + object_half_height)),
-                                Eigen::Vector3d(M_PI, 0.0, 0.0)) *
-            MakeTransform(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, yaw));
+      wMo = ObjectOnPipe(scene, object_half_height, along, yaw);
       // The vehicle's camera: 0.3-2.0 m away, above the pipe (elevation 25-80 deg), mostly from
       // across the pipe (as the mission approaches it), now and then from any side.
-      const Eigen::Vector3d axis_w = wMp.linear().col(0);
+      const Eigen::Vector3d axis_w = PipeFrame(scene).linear().col(0);
       const double across = std::atan2(axis_w.x(), -axis_w.y()) + (rng.Uniform() < 0.5 ? 0.0 : M_PI);
       const double azimuth = across + (rng.Uniform() < 0.75 ? rng.Uniform(-0.6, 0.6) : rng.Uniform(-M_PI, M_PI));
       const double elevation = rng.Uniform(0.45, 1.4);
@@ -212,15 +200,12 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out, 
       const double azimuth = rng.Uniform(-M_PI, M_PI), elevation = rng.Uniform(0.05, 1.45);
       const Eigen::Vector3d to_camera(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
                                       -std::sin(elevation));
-      wMc.translation() = wMo.translation() + distance * to_camera;
       // Put the object at a random pixel (10 % of the images: out of view).
       const bool out_of_view = rng.Uniform() < 0.1;
       const double u = out_of_view ? (rng.Uniform() < 0.5 ? -400.0 : 1040.0) : rng.Uniform(-20.0, K.width + 20.0);
       const double v = rng.Uniform(-20.0, K.height + 20.0);
-      const Eigen::Vector3d d_c = K.Unproject(u, v, 1.0).normalized();
-      const Eigen::Matrix3d Q = Eigen::Quaterniond::FromTwoVectors(d_c, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-      const Eigen::Matrix3d roll = Eigen::AngleAxisd(rng.Uniform(-0.4, 0.4), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-      wMc.linear() = LookAlong(-to_camera) * roll * Q;
+      const double roll = rng.Uniform(-0.4, 0.4);
+      wMc = CameraLookingAt(wMo.translation(), to_camera, distance, K, u, v, roll);
     }
     renderer->SetPose(object_id, wMo);
     // Occluders between the camera and the object (sometimes), else far away.

@@ -47,6 +47,27 @@ ColorImage MakeGroundTexture(int pixels, int tiles, std::uint64_t seed) {
   return texture;
 }
 
+Eigen::Isometry3d ObjectOnPipe(const SceneConfig& scene, double half_height_m, double along_m, double yaw_rad) {
+  const Eigen::Vector3d p_p(along_m, 0.0, -(scene.pipe_radius_m + half_height_m));
+  // o's z up is -z of p (NED-like); o's x along the pipe, turned by yaw.
+  const Eigen::Isometry3d pMo = MakeTransform(p_p, Eigen::Vector3d(M_PI, 0.0, 0.0)) *
+                                MakeTransform(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, yaw_rad));
+  return PipeFrame(scene) * pMo;
+}
+
+std::vector<RenderMesh> ArmRenderMeshes(const ArmModel& arm) {
+  std::vector<RenderMesh> meshes;
+  for (const ArmSegment& segment : arm.segments()) {
+    RenderMesh mesh;
+    for (const CollisionShape& shape : segment.collision) {
+      AppendMesh(MeshFromShape(shape), Eigen::Isometry3d::Identity(), &mesh.mesh);
+    }
+    mesh.material.albedo = {0.15f, 0.15f, 0.17f};
+    meshes.push_back(std::move(mesh));
+  }
+  return meshes;
+}
+
 std::vector<RenderMesh> BuildStaticScene(const SceneConfig& scene, std::uint64_t seed) {
   FastRandom rng(seed);
   std::vector<RenderMesh> meshes;

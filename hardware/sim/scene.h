@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/arm_model.h"
 #include "hardware/sim/rgbd_renderer.h"
 #include "hardware/sim/world_config.h"
 
@@ -13,6 +14,15 @@ namespace aerograsp {
 /// wMp: the pipe frame p (origin on the pipe's axis at its centre, x along the
 /// axis, z down like w) in the world.
 Eigen::Isometry3d PipeFrame(const SceneConfig& scene);
+
+/// wMo of an object lying on top of the pipe `along_m` from its centre, its
+/// frame o's z up (the object's lowest point `half_height_m` below o) and its x
+/// along the pipe turned by `yaw_rad`.
+Eigen::Isometry3d ObjectOnPipe(const SceneConfig& scene, double half_height_m, double along_m, double yaw_rad);
+
+/// Render meshes of an arm's segments (frames as ArmModel::SegmentPoses), made
+/// from their collision shapes: black servos and brackets.
+std::vector<RenderMesh> ArmRenderMeshes(const ArmModel& arm);
 
 /// The scene's meshes, already in w. The same seed gives the same clutter.
 std::vector<RenderMesh> BuildStaticScene(const SceneConfig& scene, std::uint64_t seed);

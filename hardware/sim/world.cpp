@@ -68,15 +68,7 @@ World::World(const WorldConfig& config, std::uint64_t seed)
     arms_.emplace_back(platform_.arm(side), config.arms, platform_.home(side));
     Gripper& g = grippers_[static_cast<int>(side)];
     g.state.aperture_m = platform_.config().gripper.max_aperture_m;
-    // Render meshes of each segment from its collision shapes.
-    for (const ArmSegment& segment : platform_.arm(side).segments()) {
-      RenderMesh mesh;
-      for (const CollisionShape& shape : segment.collision) {
-        AppendMesh(MeshFromShape(shape), Eigen::Isometry3d::Identity(), &mesh.mesh);
-      }
-      mesh.material.albedo = {0.15f, 0.15f, 0.17f};  // black servos and brackets
-      arm_render_[static_cast<int>(side)].push_back(std::move(mesh));
-    }
+    arm_render_[static_cast<int>(side)] = ArmRenderMeshes(platform_.arm(side));
   }
   static_scene_ = BuildStaticScene(config.scene, seed * 0x9E3779B97F4A7C15ull + kSceneStream);
   object_render_.mesh = object_.mesh_o;
@@ -111,12 +103,7 @@ World::~World() = default;
 
 Eigen::Isometry3d World::ObjectOnPipe(double along_m) const {
   const double half_height = -object_.mesh_o.BoundsMin().z();  // o: z up
-  const Eigen::Vector3d p_p(along_m, 0.0, -(config_.scene.pipe_radius_m + half_height));
-  // o's z up is -z of p (NED-like); o's x along the pipe, turned by yaw_on_pipe.
-  const Eigen::Isometry3d pMo =
-      MakeTransform(p_p, Eigen::Vector3d(M_PI, 0.0, 0.0)) *
-      MakeTransform(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, config_.object.yaw_on_pipe_rad));
-  return PipeFrame(config_.scene) * pMo;
+  return aerograsp::ObjectOnPipe(config_.scene, half_height, along_m, config_.object.yaw_on_pipe_rad);
 }
 
 Eigen::Isometry3d World::wMe(Side side) const {

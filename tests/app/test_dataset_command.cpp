@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/common/output_folder_test.h"
+
 namespace aerograsp {
 namespace {
 namespace fs = std::filesystem;
@@ -20,19 +22,14 @@ struct Label {
   int pixels = 0;
 };
 
-class DatasetCommandTest : public ::testing::Test {
+class DatasetCommandTest : public testing::OutputFolderTest {
  protected:
-  void SetUp() override {
-    folder_ = (fs::temp_directory_path() /
-               (std::string("aerograsp_dataset_") + ::testing::UnitTest::GetInstance()->current_test_info()->name()))
-                  .string();  // one folder per test: ctest runs them in parallel
-    fs::remove_all(folder_);
+  DatasetCommandTest() : OutputFolderTest("aerograsp_dataset_") {
     options_.object = "pipe";
     options_.count = 6;
     options_.seed = 5;
     options_.overwrite = true;
   }
-  void TearDown() override { fs::remove_all(folder_); }
   std::string Run(const std::string& sub) {
     options_.out_dir = (fs::path(folder_) / sub).string();
     std::ostringstream out, progress;
@@ -60,7 +57,6 @@ class DatasetCommandTest : public ::testing::Test {
     }
     return labels;
   }
-  std::string folder_;
   DatasetCommandOptions options_;
 };
 
