@@ -53,7 +53,10 @@ struct IcpOptions {
   int max_iterations = 12;               ///< [1, 100]
   double start_distance_m = 0.03;        ///< Eq. 1 threshold at the first iteration, m
   double end_distance_m = 0.008;         ///< ... shrinking geometrically to this at the last, m
-  double depth_noise_per_m2 = 0.0047;    ///< depth noise std = this * z^2 (D435: s/(f b)); floors Eq. 1 along the ray at 3 sigma
+  /// Depth noise std = this * z^2 (D435: s / (f b)) in a 640-pixel-wide depth
+  /// image; floors Eq. 1 along the ray at 3 sigma. The tracker scales it by
+  /// 640 / width for other widths (f halves at 320x240: the noise doubles).
+  double depth_noise_per_m2 = 0.0047;
   double min_normal_cos = 0.5;           ///< Eq. 2
   double max_color_distance = 100.0;     ///< Eq. 3
   /// Weight of a point-to-point term beside point-to-plane: without it a box seen

@@ -108,13 +108,13 @@ std::optional<Eigen::Vector3d> ObjectTracker::EstimateCentre(const PixelBox& box
 IcpResult ObjectTracker::Register(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth,
                                   double depth_scale_m, const CameraIntrinsics& K, const Eigen::Isometry3d& cMo,
                                   double slide_range_m) const {
-  IcpResult icp = RefinePoseIcp(model_, cloud, cMo, options_.icp);
+  IcpResult icp = RefinePoseIcp(model_, cloud, cMo, frame_icp_);
   if (icp.ok && icp.weak_ratio < options_.weak_direction_ratio) {
     // The pairs leave a sliding direction: let the outline in the depth image decide it.
     const Eigen::Isometry3d slid = SlideToBestSupport(model_, icp.cMo, icp.weak_direction_o, color, depth,
                                                       depth_scale_m, K, SupportOptions(), slide_range_m);
     if (!slid.isApprox(icp.cMo)) {
-      const IcpResult again = RefinePoseIcp(model_, cloud, slid, options_.icp);
+      const IcpResult again = RefinePoseIcp(model_, cloud, slid, frame_icp_);
       if (again.ok) icp = again;
     }
   }
@@ -123,8 +123,8 @@ IcpResult ObjectTracker::Register(const SceneCloud& cloud, const ColorImage& col
 
 PoseSupportOptions ObjectTracker::SupportOptions() const {
   PoseSupportOptions support;
-  support.depth_noise_per_m2 = options_.icp.depth_noise_per_m2;
-  support.max_color_distance = options_.icp.max_color_distance;
+  support.depth_noise_per_m2 = frame_icp_.depth_noise_per_m2;
+  support.max_color_distance = frame_icp_.max_color_distance;
   return support;
 }
 
@@ -155,7 +155,7 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color, co
   report->global_init = true;
   bool found = false;
   double best_score = -1.0;
-  for (const IcpResult& coarse : global_->Candidates(cloud, options_.icp, centres_c)) {
+  for (const IcpResult& coarse : global_->Candidates(cloud, frame_icp_, centres_c)) {
     const IcpResult candidate = Register(cloud, color, depth, depth_scale_m, K, coarse.cMo, 0.04);
     if (!candidate.ok) continue;
     const PoseSupport support = ScorePoseSupport(model_, candidate.cMo, color, depth, depth_scale_m, K, SupportOptions());
@@ -179,6 +179,11 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
   const Eigen::Isometry3d fMc = wMc && wMc->matrix().allFinite() ? *wMc : Eigen::Isometry3d::Identity();
   const Eigen::Isometry3d cMf = fMc.inverse();
   const double t_start = ThreadCpuMs();
+  // The stereo depth noise grows as the depth image's focal length in pixels
+  // shrinks: the options give it for a 640-pixel-wide image.
+  constexpr double kNoiseReferenceWidthPx = 640.0;
+  frame_icp_ = options_.icp;
+  if (depth.width > 0) frame_icp_.depth_noise_per_m2 *= kNoiseReferenceWidthPx / depth.width;
   const bool input_ok = !color.empty() && !depth.empty() && color.width == depth.width &&
                         color.height == depth.height && depth.width == K.width && depth.height == K.height &&
                         depth_scale_m > 0.0 && std::isfinite(stamp_s);

@@ -136,6 +136,7 @@ class ObjectTracker {
                      const CameraIntrinsics& K, const Eigen::Isometry3d& cMo, double slide_range_m) const;
 
   PerceptionOptions options_;
+  IcpOptions frame_icp_;  ///< options_.icp with the depth noise scaled to this frame's width
   ModelCloud model_;
   std::unique_ptr<BoxDetector> detector_;
   std::unique_ptr<GlobalRegistration> global_;

@@ -114,6 +114,43 @@ TEST(ObjectTrackerTest, WithTheCameraPoseTheFilterRunsInTheWorld) {
   EXPECT_LT(r.estimate.v_f.norm(), 0.04);  // the sway itself moves the camera at up to 0.11 m/s
 }
 
+TEST(ObjectTrackerTest, AHalfResolutionFrameGetsTwiceTheDepthNoiseTolerance) {
+  // At 320x240 the depth imager's focal length in pixels halves and the D435's
+  // depth noise doubles (FACTS.md: z^2 s / (f b)): 18 mm at 1.4 m against 9.2.
+  // The options give the 640-pixel figure; the tracker scales it by the width.
+  const CameraIntrinsics K = CameraIntrinsics{}.Scaled(0.5);
+  RgbdRenderer renderer;
+  RenderMesh wall;
+  wall.mesh = MakeBoxMesh(Eigen::Vector3d(6.0, 6.0, 0.05));
+  wall.material.albedo = Eigen::Vector3f(0.3f, 0.6f, 0.25f);
+  for (Eigen::Vector3d& v : wall.mesh.vertices) v.z() += 2.5;
+  renderer.AddMesh(wall, RgbdRenderer::Motion::kStatic);
+  RenderMesh object;
+  object.mesh = ObjectModel::Load("crawler").mesh_o;
+  const int id = renderer.AddMesh(object);
+  Eigen::Isometry3d cMo = testing::TypicalCMo();
+  cMo.translation().z() = 1.4;
+  renderer.SetPose(id, cMo);
+  RenderBuffers truth;
+  renderer.Render(Eigen::Isometry3d::Identity(), K, Lighting{}, &truth);
+  FastRandom rng(11);
+  RgbdFrame frame;
+  SimulateD435(D435Config{}, K, truth, &rng, &frame);
+
+  ObjectTracker tracker(ObjectModel::Load("crawler"), PerceptionOptions{}, nullptr);
+  tracker.SetInitialPose(cMo);
+  const FrameReport r = tracker.Process(frame.color, frame.depth, 0.0, K, 0.001);
+  // With the 640-pixel tolerance the true pose would fail the support check
+  // (min_support_ratio 0.9); with the scaled one it passes and is measured.
+  PoseSupportOptions at_640;
+  at_640.depth_noise_per_m2 = PerceptionOptions{}.icp.depth_noise_per_m2;
+  EXPECT_LT(ScorePoseSupport(tracker.model(), cMo, frame.color, frame.depth, 0.001, K, at_640).ratio(),
+            PerceptionOptions{}.min_support_ratio);
+  EXPECT_TRUE(r.measured);
+  EXPECT_GT(r.support.ratio(), PerceptionOptions{}.min_support_ratio);
+  EXPECT_LT(ComparePoses(cMo, r.icp.cMo).translation_m, 0.015);
+}
+
 TEST(ObjectTrackerTest, AWeakDirectionNeedsItsStdInRange) {
   PerceptionOptions options;
   options.weak_direction_std_m = -0.01;
