@@ -45,11 +45,12 @@ constexpr double kHomeToleranceM = 0.01;
 constexpr int kMaxReaims = 3;
 const char* const kArmNames[2] = {"left", "right"};
 
-/// The estimate moved on to t_s with its velocity (at most 0.2 s ahead).
-Eigen::Isometry3d PredictCmo(const ObjectEstimate& e, double t_s) {
-  Eigen::Isometry3d cMo = e.cMo;
-  cMo.translation() += e.v_c * std::clamp(t_s - e.stamp_s, 0.0, 0.2);
-  return cMo;
+/// The estimate (filtered in the world) moved on to t_s with its velocity
+/// (at most 0.2 s ahead).
+Eigen::Isometry3d PredictWmo(const ObjectEstimate& e, double t_s) {
+  Eigen::Isometry3d wMo = e.fMo;
+  wMo.translation() += e.v_f * std::clamp(t_s - e.stamp_s, 0.0, 0.2);
+  return wMo;
 }
 
 /// One frame's result with the truth at its stamp (NaN without a world).
@@ -344,8 +345,11 @@ Eigen::Isometry3d Mission::dMoNow() const {
   // Briefly lost (the grippers hide the object as they close in): the object
   // stays where it was last seen in the world, and the vehicle's own pose
   // carries it into the body frame through the sway.
-  if (HoldingObjectInWorld()) return hw_->autopilot().State().wMd.inverse() * wMo_last_;
-  return hw_->platform().dMc() * PredictCmo(estimate_, Now());
+  const Eigen::Isometry3d dMw = hw_->autopilot().State().wMd.inverse();
+  if (HoldingObjectInWorld()) return dMw * wMo_last_;
+  // The filter runs in the world (the object crawls slowly there, while the
+  // camera sways): the vehicle's pose now brings it into the body.
+  return dMw * PredictWmo(estimate_, Now());
 }
 
 PlanQuery Mission::Query() const {
@@ -394,8 +398,9 @@ void Mission::Perception() {
   // which costs ten times more and may lock onto clutter.
   if (HoldingObjectInWorld()) tracker_->SetInitialPose(hw_->platform().dMc().inverse() * dMoNow());
   ObjectTracker* tracker = tracker_.get();
-  perceiving_ = std::async(std::launch::async, [tracker, K, scale, job = std::move(job)]() mutable {
-    job.report = tracker->Process(job.frame->color, job.frame->depth, job.frame->stamp_s, K, scale);
+  const Eigen::Isometry3d wMc = job.wMd * hw_->platform().dMc();
+  perceiving_ = std::async(std::launch::async, [tracker, K, scale, wMc, job = std::move(job)]() mutable {
+    job.report = tracker->Process(job.frame->color, job.frame->depth, job.frame->stamp_s, K, scale, wMc);
     return std::move(job);
   });
 }
@@ -417,8 +422,8 @@ void Mission::HandlePerceived(Perceived p) {
     lost_since_s_ = t;
   }
   const Eigen::Isometry3d dMc = hw_->platform().dMc();
-  const Eigen::Isometry3d dMo_est = dMc * estimate_.cMo;
-  const Eigen::Vector3d object_w = hw_->autopilot().State().wMd * dMo_est.translation();
+  const Eigen::Isometry3d dMo_est = dMc * estimate_.cMo;  // at the frame
+  const Eigen::Vector3d object_w = estimate_.fMo.translation();
   const bool beyond = (object_w - config_.approach_w_m).norm() > config_.tracking_radius_m + config_.grasp_dto_m.norm();
   if (found && beyond && !logged_beyond_) {
     logged_beyond_ = true;
@@ -441,7 +446,7 @@ void Mission::HandlePerceived(Perceived p) {
   if (found && !beyond) {
     logged_beyond_ = false;
     object_w_filtered_ = have_wMo_ ? object_w_filtered_ + alpha * (object_w - object_w_filtered_) : object_w;
-    wMo_last_ = p.wMd * dMo_est;
+    wMo_last_ = estimate_.fMo;
     have_wMo_ = true;
   }
   if (signal == VisionSignal::kLost) vehicle_.Lost(t);

@@ -120,8 +120,9 @@ TEST(MissionConfigTest, TheShippedConfigLoadsAndBadFieldsAreNamed) {
   EXPECT_NE(message("perception: no_such_perception.yaml\n").find("no_such_perception.yaml"), std::string::npos);
   EXPECT_EQ(shipped.perception, DataDir() + "/config/perception_mission.yaml");
   const PerceptionOptions perception = LoadPerceptionOptions(shipped.perception);
-  EXPECT_EQ(perception.track.frames_to_refind, 2);  // the mission's two changes from the defaults
+  EXPECT_EQ(perception.track.frames_to_refind, 2);  // the mission's three changes from the defaults
   EXPECT_EQ(perception.cloud.normal_radius_m, 0.015);
+  EXPECT_EQ(perception.weak_direction_std_m, 0.02);
   fs::remove_all(dir);
 }
 
@@ -180,11 +181,11 @@ TEST(MissionRunnerTest, APlannedGraspSetByItsJointsHoldsTheObjectInTheSimulator)
 }
 
 TEST(MissionRunnerTest, AGripperThatHoldsStaysClosedWhileTheOtherAimsAgain) {
-  // Seed 7: the right gripper takes hold, the left does not; the right keeps
+  // Seed 6: the right gripper takes hold, the left does not; the right keeps
   // the object up while the left arm aims at another pair and takes hold too,
   // and the vehicle flies home with it.
   MissionOptions options;
-  options.seed = 7;
+  options.seed = 6;
   std::ostringstream log;
   MissionRecord record;
   const MissionResult result = RunMission(options, &record, &log);
