@@ -19,6 +19,8 @@
 #include "core/shape_mesh.h"
 #include "core/transforms.h"
 #include "detection/box_detector.h"
+#include "detection/model_cloud.h"
+#include "detection/pose_support.h"
 #include "hardware/sim/d435_model.h"
 #include "hardware/sim/rgbd_renderer.h"
 #include "hardware/sim/scene.h"
@@ -86,7 +88,7 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out, 
   fs::create_directories(dir / "images");
   std::ofstream labels(dir / "labels.csv");
   if (!labels) throw std::runtime_error((dir / "labels.csv").string() + ": cannot be written");
-  labels << "index,visible,x0,y0,x1,y1,object_pixels\n";
+  labels << "index,visible,x0,y0,x1,y1,object_pixels,coverage\n";
 
   const WorldConfig world = WorldConfig::Load(DataPath("config/world_default.yaml"));
   const CameraIntrinsics K;  // the D435 colour stream at 640x480 (FACTS.md)
@@ -100,6 +102,11 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out, 
   }
   RenderMesh object_mesh;
   object_mesh.mesh = object.mesh_o;
+  // The coverage column: the visibility test of `replay` (depth only), for a trainer to leave out
+  // mostly hidden objects.
+  const ModelCloud model_cloud = BuildModelCloud(object.mesh_o);
+  PoseSupportOptions depth_only;
+  depth_only.max_color_distance = 768.0;
   // --on-support: the vehicle's arms, rendered as the simulator renders them (world.cpp).
   const bool with_support_views = options.on_support > 0.0;
   const Platform platform = Platform::Load(world.platform);
@@ -248,6 +255,8 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out, 
       }
     }
     const bool visible = pixels >= options.min_object_pixels;
+    const PoseSupport support = ScorePoseSupport(model_cloud, wMc.inverse() * wMo, {}, frame.depth,
+                                                 world.camera.d435.depth_scale_m, K, depth_only);
     visible_count += visible;
     const ColorImage input = DetectorInput(frame.color);
     const cv::Mat rgb(input.height, input.width, CV_8UC3, const_cast<std::uint8_t*>(input.data.data()));
@@ -257,10 +266,10 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out, 
     if (!cv::imwrite(path, bgr)) throw std::runtime_error(path + ": cannot be written");
     const double sx = double(kDetectorInputWidth) / K.width, sy = double(kDetectorInputHeight) / K.height;
     if (visible) {
-      labels << fmt::format("{},1,{:.2f},{:.2f},{:.2f},{:.2f},{}\n", i, box.x0 * sx, box.y0 * sy, box.x1 * sx,
-                            box.y1 * sy, pixels);
+      labels << fmt::format("{},1,{:.2f},{:.2f},{:.2f},{:.2f},{},{:.3f}\n", i, box.x0 * sx, box.y0 * sy, box.x1 * sx,
+                            box.y1 * sy, pixels, support.coverage());
     } else {
-      labels << fmt::format("{},0,0,0,0,0,{}\n", i, pixels);
+      labels << fmt::format("{},0,0,0,0,0,{},{:.3f}\n", i, pixels, support.coverage());
     }
     bar.Update(i + 1);
   }

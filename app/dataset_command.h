@@ -11,7 +11,9 @@
 // F = 0 (the default) draws exactly the images it drew before F existed. Writes
 //   DIR/images/NNNNNN.png  the network input (160x120 RGB, DetectorInput())
 //   DIR/labels.csv         index, visible, x0, y0, x1, y1 (box of the visible
-//                          object pixels in the 160x120 image), object_pixels (640x480)
+//                          object pixels in the 160x120 image), object_pixels (640x480),
+//                          coverage (replay's visibility: the share of the object's
+//                          front-facing model points in the image that the depth shows, [0, 1])
 // The label comes from the renderer's exact object-id mask.
 #pragma once
 

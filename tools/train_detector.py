@@ -30,10 +30,19 @@ W_IN, H_IN = 160, 120
 W_OUT, H_OUT = W_IN // STRIDE, H_IN // STRIDE
 
 
-def load_dataset(folder):
+def load_dataset(folder, min_pixels=0, min_coverage=0.0):
+    """Images and boxes (None: the object is not in view). With min_pixels or min_coverage, images
+    whose object shows fewer than min_pixels pixels (640x480) but some, or is in view with a
+    coverage (labels.csv: the share of its front-facing model points the depth shows) below
+    min_coverage, are left out: neither a box nor a clean negative."""
     images, boxes = [], []
     with open(os.path.join(folder, "labels.csv")) as f:
         for row in csv.DictReader(f):
+            pixels = int(row["object_pixels"])
+            if 0 < pixels < min_pixels:
+                continue
+            if min_coverage > 0.0 and pixels > 0 and float(row["coverage"]) < min_coverage:
+                continue
             bgr = cv2.imread(os.path.join(folder, "images", "%06d.png" % int(row["index"])), cv2.IMREAD_COLOR)
             if bgr is None or bgr.shape[:2] != (H_IN, W_IN):
                 raise SystemExit("%s: image %s missing or not %dx%d" % (folder, row["index"], W_IN, H_IN))
@@ -181,6 +190,10 @@ def main():
     ap.add_argument("--seed", type=int, default=7)
     ap.add_argument("--size-radius", type=int, default=0,
                     help="also train the box size at cells this far (Chebyshev) from the centre cell")
+    ap.add_argument("--min-pixels", type=int, default=0,
+                    help="leave out training images whose object shows fewer pixels (640x480) than this, but some")
+    ap.add_argument("--min-coverage", type=float, default=0.0,
+                    help="leave out training images whose object is in view but less of it shows (labels.csv coverage)")
     args = ap.parse_args()
 
     torch.set_num_threads(1)
@@ -188,7 +201,7 @@ def main():
     torch.use_deterministic_algorithms(True)
     rng = np.random.default_rng(args.seed)
 
-    train_images, train_boxes = load_dataset(os.path.join(args.data, "train"))
+    train_images, train_boxes = load_dataset(os.path.join(args.data, "train"), args.min_pixels, args.min_coverage)
     val_images, val_boxes = load_dataset(os.path.join(args.data, "val"))
     net = Net()
     params = sum(p.numel() for p in net.parameters())

@@ -20,6 +20,7 @@ struct Label {
   bool visible = false;
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   int pixels = 0;
+  double coverage = 0;  ///< share of the front-facing model points the depth shows
 };
 
 class DatasetCommandTest : public testing::OutputFolderTest {
@@ -48,9 +49,9 @@ class DatasetCommandTest : public testing::OutputFolderTest {
     while (std::getline(in, line)) {
       Label l;
       int index = 0, visible = 0;
-      EXPECT_EQ(std::sscanf(line.c_str(), "%d,%d,%lf,%lf,%lf,%lf,%d", &index, &visible, &l.x0, &l.y0, &l.x1, &l.y1,
-                            &l.pixels),
-                7)
+      EXPECT_EQ(std::sscanf(line.c_str(), "%d,%d,%lf,%lf,%lf,%lf,%d,%lf", &index, &visible, &l.x0, &l.y0, &l.x1,
+                            &l.y1, &l.pixels, &l.coverage),
+                8)
           << line;
       l.visible = visible != 0;
       labels.push_back(l);
@@ -77,10 +78,14 @@ TEST_F(DatasetCommandTest, OnSupportShowsTheObjectOnItsPipeFromTheVehicle) {
   // Other images than the floating object's (the same seed).
   EXPECT_NE(Read(folder_ + "/floating/labels.csv"), Read(folder_ + "/support/labels.csv"));
   // Seen from 0.3-2.0 m and mostly in view: most images show it, with a box inside the image.
-  int visible = 0;
+  int visible = 0, covered = 0;
   for (const Label& l : support) {
+    EXPECT_GE(l.coverage, 0.0);
+    EXPECT_LE(l.coverage, 1.0);
+    if (l.pixels == 0) EXPECT_EQ(l.coverage, 0.0);  // out of view or hidden: the depth shows none of it
     if (!l.visible) continue;
     ++visible;
+    covered += l.coverage >= 0.3;  // replay's test for "visible"
     EXPECT_GE(l.x0, 0.0);
     EXPECT_LE(l.x1, 160.0);
     EXPECT_GE(l.y0, 0.0);
@@ -89,6 +94,7 @@ TEST_F(DatasetCommandTest, OnSupportShowsTheObjectOnItsPipeFromTheVehicle) {
     EXPECT_LT(l.y0, l.y1);
   }
   EXPECT_GE(visible, 7);
+  EXPECT_GE(covered, 1);
 }
 
 TEST_F(DatasetCommandTest, OnSupportOutOfRangeIsRefused) {
