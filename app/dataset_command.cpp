@@ -102,11 +102,9 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out, 
   }
   RenderMesh object_mesh;
   object_mesh.mesh = object.mesh_o;
-  // The coverage column: the visibility test of `replay` (depth only), for a trainer to leave out
-  // mostly hidden objects.
+  // The coverage column: the visibility test of `replay` (depth only: no colour image is given),
+  // for a trainer to leave out mostly hidden objects.
   const ModelCloud model_cloud = BuildModelCloud(object.mesh_o);
-  PoseSupportOptions depth_only;
-  depth_only.max_color_distance = 768.0;
   // --on-support: the vehicle's arms, rendered as the simulator renders them (world.cpp).
   const bool with_support_views = options.on_support > 0.0;
   const Platform platform = Platform::Load(world.platform);
@@ -255,8 +253,8 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out, 
       }
     }
     const bool visible = pixels >= options.min_object_pixels;
-    const PoseSupport support = ScorePoseSupport(model_cloud, wMc.inverse() * wMo, {}, frame.depth,
-                                                 world.camera.d435.depth_scale_m, K, depth_only);
+    const PoseSupport support =
+        ScorePoseSupport(model_cloud, wMc.inverse() * wMo, {}, frame.depth, world.camera.d435.depth_scale_m, K);
     visible_count += visible;
     const ColorImage input = DetectorInput(frame.color);
     const cv::Mat rgb(input.height, input.width, CV_8UC3, const_cast<std::uint8_t*>(input.data.data()));

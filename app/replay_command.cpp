@@ -282,9 +282,8 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
     const std::optional<Eigen::Isometry3d>& truth = camera.extras(i).cMo;
     bool visible = false;
     if (truth) {
-      PoseSupportOptions no_color;
-      no_color.max_color_distance = 768.0;  // visibility of the truth: depth only
-      const PoseSupport s = ScorePoseSupport(model, *truth, {}, frame.depth, info.depth_scale_m, info.intrinsics, no_color);
+      // Visibility of the truth: depth only (no colour image, no colour check).
+      const PoseSupport s = ScorePoseSupport(model, *truth, {}, frame.depth, info.depth_scale_m, info.intrinsics);
       visible = s.projected >= 20 && s.coverage() >= 0.3;
       if (visible) {
         ++box_visible;
