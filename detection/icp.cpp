@@ -57,9 +57,24 @@ int FollowRayToSurface(const ModelCloud& model, const Eigen::Vector3f& p, const 
     if (std::abs(offset_m) < 2e-4f) break;
     const float t_next = std::clamp(t - offset_m / along, -limit_m, limit_m);
     const int j_next = model.Nearest(p + t_next * d);
-    if (j_next < 0) break;
+    if (j_next < 0 || model.normals_o[j_next].dot(d) > 0.0f) break;
     t = t_next;
     j = j_next;
+  }
+  return j;
+}
+
+/// A model point whose normal faces away from the camera (along the ray d)
+/// cannot have returned the depth at p: the noise pushed p behind a surface
+/// that faces the camera, into a wall or through a thin part, and the nearest
+/// point is the wall's inside. Returns the first point facing the camera found
+/// stepping back along the ray from p, at most `limit_m`; j when there is none.
+int FrontFacingAlongRay(const ModelCloud& model, const Eigen::Vector3f& p, const Eigen::Vector3f& d, float limit_m,
+                        int j) {
+  if (model.normals_o[j].dot(d) <= 0.0f) return j;
+  for (float t = model.cell_m; t <= limit_m; t += model.cell_m) {
+    const int k = model.Nearest(p - t * d);
+    if (k >= 0 && model.normals_o[k].dot(d) < 0.0f) return k;
   }
   return j;
 }
@@ -90,11 +105,13 @@ PassStats Associate(const ModelCloud& model, const SceneCloud& scene, const Eige
     }
     const double z = scene.points_c[i].z();
     const double noise_3sigma_m = 3.0 * options.depth_noise_per_m2 * z * z;
+    const Eigen::Vector3f ray = oRc * scene.points_c[i].normalized();
+    j = FrontFacingAlongRay(model, p, ray, static_cast<float>(std::max(max_distance_m, noise_3sigma_m)), j);
     if (noise_3sigma_m > options.end_distance_m) {
       // Noise beyond Eq. 1's final distance: it moves a point along its ray
       // by up to about 3 sigma, so pair along the ray. Nearer, the nearest
       // point is as good.
-      thresholds.ray = oRc * scene.points_c[i].normalized();
+      thresholds.ray = ray;
       thresholds.max_along_ray_m = std::max(max_distance_m, noise_3sigma_m);
       j = FollowRayToSurface(model, p, thresholds.ray, static_cast<float>(noise_3sigma_m), j);
     } else {
