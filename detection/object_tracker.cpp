@@ -25,6 +25,8 @@ void PerceptionOptions::Validate() const {
   Require(min_global_range_m >= 0.0 && min_global_range_m < max_global_range_m, "min_global_range_m",
           "must be in [0, max_global_range_m) m");
   Require(max_global_range_m <= 10.0, "max_global_range_m", "must be at most 10 m");
+  Require(reacquire_radius_m > 0.0 && reacquire_radius_m <= 10.0, "reacquire_radius_m", "must be in (0, 10] m");
+  Require(reacquire_speed_mps >= 0.0 && reacquire_speed_mps <= 10.0, "reacquire_speed_mps", "must be in [0, 10] m/s");
   Require(measurement_position_std_m > 0.0, "measurement_position_std_m", "must be > 0");
   Require(weak_direction_std_m >= 0.0 && weak_direction_std_m <= 1.0, "weak_direction_std_m", "must be in [0, 1] m");
   Require(measurement_rotation_std_rad > 0.0, "measurement_rotation_std_rad", "must be > 0");
@@ -158,6 +160,10 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color, co
   for (const IcpResult& coarse : global_->Candidates(cloud, frame_icp_, centres_c)) {
     const IcpResult candidate = Register(cloud, color, depth, depth_scale_m, K, coarse.cMo, 0.04);
     if (!candidate.ok) continue;
+    if (reacquire_zone_c_ &&
+        (candidate.cMo.translation() - reacquire_zone_c_->first).norm() > reacquire_zone_c_->second) {
+      continue;
+    }
     const PoseSupport support = ScorePoseSupport(model_, candidate.cMo, color, depth, depth_scale_m, K, SupportOptions());
     const double score = support.ratio() * support.agree;
     if (passes(support) && score > best_score) {
@@ -209,6 +215,12 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
   // The track's own pose (not a given one) seeds this frame: a pose measured
   // from it continues the track.
   const bool own_prior = ekf_.initialized() || (!initial_cMo_ && last_good_fMo_);
+  reacquire_zone_c_.reset();
+  if (was_found_ && last_good_fMo_ && !initial_cMo_) {
+    const double since_s = std::max(0.0, stamp_s - last_good_stamp_s_);
+    reacquire_zone_c_.emplace(cMf * last_good_fMo_->translation(),
+                              options_.reacquire_radius_m + options_.reacquire_speed_mps * since_s);
+  }
 
   // Crop and cloud.
   t = ThreadCpuMs();
@@ -304,6 +316,7 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
       }
     }
     last_good_fMo_ = ekf_.cMo();
+    last_good_stamp_s_ = stamp_s;
   }
   // A given first pose serves this frame only, measured or not: kept, it
   // would forbid the global registration for good once the object has moved

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "core/camera_model.h"
 #include "core/image.h"
@@ -43,6 +44,14 @@ struct PerceptionOptions {
   /// weakest boxes fell on the arms at 0.27 m: 60 frames). 0 <= min < max <= 10.
   double min_global_range_m = 0.35;
   double max_global_range_m = 1.6;
+  /// A found track, once lost, is re-found by the global registration only
+  /// within this distance of its last measured pose, m, (0, 10]; the distance
+  /// grows at reacquire_speed_mps (m/s, [0, 10]) from the time of that pose.
+  /// An object does not jump: a look-alike elsewhere in the frame (the support
+  /// pipe under a hidden pipe, 0.8 m away) must not take the track. Sized for
+  /// a crawling object seen from a swaying vehicle.
+  double reacquire_radius_m = 0.15;
+  double reacquire_speed_mps = 0.2;
   double measurement_position_std_m = 0.002;   ///< ICP position noise at 1 m (grows with z^2), m
   double measurement_rotation_std_rad = 0.02;  ///< ICP rotation noise, rad
   int gated_frames_to_reset = 3;      ///< consecutive gated but well-supported poses restart the filter
@@ -143,6 +152,9 @@ class ObjectTracker {
   PoseEkf ekf_;
   TrackMonitor monitor_;
   std::optional<Eigen::Isometry3d> last_good_fMo_;  // in the filter frame f
+  double last_good_stamp_s_ = 0.0;
+  /// This frame's limit on a re-found pose (centre m in c, radius m), if any.
+  std::optional<std::pair<Eigen::Vector3d, double>> reacquire_zone_c_;
   bool was_found_ = false;  // the track has been found: a pose tracked on from its own last pose continues it
   std::optional<Eigen::Isometry3d> initial_cMo_;
   int gated_in_a_row_ = 0;

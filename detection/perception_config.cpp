@@ -90,7 +90,8 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path, const Perceptio
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.RequireOnlyKeys({"model", "cloud", "icp", "global", "ekf", "track", "min_detection_score", "box_margin",
                         "min_support_ratio", "min_coverage", "min_cloud_points", "whole_frame_points",
-                        "min_global_range_m", "max_global_range_m", "measurement_position_std_m",
+                        "min_global_range_m", "max_global_range_m", "reacquire_radius_m", "reacquire_speed_mps",
+                        "measurement_position_std_m",
                         "measurement_rotation_std_rad", "gated_frames_to_reset", "weak_direction_ratio",
                         "weak_direction_std_m"});
   PerceptionOptions o = defaults;
@@ -108,6 +109,8 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path, const Perceptio
   o.whole_frame_points = root.GetInt("whole_frame_points", o.whole_frame_points);
   o.min_global_range_m = root.GetDouble("min_global_range_m", o.min_global_range_m);
   o.max_global_range_m = root.GetDouble("max_global_range_m", o.max_global_range_m);
+  o.reacquire_radius_m = root.GetDouble("reacquire_radius_m", o.reacquire_radius_m);
+  o.reacquire_speed_mps = root.GetDouble("reacquire_speed_mps", o.reacquire_speed_mps);
   o.measurement_position_std_m = root.GetDouble("measurement_position_std_m", o.measurement_position_std_m);
   o.measurement_rotation_std_rad = root.GetDouble("measurement_rotation_std_rad", o.measurement_rotation_std_rad);
   o.gated_frames_to_reset = root.GetInt("gated_frames_to_reset", o.gated_frames_to_reset);

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "core/data_dir.h"
 #include "core/shape_mesh.h"
 #include "core/transforms.h"
 #include "hardware/sim/d435_model.h"
@@ -253,6 +254,56 @@ TEST(ObjectTrackerTest, LosesAHiddenObjectAndReacquiresItWithinFiveFrames) {
   // Tracked on from where it was lost, the first frame that shows it resumes
   // the track (track.frames_to_refind).
   EXPECT_EQ(frames_to_find, 1);
+}
+
+// Hidden, then seen again 0.3 m to the side: too far from where the track was
+// lost for a crawling object (a look-alike there must not take the track), until
+// the re-find distance has grown with the time since (0.15 m + 0.2 m/s).
+TEST(ObjectTrackerTest, ALostTrackIsReFoundOnlyNearWhereItWasLost) {
+  const Eigen::Vector3d aside(0.3, 0.0, 0.0);
+  for (const double radius_m : {0.15, 10.0}) {
+    PerceptionOptions options;
+    options.reacquire_radius_m = radius_m;
+    ObjectTracker tracker(ObjectModel::Load("crawler"), options,
+                          std::make_unique<BoxDetector>(DataPath("objects/crawler/detector.onnx")));
+    tracker.SetInitialPose(TruthAt(0));
+    ColorImage color;
+    DepthImage depth;
+    int k = 0;
+    TrackState state = TrackState::kLost;
+    for (; k < 3; ++k) {
+      Scene().Render(TruthAt(k), true, &color, &depth);
+      state = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001).estimate.state;
+    }
+    ASSERT_EQ(state, TrackState::kFound);
+    for (; k < 8; ++k) {
+      Scene().Render(TruthAt(k), false, &color, &depth);
+      state = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001).estimate.state;
+    }
+    ASSERT_EQ(state, TrackState::kLost);
+    // Seen again 0.3 m to the side, from 0.27 s after the last good frame.
+    Eigen::Isometry3d moved = TruthAt(k);
+    moved.translation() += aside;
+    Scene().Render(moved, true, &color, &depth);
+    for (int frame = 0; frame < 3; ++frame, ++k) {
+      const FrameReport r = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001);
+      ASSERT_TRUE(r.detection) << "frame " << k;
+      if (radius_m > 1.0) {
+        EXPECT_EQ(r.global_init, frame == 0) << "frame " << k;
+        ASSERT_TRUE(r.measured) << "frame " << k;
+        EXPECT_LT(ComparePoses(moved, r.icp.cMo).translation_m, 0.005);
+      } else {
+        EXPECT_TRUE(r.global_init) << "frame " << k;
+        EXPECT_FALSE(r.measured) << "frame " << k << ": re-found 0.3 m from where it was lost";
+      }
+    }
+    if (radius_m < 1.0) {
+      // 1 s later the distance allowed is 0.35 m.
+      const FrameReport later = tracker.Process(color, depth, k / 30.0 + 1.0, Scene().K(), 0.001);
+      ASSERT_TRUE(later.measured);
+      EXPECT_LT(ComparePoses(moved, later.icp.cMo).translation_m, 0.005);
+    }
+  }
 }
 
 TEST(ObjectTrackerTest, AFrameWithoutTheObjectIsNeverFound) {

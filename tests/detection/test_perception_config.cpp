@@ -69,6 +69,8 @@ void ExpectSameOptions(const PerceptionOptions& a, const PerceptionOptions& b) {
   EXPECT_SAME_FIELD(whole_frame_points);
   EXPECT_SAME_FIELD(min_global_range_m);
   EXPECT_SAME_FIELD(max_global_range_m);
+  EXPECT_SAME_FIELD(reacquire_radius_m);
+  EXPECT_SAME_FIELD(reacquire_speed_mps);
   EXPECT_SAME_FIELD(measurement_position_std_m);
   EXPECT_SAME_FIELD(measurement_rotation_std_rad);
   EXPECT_SAME_FIELD(gated_frames_to_reset);
