@@ -68,7 +68,9 @@ int FollowRayToSurface(const ModelCloud& model, const Eigen::Vector3f& p, const 
 /// cannot have returned the depth at p: the noise pushed p behind a surface
 /// that faces the camera, into a wall or through a thin part, and the nearest
 /// point is the wall's inside. Returns the first point facing the camera found
-/// stepping back along the ray from p, at most `limit_m`; j when there is none.
+/// stepping back along the ray from p, at most `limit_m` (the noise's reach:
+/// farther, the pose is wrong, as where a wrong orientation puts the model's
+/// back faces on the scene's surface); j when there is none.
 int FrontFacingAlongRay(const ModelCloud& model, const Eigen::Vector3f& p, const Eigen::Vector3f& d, float limit_m,
                         int j) {
   if (model.normals_o[j].dot(d) <= 0.0f) return j;
@@ -83,6 +85,12 @@ struct PassStats {
   int inliers = 0, no_model = 0, distance = 0, normal = 0, color = 0;
   double sum_r2 = 0.0;
   Eigen::Matrix3d normal_scatter = Eigen::Matrix3d::Zero();  // sum n n^T of the inliers (frame o)
+  // The point-to-point term's sums over the inliers (frame o): p, p p^T, |p|^2,
+  // p x e and e, with e = p - q. Its normal equations follow from them once.
+  Eigen::Vector3d sum_p = Eigen::Vector3d::Zero(), sum_p_cross_e = Eigen::Vector3d::Zero(),
+                  sum_e = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d sum_ppT = Eigen::Matrix3d::Zero();
+  double sum_p2 = 0.0;
 };
 
 /// One association pass at oMc: classifies every scene point and, when H and g
@@ -106,7 +114,7 @@ PassStats Associate(const ModelCloud& model, const SceneCloud& scene, const Eige
     const double z = scene.points_c[i].z();
     const double noise_3sigma_m = 3.0 * options.depth_noise_per_m2 * z * z;
     const Eigen::Vector3f ray = oRc * scene.points_c[i].normalized();
-    j = FrontFacingAlongRay(model, p, ray, static_cast<float>(std::max(max_distance_m, noise_3sigma_m)), j);
+    j = FrontFacingAlongRay(model, p, ray, static_cast<float>(noise_3sigma_m), j);
     if (noise_3sigma_m > options.end_distance_m) {
       // Noise beyond Eq. 1's final distance: it moves a point along its ray
       // by up to about 3 sigma, so pair along the ray. Nearer, the nearest
@@ -137,15 +145,28 @@ PassStats Associate(const ModelCloud& model, const SceneCloud& scene, const Eige
       H->selfadjointView<Eigen::Upper>().rankUpdate(J);
       *g += J * r;
       if (options.point_to_point_weight > 0.0) {
-        // d(p + w x p + v - q) = [-[p]x, I] [w; v]: pins sliding along flat faces.
         const Eigen::Vector3d pd = p.cast<double>(), e = (p - q).cast<double>();
-        Eigen::Matrix<double, 3, 6> Jp;
-        Jp.leftCols<3>() = -Skew(pd);
-        Jp.rightCols<3>().setIdentity();
-        H->noalias() += options.point_to_point_weight * Jp.transpose() * Jp;
-        *g += options.point_to_point_weight * Jp.transpose() * e;
+        stats.sum_p += pd;
+        stats.sum_ppT.noalias() += pd * pd.transpose();
+        stats.sum_p2 += pd.squaredNorm();
+        stats.sum_p_cross_e += pd.cross(e);
+        stats.sum_e += e;
       }
     }
+  }
+  if (H && options.point_to_point_weight > 0.0 && stats.inliers > 0) {
+    // The point-to-point term pins sliding along flat faces: d(p + w x p + v - q)
+    // = [-[p]x, I] [w; v], so it adds w * sum [-[p]x, I]^T [-[p]x, I] to H and
+    // w * sum [p x e; e] to g; with [p]x^T [p]x = |p|^2 I - p p^T.
+    const double w = options.point_to_point_weight;
+    Eigen::Matrix<double, 6, 6> Hp;
+    Hp.topLeftCorner<3, 3>() = stats.sum_p2 * Eigen::Matrix3d::Identity() - stats.sum_ppT;
+    Hp.topRightCorner<3, 3>() = Skew(stats.sum_p);
+    Hp.bottomLeftCorner<3, 3>() = -Skew(stats.sum_p);
+    Hp.bottomRightCorner<3, 3>() = stats.inliers * Eigen::Matrix3d::Identity();
+    H->noalias() += w * Hp;
+    g->head<3>() += w * stats.sum_p_cross_e;
+    g->tail<3>() += w * stats.sum_e;
   }
   return stats;
 }
