@@ -68,15 +68,21 @@ int FollowRayToSurface(const ModelCloud& model, const Eigen::Vector3f& p, const 
 /// cannot have returned the depth at p: the noise pushed p behind a surface
 /// that faces the camera, into a wall or through a thin part, and the nearest
 /// point is the wall's inside. Returns the first point facing the camera found
-/// stepping back along the ray from p, at most `limit_m` (the noise's reach:
+/// stepping back along the ray from p and lying on it (within two grid cells),
+/// at most `limit_m` (the noise's reach:
 /// farther, the pose is wrong, as where a wrong orientation puts the model's
 /// back faces on the scene's surface); j when there is none.
 int FrontFacingAlongRay(const ModelCloud& model, const Eigen::Vector3f& p, const Eigen::Vector3f& d, float limit_m,
                         int j) {
   if (model.normals_o[j].dot(d) <= 0.0f) return j;
   for (float t = model.cell_m; t <= limit_m; t += model.cell_m) {
-    const int k = model.Nearest(p - t * d);
-    if (k >= 0 && model.normals_o[k].dot(d) < 0.0f) return k;
+    const Eigen::Vector3f on_ray = p - t * d;
+    const int k = model.Nearest(on_ray);
+    // On the ray: a point beside it (the ray passing an edge, the background
+    // beyond the object) is not the surface that returned the depth.
+    if (k >= 0 && model.normals_o[k].dot(d) < 0.0f && (model.points_o[k] - on_ray).norm() <= 2.0f * model.cell_m) {
+      return k;
+    }
   }
   return j;
 }
