@@ -161,12 +161,20 @@ void World::SetGripper(Side side, GripperCommand command) {
     g.state.holding = false;
     const bool still_held = grippers_[0].state.holding || grippers_[1].state.holding;
     if (!still_held) {
-      // Released: the object falls upright to the ground below it (no physics).
+      // Released: the object falls upright onto the support pipe when its
+      // centre is above the pipe (as when one gripper held it where it sat),
+      // else to the ground below it (no physics).
       object_free_ = true;
-      const double yaw = std::atan2(wMo_.linear()(1, 0), wMo_.linear()(0, 0));
-      wMo_ = MakeTransform(Eigen::Vector3d(wMo_.translation().x(), wMo_.translation().y(),
-                                           object_.mesh_o.BoundsMin().z()),
-                           Eigen::Vector3d(M_PI, 0.0, yaw));
+      const SceneConfig& scene = config_.scene;
+      const Eigen::Vector3d p_p = PipeFrame(scene).inverse() * wMo_.translation();  // z down
+      if (std::abs(p_p.x()) <= 0.5 * scene.pipe_length_m && std::abs(p_p.y()) <= scene.pipe_radius_m && p_p.z() < 0.0) {
+        wMo_ = ObjectOnPipe(p_p.x());
+      } else {
+        const double yaw = std::atan2(wMo_.linear()(1, 0), wMo_.linear()(0, 0));
+        wMo_ = MakeTransform(Eigen::Vector3d(wMo_.translation().x(), wMo_.translation().y(),
+                                             object_.mesh_o.BoundsMin().z()),
+                             Eigen::Vector3d(M_PI, 0.0, yaw));
+      }
     }
   }
 }

@@ -65,6 +65,9 @@ class World {
   const SimVehicle& vehicle() const { return vehicle_; }
   SimArm& arm(Side side) { return arms_[static_cast<int>(side)]; }
   const SimArm& arm(Side side) const { return arms_[static_cast<int>(side)]; }
+  /// Opening the last gripper that holds the object releases it: it falls
+  /// upright onto the support pipe when its centre is above the pipe, else to
+  /// the ground (no physics), and stays there.
   void SetGripper(Side side, GripperCommand command);
   GripperState gripper(Side side) const { return grippers_[static_cast<int>(side)].state; }
 

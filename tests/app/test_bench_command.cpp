@@ -27,11 +27,14 @@ class BenchCommandTest : public testing::OutputFolderTest {
 TEST_F(BenchCommandTest, TagsAgreeWithTheTruthAndPerceptionWithTheTags) {
   BenchCommandOptions options;
   options.out_dir = folder_;
-  options.frames = 40;  // the first frames carry the filter in from a fresh track
+  // 3 s. The first frames carry the filter in from a fresh track, and over 40
+  // frames the RMSE swung by 1.5 mm between builds that differ in rounding
+  // only (4.4 and 5.9 mm, seed 1); over 90 frames seeds 1-3 give 2.3-4.6 mm.
+  options.frames = 90;
   std::ostringstream out, progress;
   RunBenchCommand(options, out, progress);
   const nlohmann::json s = Summary();
-  EXPECT_EQ(s["frames"], 40);
+  EXPECT_EQ(s["frames"], 90);
   EXPECT_GE(s["tag_frames"].get<int>(), 18) << out.str();
   EXPECT_GE(s["compared_frames"].get<int>(), 10) << out.str();
   // The tags' own error, in simulation: well under a millimetre and a degree.

@@ -231,6 +231,40 @@ TEST_F(GripperTest, ClosingOnTheObjectHoldsItAtItsWidth) {
   EXPECT_NEAR(world_.wMo().translation().z(), -0.5 * world_.object().dimensions_m.z(), 1e-9);
 }
 
+// One gripper held the object where it sat on its pipe, then let go: it falls
+// back onto the pipe, not through it to the ground (GripperTest above: away from
+// the pipe it falls to the ground).
+TEST(GripperReleaseTest, AnObjectReleasedAboveItsPipeLandsOnThePipe) {
+  WorldConfig config = CalmConfig();
+  config.object.motion = "static";
+  Eigen::Isometry3d eMo = Eigen::Isometry3d::Identity();  // tool x along o z, tool z along o x
+  eMo.linear().col(0) = Eigen::Vector3d(0, 0, 1);
+  eMo.linear().col(1) = Eigen::Vector3d(0, 1, 0);
+  eMo.linear().col(2) = Eigen::Vector3d(-1, 0, 0);
+  eMo.translation() = Eigen::Vector3d(0.0, kTrackCentre_m, 0.0);
+  const Eigen::Vector3d held_w = (World(config, 1).wMe(Side::kLeft) * eMo).translation();
+  // The pipe moved under the held object: its resting place on the pipe 2 cm
+  // below and 1 cm aside of where the gripper holds it.
+  const double half_height_m = -ObjectModel::Load(config.object.name).mesh_o.BoundsMin().z();
+  const Eigen::Vector3d aside_w(-std::sin(config.scene.pipe_yaw_rad), std::cos(config.scene.pipe_yaw_rad), 0.0);
+  config.scene.pipe_center_w_m =
+      held_w + 0.01 * aside_w + Eigen::Vector3d(0.0, 0.0, 0.02 + config.scene.pipe_radius_m + half_height_m);
+  World world(config, 1);
+  SimArmsDriver arms(&world);
+  world.PlaceObject(world.wMe(Side::kLeft) * eMo);
+  arms.SetGripper(Side::kLeft, GripperCommand::kClose);
+  world.Step(1.0);
+  ASSERT_TRUE(world.held_by(Side::kLeft));
+  ASSERT_LT((world.wMo().translation() - held_w).norm(), 1e-9);
+  arms.SetGripper(Side::kLeft, GripperCommand::kOpen);
+  world.Step(0.1);
+  const Eigen::Vector3d landed_w = world.wMo().translation();
+  EXPECT_NEAR(landed_w.z(), held_w.z() + 0.02, 1e-9) << "on the pipe's top";
+  EXPECT_NEAR((landed_w - held_w).head<2>().norm(), 0.01, 1e-9) << "onto the pipe's axis";
+  // Upright and along the pipe, as it sat before it was taken.
+  EXPECT_NEAR(world.wMo().linear().col(2).dot(Eigen::Vector3d(0, 0, -1)), 1.0, 1e-9);
+}
+
 TEST_F(GripperTest, OffCentreWithinTheOpeningStillHolds) {
   PlaceAtTool(Eigen::Vector3d(0.005, kTrackCentre_m, 0.0));  // 5 mm towards one finger
   arms_.SetGripper(Side::kLeft, GripperCommand::kClose);
