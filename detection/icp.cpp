@@ -69,9 +69,9 @@ int FollowRayToSurface(const ModelCloud& model, const Eigen::Vector3f& p, const 
 /// that faces the camera, into a wall or through a thin part, and the nearest
 /// point is the wall's inside. Returns the first point facing the camera found
 /// stepping back along the ray from p and lying on it (within two grid cells),
-/// at most `limit_m` (the noise's reach:
-/// farther, the pose is wrong, as where a wrong orientation puts the model's
-/// back faces on the scene's surface); j when there is none.
+/// at most `limit_m` back (the noise's reach; farther, the pose is wrong, as
+/// where a wrong orientation puts the model's back faces on the scene's
+/// surface); j when there is none.
 int FrontFacingAlongRay(const ModelCloud& model, const Eigen::Vector3f& p, const Eigen::Vector3f& d, float limit_m,
                         int j) {
   if (model.normals_o[j].dot(d) <= 0.0f) return j;
