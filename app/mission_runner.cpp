@@ -372,25 +372,33 @@ void Mission::Perception() {
   if (t + 1e-9 < next_frame_s_) return;
   next_frame_s_ += frame_period_s_;
   if (next_frame_s_ < t) next_frame_s_ = t + frame_period_s_;
-  if (perceiving_.valid()) HandlePerceived(perceiving_.get());
-  // Vision runs while the vehicle flies (the camera sees only the pad before).
-  const VehicleMode mode = vehicle_.state();
-  if (mode == VehicleMode::kIdle || mode == VehicleMode::kTakeOff) return;
-  // Nor once both grippers hold the object: nothing steers by it any more
+  // Vision runs while the vehicle flies (the camera sees only the pad before),
+  // nor once both grippers hold the object: nothing steers by it any more
   // (the lift and the flight home, about 10 s of a 25 s mission).
-  if (global_.state() == GlobalState::kDone || global_.state() == GlobalState::kAborted || holding_) return;
-
-  auto frame = std::make_shared<RgbdFrame>();
-  const WallClock::time_point render_start = WallClock::now();
-  if (!hw_->camera().Grab(frame.get())) throw HardwareError("camera: the stream ended");
-  render_ms_.push_back(std::chrono::duration<double, std::milli>(WallClock::now() - render_start).count());
+  auto wanted = [this] {
+    const VehicleMode mode = vehicle_.state();
+    return mode != VehicleMode::kIdle && mode != VehicleMode::kTakeOff && global_.state() != GlobalState::kDone &&
+           global_.state() != GlobalState::kAborted && !holding_;
+  };
+  // The frame is rendered while the tracker still works on the previous one
+  // (the two take about as long); its result is handled at this frame's time
+  // as before, so the mission does not change, only the wall time.
+  std::shared_ptr<RgbdFrame> frame;
   Perceived job;
-  job.frame = frame;
-  job.wMd = hw_->autopilot().State().wMd;
-  if (world_) {
-    job.dMo_truth = world_->wMd().inverse() * world_->wMo();
-    job.has_truth = true;
+  if (wanted()) {
+    frame = std::make_shared<RgbdFrame>();
+    const WallClock::time_point render_start = WallClock::now();
+    if (!hw_->camera().Grab(frame.get())) throw HardwareError("camera: the stream ended");
+    render_ms_.push_back(std::chrono::duration<double, std::milli>(WallClock::now() - render_start).count());
+    job.wMd = hw_->autopilot().State().wMd;
+    if (world_) {
+      job.dMo_truth = world_->wMd().inverse() * world_->wMo();
+      job.has_truth = true;
+    }
   }
+  if (perceiving_.valid()) HandlePerceived(perceiving_.get());
+  if (!frame || !wanted()) return;
+  job.frame = frame;
   const CameraIntrinsics K = hw_->camera().intrinsics();
   const double scale = hw_->camera().depth_scale_m();
   // Briefly lost with the object held at its last world pose: that pose seeds
