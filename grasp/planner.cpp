@@ -98,12 +98,21 @@ GraspPlanner::GraspPlanner(const Platform& platform, GraspObject object, Contact
 GraspPlanner::~GraspPlanner() = default;
 
 WrenchQuality GraspPlanner::ExactQuality(int pair, int other) const {
+  const std::pair<int, int> key(pair, other);
+  {
+    std::lock_guard<std::mutex> lock(quality_mutex_);
+    const auto it = quality_cache_.find(key);
+    if (it != quality_cache_.end()) return it->second;
+  }
   std::vector<Wrench> w = wrenches_.at(pair);
   if (other >= 0) {
     const std::vector<Wrench>& b = wrenches_.at(other);
     w.insert(w.end(), b.begin(), b.end());
   }
-  return ComputeWrenchQuality(w);
+  const WrenchQuality q = ComputeWrenchQuality(w);
+  std::lock_guard<std::mutex> lock(quality_mutex_);
+  quality_cache_.emplace(key, q);
+  return q;
 }
 
 bool GraspPlanner::EvaluateArm(Side side, int pair, const Eigen::Isometry3d& dMo,

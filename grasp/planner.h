@@ -7,11 +7,14 @@
 // Frames: d body (FRD), b arm base, o object, g grasp (= tool frame e at the
 // grasp: z approach, x closing). Units m, rad. The planner is an immutable
 // description built once per object; Plan and Reevaluate are const, keep no
-// state and may run concurrently (the app runs Reevaluate in its own thread).
+// state but a cache of exact qualities (behind a mutex) and may run
+// concurrently (the app runs Reevaluate in its own thread).
 #pragma once
 
 #include <Eigen/Geometry>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -224,6 +227,10 @@ class GraspPlanner {
   std::vector<float> support_;                 // per pair, support_directions floats
   std::vector<bool> clear_of_edges_;           // per pair (edge_margin_m)
   int directions_ = 0;
+  /// ExactQuality by (pair, other): a function of the two pairs alone, asked
+  /// for the same few pairs at every re-evaluation (a convex hull each).
+  mutable std::mutex quality_mutex_;
+  mutable std::map<std::pair<int, int>, WrenchQuality> quality_cache_;
 };
 
 }  // namespace aerograsp
