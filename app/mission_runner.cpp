@@ -672,8 +672,15 @@ bool Mission::StartPlan() {
   const PlanResult plan = planner_->Plan(query);
   if (plan.ranked.empty()) {
     if (!logged_no_grasp_) {
-      Log(t, fmt::format("planner: no feasible dual grasp yet ({} left, {} right feasible); waiting",
-                         plan.left.size(), plan.right.size()));
+      std::string why;
+      for (int a = 0; a < 2; ++a) {
+        const std::string r = DescribeReasons(a == 0 ? plan.left_stats : plan.right_stats);
+        if (!r.empty()) why += fmt::format("; {}: {}", kArmNames[a], r);
+      }
+      Log(t, fmt::format("planner: no feasible dual grasp yet ({} left, {} right feasible{}; the object {:.0f} mm from "
+                         "its grasp point under the body); waiting",
+                         plan.left.size(), plan.right.size(), why,
+                         1e3 * (query.dMo.translation() - config_.grasp_dto_m).norm()));
       logged_no_grasp_ = true;
     }
     return false;

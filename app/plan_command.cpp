@@ -105,14 +105,8 @@ std::string ExplainNoGrasp(const PlanResult& plan, const ContactSet& contacts,
     if (s.feasible > 0) continue;
     const ArmModel& arm = platform.arm(side);
     const Eigen::Vector3d shoulder_d = platform.dMb(side) * arm.ShoulderPosition();
-    why << fmt::format("{} arm: none of {} contact pairs is feasible (", SideName(side),
-                       s.candidates);
-    bool first = true;
-    for (int r = 1; r < 6; ++r) {
-      if (s.by_reason[r] == 0) continue;
-      why << (first ? "" : ", ") << s.by_reason[r] << " " << InfeasibilityName(static_cast<Infeasibility>(r));
-      first = false;
-    }
+    why << fmt::format("{} arm: none of {} contact pairs is feasible ({}", SideName(side), s.candidates,
+                       DescribeReasons(s));
     why << fmt::format("); the object centre is {:.3f} m from its shoulder, reach {:.3f} m. ",
                        (dMo.translation() - shoulder_d).norm(), arm.StretchedReach());
   }
@@ -245,10 +239,8 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
     const std::vector<ArmGrasp>& grasps = side == Side::kLeft ? plan.left : plan.right;
     out << fmt::format("{:>5} arm: {} of {} feasible ({} robust)", SideName(side), s.feasible, s.candidates,
                        std::count_if(grasps.begin(), grasps.end(), [](const ArmGrasp& g) { return g.robust; }));
-    for (int r = 1; r < 6; ++r) {
-      if (s.by_reason[r]) out << fmt::format(", {} {}", s.by_reason[r], InfeasibilityName(static_cast<Infeasibility>(r)));
-    }
-    out << "\n";
+    const std::string reasons = DescribeReasons(s);
+    out << (reasons.empty() ? "" : ", ") << reasons << "\n";
   }
   const PairStats& ps = plan.pair_stats;
   out << fmt::format("Dual pairs: {} considered, {} without force closure, {} arms collide, {} dropped by the exact hull, {} valid ({} robust to {:.3f} m, {} clear of edges by {:.3f} m)\n",

@@ -42,6 +42,16 @@ const char* InfeasibilityName(Infeasibility why) {
   return "?";
 }
 
+std::string DescribeReasons(const ArmStats& stats) {
+  std::string out;
+  for (int r = 1; r < 6; ++r) {
+    if (stats.by_reason[r] == 0) continue;
+    out += (out.empty() ? "" : ", ") + std::to_string(stats.by_reason[r]) + " " +
+           InfeasibilityName(static_cast<Infeasibility>(r));
+  }
+  return out;
+}
+
 void GraspPlannerConfig::Validate(const std::string& source, const GripperConfig& gripper) const {
   contacts.Validate(source);
   friction.Validate(source);

@@ -109,6 +109,8 @@ struct ArmStats {
   int by_reason[6] = {0, 0, 0, 0, 0, 0};  ///< counts per Infeasibility (index = enum value)
   double seconds = 0.0;
 };
+/// The infeasible pairs by reason, "80 unreachable, 20 hits the object" ("" when none).
+std::string DescribeReasons(const ArmStats& stats);
 
 /// A ranked dual grasp.
 struct DualGrasp {

@@ -139,6 +139,8 @@ TEST_F(ShippedPlanTest, ObjectOutOfReachHasNoGraspAndSaysWhy) {
   EXPECT_TRUE(plan.ranked.empty());
   EXPECT_EQ(plan.left_stats.by_reason[static_cast<int>(Infeasibility::kUnreachable)],
             plan.left_stats.candidates);
+  EXPECT_EQ(DescribeReasons(plan.left_stats), std::to_string(plan.left_stats.candidates) + " unreachable");
+  EXPECT_EQ(DescribeReasons(ArmStats{}), "");
   const SwitchDecision d = planner_.Reevaluate(far, SwitchState{});
   EXPECT_EQ(d.status, SwitchDecision::Status::kNoGrasp);
   EXPECT_THAT(d.reason, HasSubstr("no feasible dual grasp"));
