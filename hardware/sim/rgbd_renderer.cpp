@@ -52,13 +52,11 @@ Eigen::Vector3f SampleTexture(const ColorImage& texture, const Eigen::Vector2f& 
   return Eigen::Vector3f(p[0], p[1], p[2]) * (1.0f / 255.0f);
 }
 
+/// Gives `image` the size; the values are left as they are (Render writes
+/// every pixel).
 template <typename T, int C>
-void Reset(int width, int height, T value, Image<T, C>* image) {
-  if (image->width != width || image->height != height) {
-    *image = Image<T, C>(width, height, value);
-  } else {
-    std::fill(image->data.begin(), image->data.end(), value);
-  }
+void Resize(int width, int height, Image<T, C>* image) {
+  if (image->width != width || image->height != height) *image = Image<T, C>(width, height);
 }
 
 }  // namespace
@@ -209,11 +207,11 @@ void RgbdRenderer::Render(const Eigen::Isometry3d& wMc, const CameraIntrinsics& 
     impl_->top_dirty = false;
   }
   const int W = K.width, H = K.height;
-  Reset(W, H, std::uint8_t{0}, &out->color);
-  Reset(W, H, 0.0f, &out->depth_m);
-  Reset(W, H, 0.0f, &out->cos_incidence);
-  Reset(W, H, 0.0f, &out->darkness);
-  Reset(W, H, std::int32_t{-1}, &out->object_id);
+  Resize(W, H, &out->color);
+  Resize(W, H, &out->depth_m);
+  Resize(W, H, &out->cos_incidence);
+  Resize(W, H, &out->darkness);
+  Resize(W, H, &out->object_id);
 
   const Eigen::Matrix3f wRc = wMc.linear().cast<float>();
   const Eigen::Vector3f origin = wMc.translation().cast<float>();
@@ -268,6 +266,10 @@ void RgbdRenderer::Render(const Eigen::Isometry3d& wMc, const CameraIntrinsics& 
           rgb[0] = background[0];
           rgb[1] = background[1];
           rgb[2] = background[2];
+          out->depth_m.data[pixel] = 0.0f;
+          out->cos_incidence.data[pixel] = 0.0f;
+          out->darkness.data[pixel] = 0.0f;
+          out->object_id.data[pixel] = -1;
           continue;
         }
         const int id = impl_->MeshOfHit(packet.hit.instID[0][k], packet.hit.geomID[k]);
