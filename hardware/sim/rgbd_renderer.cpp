@@ -14,6 +14,15 @@ namespace {
 // Rays per rtcIntersect16 call: a tile of 8 x 2 neighbouring pixels.
 constexpr int kTileW = 8, kTileH = 2, kPacket = kTileW * kTileH;
 
+/// One triangle's shading for the frame being rendered: what depends on the
+/// pose and the lighting but not on the pixel. Side 0 is the one its normal
+/// points to, side 1 the back (seen when the camera looks at the back face).
+struct FaceShade {
+  Eigen::Vector3f n_w;          // unit normal in w
+  float shade[2];               // ambient + directional light on each side
+  std::uint8_t rgb[2][3];       // colour on each side; only for a plain albedo (MeshData::plain)
+};
+
 /// The per-mesh data shading needs, in the mesh frame.
 struct MeshData {
   RTCScene scene = nullptr;        // movable meshes: the instanced scene
@@ -26,6 +35,11 @@ struct MeshData {
   RenderMaterial material;
   Eigen::Matrix3f wRm = Eigen::Matrix3f::Identity();
   bool visible = true;
+  // Neither vertex colours nor texture: the reflectance is the albedo on the
+  // whole mesh, so colour and darkness follow from the face alone.
+  bool plain = true;
+  float plain_darkness = 0.0f;
+  std::vector<FaceShade> faces;  // per triangle, for the current Render
 };
 
 float Luminance(const Eigen::Vector3f& rgb) {
@@ -151,6 +165,9 @@ int RgbdRenderer::AddMesh(const RenderMesh& in, Motion motion) {
   for (const auto& c : mesh.colors) data.vertex_colors.emplace_back(c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f);
   data.uv = in.uv;
   data.material = in.material;
+  data.plain = data.vertex_colors.empty() && !data.material.texture;
+  data.plain_darkness = 1.0f - std::min(1.0f, Luminance(data.material.albedo));
+  data.faces.resize(data.triangles.size());
 
   const int id = static_cast<int>(impl_->meshes.size());
   impl_->meshes.push_back(std::move(data));
@@ -220,6 +237,23 @@ void RgbdRenderer::Render(const Eigen::Isometry3d& wMc, const CameraIntrinsics& 
   const float intensity = static_cast<float>(lighting.intensity);
   const std::uint8_t background[3] = {ToByte(lighting.background.x()), ToByte(lighting.background.y()),
                                       ToByte(lighting.background.z())};
+  // Per triangle of the visible meshes: normal, light and (plain meshes)
+  // colour, once per frame instead of once per pixel.
+  for (MeshData& m : impl_->meshes) {
+    if (!m.visible) continue;
+    for (std::size_t i = 0; i < m.faces.size(); ++i) {
+      FaceShade& f = m.faces[i];
+      f.n_w = m.movable ? Eigen::Vector3f(m.wRm * m.face_normals[i]) : m.face_normals[i];
+      f.shade[0] = ambient + intensity * std::max(0.0f, f.n_w.dot(to_light));
+      f.shade[1] = ambient + intensity * std::max(0.0f, (-f.n_w).dot(to_light));
+      if (m.plain) {
+        for (int side = 0; side < 2; ++side) {
+          for (int c = 0; c < 3; ++c) f.rgb[side][c] = ToByte(m.material.albedo[c] * f.shade[side]);
+        }
+      }
+    }
+  }
+
   // Ray directions in c have z = 1, so the hit distance t is the depth z. In
   // w: d = wRc (x_c, y_c, 1) = column part (per x) + row part (per y).
   std::vector<Eigen::Vector3f> column_w(W), row_w(H);
@@ -275,29 +309,33 @@ void RgbdRenderer::Render(const Eigen::Isometry3d& wMc, const CameraIntrinsics& 
         const int id = impl_->MeshOfHit(packet.hit.instID[0][k], packet.hit.geomID[k]);
         const MeshData& m = impl_->meshes[static_cast<std::size_t>(id)];
         const unsigned prim = packet.hit.primID[k];
-        const float bu = packet.hit.u[k], bv = packet.hit.v[k], bw = 1.0f - bu - bv;
+        const FaceShade& face = m.faces[prim];
         const Eigen::Vector3f dir(packet.ray.dir_x[k], packet.ray.dir_y[k], packet.ray.dir_z[k]);
-        Eigen::Vector3f n_w = m.movable ? Eigen::Vector3f(m.wRm * m.face_normals[prim]) : m.face_normals[prim];
-        float cos_view = n_w.dot(dir) / dir.norm();
-        if (cos_view > 0.0f) {  // back face: shade the side the camera sees
-          n_w = -n_w;
-          cos_view = -cos_view;
+        const float cos_view = face.n_w.dot(dir) / dir.norm();
+        const int side = cos_view > 0.0f ? 1 : 0;  // back face: shade the side the camera sees
+        if (m.plain) {
+          rgb[0] = face.rgb[side][0];
+          rgb[1] = face.rgb[side][1];
+          rgb[2] = face.rgb[side][2];
+          out->darkness.data[pixel] = m.plain_darkness;
+        } else {
+          const float bu = packet.hit.u[k], bv = packet.hit.v[k], bw = 1.0f - bu - bv;
+          Eigen::Vector3f reflectance = m.material.albedo;
+          const Eigen::Vector3i& tri = m.triangles[prim];
+          if (!m.vertex_colors.empty()) {
+            reflectance = reflectance.cwiseProduct(bw * m.vertex_colors[tri[0]] + bu * m.vertex_colors[tri[1]] +
+                                                   bv * m.vertex_colors[tri[2]]);
+          }
+          if (m.material.texture) {
+            const Eigen::Vector2f uv = bw * m.uv[tri[0]] + bu * m.uv[tri[1]] + bv * m.uv[tri[2]];
+            reflectance = reflectance.cwiseProduct(SampleTexture(*m.material.texture, uv));
+          }
+          const float shade = face.shade[side];
+          for (int c = 0; c < 3; ++c) rgb[c] = ToByte(reflectance[c] * shade);
+          out->darkness.data[pixel] = 1.0f - std::min(1.0f, Luminance(reflectance));
         }
-        Eigen::Vector3f reflectance = m.material.albedo;
-        const Eigen::Vector3i& tri = m.triangles[prim];
-        if (!m.vertex_colors.empty()) {
-          reflectance = reflectance.cwiseProduct(bw * m.vertex_colors[tri[0]] + bu * m.vertex_colors[tri[1]] +
-                                                 bv * m.vertex_colors[tri[2]]);
-        }
-        if (m.material.texture) {
-          const Eigen::Vector2f uv = bw * m.uv[tri[0]] + bu * m.uv[tri[1]] + bv * m.uv[tri[2]];
-          reflectance = reflectance.cwiseProduct(SampleTexture(*m.material.texture, uv));
-        }
-        const float shade = ambient + intensity * std::max(0.0f, n_w.dot(to_light));
-        for (int c = 0; c < 3; ++c) rgb[c] = ToByte(reflectance[c] * shade);
         out->depth_m.data[pixel] = packet.ray.tfar[k];
-        out->cos_incidence.data[pixel] = -cos_view;
-        out->darkness.data[pixel] = 1.0f - std::min(1.0f, Luminance(reflectance));
+        out->cos_incidence.data[pixel] = side ? cos_view : -cos_view;
         out->object_id.data[pixel] = static_cast<std::int32_t>(id);
       }
     }
