@@ -13,8 +13,6 @@ std::uint64_t SplitMix64(std::uint64_t* x) {
   return z ^ (z >> 31);
 }
 
-std::uint64_t Rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
-
 constexpr int kTableBits = 16;  // FastNormal in random.h takes 16 bits per sample
 
 /// Box-Muller samples of a fixed generator, shifted and scaled so that the
@@ -50,18 +48,6 @@ const std::vector<float>& NormalTable() {
 
 FastRandom::FastRandom(std::uint64_t seed) : normal_table_(NormalTable().data()) {
   for (auto& s : s_) s = SplitMix64(&seed);
-}
-
-std::uint64_t FastRandom::Next() {
-  const std::uint64_t result = Rotl(s_[1] * 5, 7) * 9;
-  const std::uint64_t t = s_[1] << 17;
-  s_[2] ^= s_[0];
-  s_[3] ^= s_[1];
-  s_[1] ^= s_[2];
-  s_[0] ^= s_[3];
-  s_[2] ^= t;
-  s_[3] = Rotl(s_[3], 45);
-  return result;
 }
 
 double FastRandom::Normal() {

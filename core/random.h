@@ -12,8 +12,18 @@ class FastRandom {
   /// Every seed, including 0, gives a distinct, valid state (splitmix64 init).
   explicit FastRandom(std::uint64_t seed);
 
-  /// xoshiro256** output.
-  std::uint64_t Next();
+  /// xoshiro256** output. Inline: the image noise calls it once per pixel or so.
+  std::uint64_t Next() {
+    const std::uint64_t result = Rotl(s_[1] * 5, 7) * 9;
+    const std::uint64_t t = s_[1] << 17;
+    s_[2] ^= s_[0];
+    s_[3] ^= s_[1];
+    s_[1] ^= s_[2];
+    s_[0] ^= s_[3];
+    s_[2] ^= t;
+    s_[3] = Rotl(s_[3], 45);
+    return result;
+  }
   /// Uniform in [0, 1).
   double Uniform() { return static_cast<double>(Next() >> 11) * 0x1.0p-53; }
   /// Uniform in [lo, hi).
@@ -36,6 +46,7 @@ class FastRandom {
   }
 
  private:
+  static std::uint64_t Rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
   std::uint64_t s_[4];
   const float* normal_table_;     // 65,536 entries, shared by all generators
   std::uint64_t table_bits_ = 0;  // unused 16-bit table indices of the last Next()
