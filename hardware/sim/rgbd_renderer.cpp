@@ -58,12 +58,22 @@ float Fraction(float value) {
   return value - static_cast<float>(i);
 }
 
+/// b / 255 for every byte b: a load instead of a conversion and a multiply
+/// per channel (the same floats).
+struct ByteToUnit {
+  float value[256];
+  ByteToUnit() {
+    for (int b = 0; b < 256; ++b) value[b] = static_cast<float>(b) * (1.0f / 255.0f);
+  }
+};
+const ByteToUnit kByteToUnit;
+
 Eigen::Vector3f SampleTexture(const ColorImage& texture, const Eigen::Vector2f& uv) {
   const float u = Fraction(uv.x()), v = Fraction(uv.y());  // the texture repeats
   const int x = std::min(texture.width - 1, static_cast<int>(u * texture.width));
   const int y = std::min(texture.height - 1, static_cast<int>(v * texture.height));
   const std::uint8_t* p = &texture.at(x, y);
-  return Eigen::Vector3f(p[0], p[1], p[2]) * (1.0f / 255.0f);
+  return Eigen::Vector3f(kByteToUnit.value[p[0]], kByteToUnit.value[p[1]], kByteToUnit.value[p[2]]);
 }
 
 /// Gives `image` the size; the values are left as they are (Render writes
