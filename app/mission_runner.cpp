@@ -163,6 +163,7 @@ class Mission {
   SwitchState choice_;
   int unreachable_in_a_row_ = 0;
   int holding_arm_ = -1;  // while one gripper holds and the other re-aims: its index
+  bool a_gripper_holds_ = false;  // either gripper, as last read (Planner)
   int reaims_ = 0;        // re-aims of the free arm in this attempt
   Eigen::Isometry3d eMo_held_ = Eigen::Isometry3d::Identity();  // the object in the holding gripper
   Eigen::Isometry3d oMg_[2];  // the tool at the grasp, in the object frame
@@ -589,7 +590,10 @@ void Mission::Vehicle() {
         go_to(p_w - Eigen::Vector3d(0.0, 0.0, config_.lift_m), Leg::kLift, "lift");
         break;
       }
-      if (have_wMo_ && holding_arm_ < 0) {  // (an object one gripper holds moves with the vehicle)
+      // An object a gripper holds moves with the vehicle: tracking it, the
+      // vehicle would chase what it carries (and drag it off its pipe while
+      // the other arm still tries).
+      if (have_wMo_ && !a_gripper_holds_) {
         // Geofence: never farther than tracking_radius_m from the approach waypoint.
         const Eigen::Vector3d wanted = object_w_filtered_ - wRyaw * config_.grasp_dto_m;
         const Eigen::Vector3d off = wanted - config_.approach_w_m;
@@ -728,6 +732,7 @@ void Mission::StopArms(const std::string& cause) {
     hw_->arms().SetJointTargets(kSides[a], q_[a]);
     hw_->arms().SetGripper(kSides[a], GripperCommand::kOpen);
   }
+  a_gripper_holds_ = false;  // opened, neither holds
 }
 
 void Mission::Planner() {
@@ -768,6 +773,7 @@ void Mission::Planner() {
   // Each gripper read once per cycle (on hardware a read is a bus transaction).
   const GripperState gl = hw_->arms().Gripper(Side::kLeft), gr = hw_->arms().Gripper(Side::kRight);
   const bool held = gl.holding && gr.holding;
+  a_gripper_holds_ = gl.holding || gr.holding;
   // One gripper holds: it stays closed (opened, it would drop the object).
   // Once it has closed and the other's attempt has ended (closed on nothing,
   // timed out, or the object hidden by the fingers), the free arm aims again.

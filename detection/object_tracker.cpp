@@ -9,6 +9,10 @@
 namespace aerograsp {
 namespace {
 
+/// The slide search's range without a close prediction (and when a short one
+/// finds the object beyond itself).
+constexpr double kFullSlideM = 0.04;
+
 void Require(bool ok, const char* field, const char* what) {
   if (!ok) throw std::invalid_argument(std::string("perception.") + field + ": " + what);
 }
@@ -109,14 +113,23 @@ std::optional<Eigen::Vector3d> ObjectTracker::EstimateCentre(const PixelBox& box
 
 IcpResult ObjectTracker::Register(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth,
                                   double depth_scale_m, const CameraIntrinsics& K, const Eigen::Isometry3d& cMo,
-                                  double slide_range_m) const {
+                                  double slide_range_m, int* outline_drop) const {
   IcpResult icp = RefinePoseIcp(model_, cloud, cMo, frame_icp_);
+  *outline_drop = -1;
   if (icp.ok && icp.weak_ratio < options_.weak_direction_ratio) {
     // The pairs leave a sliding direction: let the outline in the depth image decide it.
-    const Eigen::Isometry3d slid = SlideToBestSupport(model_, icp.cMo, icp.weak_direction_o, color, depth,
-                                                      depth_scale_m, K, SupportOptions(), slide_range_m);
-    if (!slid.isApprox(icp.cMo)) {
-      const IcpResult again = RefinePoseIcp(model_, cloud, slid, frame_icp_);
+    SlideFit slid = SlideToBestSupport(model_, icp.cMo, icp.weak_direction_o, color, depth, depth_scale_m, K,
+                                       SupportOptions(), slide_range_m);
+    // A short (tracking) slide that the outline supports less than a probe
+    // beyond it: the object lies farther along (a drift the filter's velocity
+    // fed while its ends were hidden); the full range finds it.
+    if (slid.drop < 0 && slide_range_m < kFullSlideM) {
+      slid = SlideToBestSupport(model_, slid.cMo, icp.weak_direction_o, color, depth, depth_scale_m, K,
+                                SupportOptions(), kFullSlideM);
+    }
+    *outline_drop = slid.drop;
+    if (!slid.cMo.isApprox(icp.cMo)) {
+      const IcpResult again = RefinePoseIcp(model_, cloud, slid.cMo, frame_icp_);
       if (again.ok) icp = again;
     }
   }
@@ -140,8 +153,8 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color, co
   const double t0 = ThreadCpuMs();
   if (seed) {
     // Tracking: the prediction is close, a short slide search will do.
-    const double slide_m = ekf_.initialized() && monitor_.state() == TrackState::kFound ? 0.004 : 0.04;
-    const IcpResult icp = Register(cloud, color, depth, depth_scale_m, K, *seed, slide_m);
+    const double slide_m = ekf_.initialized() && monitor_.state() == TrackState::kFound ? 0.004 : kFullSlideM;
+    const IcpResult icp = Register(cloud, color, depth, depth_scale_m, K, *seed, slide_m, &report->outline_drop);
     report->icp = icp;
     if (icp.ok) {
       report->support = ScorePoseSupport(model_, icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
@@ -158,7 +171,8 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color, co
   bool found = false;
   double best_score = -1.0;
   for (const IcpResult& coarse : global_->Candidates(cloud, frame_icp_, centres_c)) {
-    const IcpResult candidate = Register(cloud, color, depth, depth_scale_m, K, coarse.cMo, 0.04);
+    int outline_drop = -1;
+    const IcpResult candidate = Register(cloud, color, depth, depth_scale_m, K, coarse.cMo, kFullSlideM, &outline_drop);
     if (!candidate.ok) continue;
     if (reacquire_zone_c_ &&
         (candidate.cMo.translation() - reacquire_zone_c_->first).norm() > reacquire_zone_c_->second) {
@@ -170,6 +184,7 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color, co
       best_score = score;
       report->icp = candidate;
       report->support = support;
+      report->outline_drop = outline_drop;
       found = true;
     }
   }

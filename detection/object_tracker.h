@@ -100,6 +100,9 @@ struct FrameReport {
   bool gated = false;                  ///< the measurement was rejected by the EKF gate
   IcpResult icp;
   PoseSupport support;
+  /// SlideFit::drop of the measured pose's slide along ICP's weak direction;
+  /// -1: ICP left no weak direction.
+  int outline_drop = -1;
   double nis = 0.0;
   StageTimes times;
 };
@@ -142,7 +145,8 @@ class ObjectTracker {
   /// ICP from cMo, then, when the pairs leave a sliding direction, the slide the
   /// depth outline supports best and ICP again.
   IcpResult Register(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth, double depth_scale_m,
-                     const CameraIntrinsics& K, const Eigen::Isometry3d& cMo, double slide_range_m) const;
+                     const CameraIntrinsics& K, const Eigen::Isometry3d& cMo, double slide_range_m,
+                     int* outline_drop) const;
 
   PerceptionOptions options_;
   IcpOptions frame_icp_;  ///< options_.icp with the depth noise scaled to this frame's width

@@ -89,35 +89,46 @@ PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& c
   return support;
 }
 
-Eigen::Isometry3d SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo,
-                                     const Eigen::Vector3d& direction_o, const ColorImage& color,
-                                     const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
-                                     const PoseSupportOptions& options, double range_m, double step_m) {
+SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo, const Eigen::Vector3d& direction_o,
+                            const ColorImage& color, const DepthImage& depth, double depth_scale_m,
+                            const CameraIntrinsics& K, const PoseSupportOptions& options, double range_m,
+                            double step_m, double probe_m) {
   // Coarse (4 fine steps) over the whole range, then fine around the best, with
   // many points: a slide of a few mm moves only the points at the ends.
   PoseSupportOptions dense = options;
   dense.max_points = std::max(options.max_points, 2000);
   const double fine_m = std::max(1e-4, step_m), coarse_m = 4.0 * fine_m;
-  Eigen::Isometry3d best = cMo;
+  const auto slid = [&](double offset_m) {
+    Eigen::Isometry3d candidate = cMo;
+    candidate.translation() += cMo.linear() * (direction_o * offset_m);
+    return candidate;
+  };
+  const auto score = [&](const Eigen::Isometry3d& candidate) {
+    const PoseSupport s = ScorePoseSupport(model, candidate, color, depth, depth_scale_m, K, dense);
+    return s.agree - s.see_through;
+  };
+  SlideFit fit;
+  fit.cMo = cMo;
   double best_offset_m = 0.0;
+  int best_score = INT_MIN;
   auto search = [&](double centre_m, double step, int steps) {
-    int best_score = INT_MIN;
+    best_score = INT_MIN;
     // Offsets centre, +1, -1, +2, -2, ... steps: ties go to the smaller slide.
     for (int i = 0; i <= 2 * steps; ++i) {
       const double offset_m = centre_m + (i + 1) / 2 * (i % 2 ? 1 : -1) * step;
-      Eigen::Isometry3d candidate = cMo;
-      candidate.translation() += cMo.linear() * (direction_o * offset_m);
-      const PoseSupport s = ScorePoseSupport(model, candidate, color, depth, depth_scale_m, K, dense);
-      if (s.agree - s.see_through > best_score) {
-        best_score = s.agree - s.see_through;
-        best = candidate;
+      const Eigen::Isometry3d candidate = slid(offset_m);
+      const int s = score(candidate);
+      if (s > best_score) {
+        best_score = s;
+        fit.cMo = candidate;
         best_offset_m = offset_m;
       }
     }
   };
   search(0.0, coarse_m, static_cast<int>(std::lround(range_m / coarse_m)));
   search(best_offset_m, fine_m, 3);
-  return best;
+  fit.drop = best_score - std::max(score(slid(best_offset_m - probe_m)), score(slid(best_offset_m + probe_m)));
+  return fit;
 }
 
 }  // namespace aerograsp

@@ -42,14 +42,23 @@ PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& c
                              const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
                              const PoseSupportOptions& options = {});
 
+/// The best slide and how sharply the support locates it.
+struct SlideFit {
+  Eigen::Isometry3d cMo = Eigen::Isometry3d::Identity();
+  /// The smaller loss of score (agreeing minus contradicting points) probe_m to
+  /// either side of the best offset: about 0 when nothing visible ends the
+  /// object along the direction (both ends hidden), so the slide is a guess.
+  int drop = 0;
+};
+
 /// Slides cMo along `direction_o` (unit, frame o) by up to +-range_m (coarse
-/// steps of 4 * step_m, then step_m around the best) and returns the offset whose pose the depth and colour support best
-/// (agreeing minus contradicting points): the outline fixes what ICP's
-/// point-to-plane pairs cannot when the object could slide along a face.
-Eigen::Isometry3d SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo,
-                                     const Eigen::Vector3d& direction_o, const ColorImage& color,
-                                     const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
-                                     const PoseSupportOptions& options = {}, double range_m = 0.04,
-                                     double step_m = 0.001);
+/// steps of 4 * step_m, then step_m around the best) and returns the offset
+/// whose pose the depth and colour support best (agreeing minus contradicting
+/// points): the outline fixes what ICP's point-to-plane pairs cannot when the
+/// object could slide along a face.
+SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo, const Eigen::Vector3d& direction_o,
+                            const ColorImage& color, const DepthImage& depth, double depth_scale_m,
+                            const CameraIntrinsics& K, const PoseSupportOptions& options = {}, double range_m = 0.04,
+                            double step_m = 0.001, double probe_m = 0.01);
 
 }  // namespace aerograsp

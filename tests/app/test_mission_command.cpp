@@ -181,11 +181,11 @@ TEST(MissionRunnerTest, APlannedGraspSetByItsJointsHoldsTheObjectInTheSimulator)
 }
 
 TEST(MissionRunnerTest, AGripperThatHoldsStaysClosedWhileTheOtherAimsAgain) {
-  // Seed 30: the left gripper takes hold, the right does not; the left keeps
-  // the object up while the right arm aims at another pair and takes hold too,
+  // Seed 1: the right gripper takes hold, the left does not; the right keeps
+  // the object up while the left arm aims at another pair and takes hold too,
   // and the vehicle flies home with it.
   MissionOptions options;
-  options.seed = 30;
+  options.seed = 1;
   std::ostringstream log;
   MissionRecord record;
   const MissionResult result = RunMission(options, &record, &log);

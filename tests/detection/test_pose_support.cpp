@@ -56,5 +56,75 @@ TEST(PoseSupportTest, TheTruePoseAt1_5mIsNotContradictedByItsOwnEdges) {
   EXPECT_LT(score(green).ratio(), 0.2);
 }
 
+// The crawler 1 m away, its pose slid 30 mm along its length (the direction
+// ICP's point-to-plane pairs leave free when the ends are not seen).
+class SlideTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    WorldConfig config = WorldConfig::Load(DataPath("config/world_distance_1.0m.yaml"));
+    World world(config, 7);
+    SimCamera camera(&world);
+    ASSERT_TRUE(camera.Grab(&frame_));
+    K_ = camera.intrinsics();
+    scale_m_ = camera.depth_scale_m();
+    truth_ = world.wMc().inverse() * world.wMo();
+    Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9f), hi = -lo;
+    for (const Eigen::Vector3f& p : testing::CrawlerModel().points_o) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    Eigen::Index axis = 0;
+    (hi - lo).maxCoeff(&axis);
+    length_o_ = Eigen::Vector3d::Unit(axis);
+    half_length_m_ = 0.5 * (hi - lo)[axis];
+    centre_along_m_ = 0.5 * (hi + lo)[axis];
+    slid_ = truth_;
+    slid_.translation() += truth_.linear() * (0.03 * length_o_);
+  }
+  SlideFit Slide(const DepthImage& depth, double range_m) const {
+    return SlideToBestSupport(testing::CrawlerModel(), slid_, length_o_, frame_.color, depth, scale_m_, K_, {},
+                              range_m);
+  }
+  double ErrorAlongM(const Eigen::Isometry3d& cMo) const {
+    return length_o_.dot(truth_.linear().transpose() * (cMo.translation() - truth_.translation()));
+  }
+  RgbdFrame frame_;
+  CameraIntrinsics K_;
+  double scale_m_ = 0.001;
+  Eigen::Isometry3d truth_, slid_;
+  Eigen::Vector3d length_o_;
+  double half_length_m_ = 0.0, centre_along_m_ = 0.0;
+};
+
+TEST_F(SlideTest, TheOutlineLocatesTheObjectAndSaysWhenItLiesBeyondTheRange) {
+  const SlideFit full = Slide(frame_.depth, 0.04);
+  EXPECT_LT(std::abs(ErrorAlongM(full.cMo)), 0.003);
+  EXPECT_GT(full.drop, 40);  // both ends in view: 10 mm either way loses many points
+  // A 4 mm search from 30 mm off: a probe 10 mm farther on is better supported.
+  const SlideFit short_range = Slide(frame_.depth, 0.004);
+  EXPECT_GT(ErrorAlongM(short_range.cMo), 0.02);
+  EXPECT_LT(short_range.drop, 0);
+}
+
+TEST_F(SlideTest, WithBothEndsHiddenTheSlideIsAGuess) {
+  // Something nearer (fingers) in front of both ends: every pixel of the
+  // object beyond 60 mm from its middle along the length shows a depth 0.2 m
+  // nearer, as grippers closing on it would.
+  DepthImage depth = frame_.depth;
+  for (int v = 0; v < depth.height; ++v) {
+    for (int u = 0; u < depth.width; ++u) {
+      const std::uint16_t d = depth.at(u, v);
+      if (d == 0) continue;
+      const Eigen::Vector3d p_o = truth_.inverse() * K_.Unproject(u, v, d * scale_m_);
+      const double along_m = length_o_.dot(p_o) - centre_along_m_;
+      if (std::abs(along_m) > 0.06 && std::abs(along_m) < half_length_m_ + 0.02 && p_o.norm() < 0.3) {
+        depth.at(u, v) = static_cast<std::uint16_t>(d - 0.2 / scale_m_);
+      }
+    }
+  }
+  const SlideFit hidden = Slide(depth, 0.04);
+  EXPECT_LT(std::abs(hidden.drop), 20) << "error along " << ErrorAlongM(hidden.cMo);
+}
+
 }  // namespace
 }  // namespace aerograsp
