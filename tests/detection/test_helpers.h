@@ -16,6 +16,24 @@ inline const ModelCloud& CrawlerModel() {
   return model;
 }
 
+/// The crawler's length: the axis of o its model cloud is longest along, half
+/// that length, and the middle along the axis.
+struct ModelLength {
+  Eigen::Vector3d axis_o = Eigen::Vector3d::UnitX();
+  double half_m = 0.0;
+  double middle_m = 0.0;
+};
+inline ModelLength CrawlerLength() {
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9f), hi = -lo;
+  for (const Eigen::Vector3f& p : CrawlerModel().points_o) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  Eigen::Index axis = 0;
+  (hi - lo).maxCoeff(&axis);
+  return {Eigen::Vector3d::Unit(axis), 0.5 * (hi - lo)[axis], 0.5 * (hi + lo)[axis]};
+}
+
 /// A typical view: the crawler 0.7 m ahead, seen from above and the side.
 inline Eigen::Isometry3d TypicalCMo() {
   Eigen::Isometry3d cMo = Eigen::Isometry3d::Identity();

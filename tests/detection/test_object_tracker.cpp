@@ -121,14 +121,7 @@ TEST(ObjectTrackerTest, AnObjectThatJumpsAlongItsLengthIsFoundAgainByItsOutline)
   // its length, as a prediction that drifted while its ends were hidden would
   // be off), the outline beyond that range supports the pose better, and the
   // full range is searched: the next measurement is on the object again.
-  Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9f), hi = -lo;
-  for (const Eigen::Vector3f& p : testing::CrawlerModel().points_o) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  Eigen::Index axis = 0;
-  (hi - lo).maxCoeff(&axis);
-  const Eigen::Vector3d length_o = Eigen::Vector3d::Unit(axis);
+  const Eigen::Vector3d length_o = testing::CrawlerLength().axis_o;
   ObjectTracker tracker(ObjectModel::Load("crawler"), PerceptionOptions{}, nullptr);
   const Eigen::Isometry3d before = testing::TypicalCMo();
   tracker.SetInitialPose(before);

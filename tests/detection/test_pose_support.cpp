@@ -68,16 +68,10 @@ class SlideTest : public ::testing::Test {
     K_ = camera.intrinsics();
     scale_m_ = camera.depth_scale_m();
     truth_ = world.wMc().inverse() * world.wMo();
-    Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9f), hi = -lo;
-    for (const Eigen::Vector3f& p : testing::CrawlerModel().points_o) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-    Eigen::Index axis = 0;
-    (hi - lo).maxCoeff(&axis);
-    length_o_ = Eigen::Vector3d::Unit(axis);
-    half_length_m_ = 0.5 * (hi - lo)[axis];
-    centre_along_m_ = 0.5 * (hi + lo)[axis];
+    const testing::ModelLength length = testing::CrawlerLength();
+    length_o_ = length.axis_o;
+    half_length_m_ = length.half_m;
+    centre_along_m_ = length.middle_m;
     slid_ = truth_;
     slid_.translation() += truth_.linear() * (0.03 * length_o_);
   }
