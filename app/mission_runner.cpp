@@ -241,6 +241,12 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
   // crosses the object even with the few millimetres of pose and tracking
   // error left in flight (a pair at the tool point itself closes on air).
   planner_config.depth_min_m = 0.025;
+  // ... and up to the pads' roots (0.02 m inside the tips, 0.12 m long): a
+  // followed pair is then exactly solvable in about two thirds of the close's
+  // servo cycles instead of a third (the contacts may sit deeper as the object
+  // sways), so the target is fresh when the fingers close (seeds 1-30: 29
+  // grasp, 24 with 0.08).
+  planner_config.depth_max_m = 0.10;
   planner_config.edge_margin_m = config_.grasp_edge_margin_m;
   planner_config.Validate(config_.source, platform.config().gripper);
   GraspObject grasp_object{object_->name, object_->mesh_o, object_->mass_kg, object_->center_of_mass_o};

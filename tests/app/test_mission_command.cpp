@@ -181,9 +181,9 @@ TEST(MissionRunnerTest, APlannedGraspSetByItsJointsHoldsTheObjectInTheSimulator)
 }
 
 TEST(MissionRunnerTest, AGripperThatHoldsStaysClosedWhileTheOtherAimsAgain) {
-  // Seed 1: the right gripper takes hold, the left does not; the right keeps
-  // the object up while the left arm aims at another pair and takes hold too,
-  // and the vehicle flies home with it.
+  // Seed 1: on the second attempt the left gripper takes hold, the right does
+  // not; the left keeps the object up while the right arm aims at another pair
+  // and takes hold too, and the vehicle flies home with it.
   MissionOptions options;
   options.seed = 1;
   std::ostringstream log;
