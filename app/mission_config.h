@@ -33,7 +33,7 @@ struct MissionConfig {
   double reevaluate_rate_hz{5.0};       ///< background grasp re-evaluation, (0, 100] Hz
   double object_filter_s{0.5};          ///< low-pass time constant of the tracked object position, (0, 10] s
   double settle_s{0.2};                 ///< both arms at their pre-catch poses this long before moving in, [0, 5] s
-  int max_attempts{8};                  ///< grasp attempts (plans) before giving up, [1, 100]
+  int max_attempts{12};                 ///< grasp attempts (plans) before giving up, [1, 100]
   double lost_timeout_s{2.0};           ///< object lost this long while grasping: plan again, (0, 60] s
   double search_timeout_s{20.0};        ///< at the waypoint without finding the object: give up, (0, 600] s
   double planning_timeout_s{10.0};      ///< near the object without a feasible grasp: give up, (0, 600] s
