@@ -143,7 +143,9 @@ class ObjectTracker {
 
   PoseSupportOptions SupportOptions() const;
   /// ICP from cMo, then, when the pairs leave a sliding direction, the slide the
-  /// depth outline supports best and ICP again.
+  /// depth outline supports best (over the full range when the outline puts the
+  /// object beyond slide_range_m) and ICP again. outline_drop: that slide's
+  /// SlideFit::drop, -1 without a slide.
   IcpResult Register(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth, double depth_scale_m,
                      const CameraIntrinsics& K, const Eigen::Isometry3d& cMo, double slide_range_m,
                      int* outline_drop) const;
