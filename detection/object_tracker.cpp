@@ -168,6 +168,7 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color, co
   report->times.icp_ms = t1 - t0;
   if (!allow_global) return false;
   report->global_init = true;
+  report->outline_drop = -1;  // the tracking attempt's, if any, is not the measurement's
   bool found = false;
   double best_score = -1.0;
   for (const IcpResult& coarse : global_->Candidates(cloud, frame_icp_, centres_c)) {
