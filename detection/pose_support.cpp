@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 namespace aerograsp {
 namespace {
@@ -34,59 +36,105 @@ bool SelfOccluded(const ModelCloud& model, std::size_t i, const Eigen::Vector3f&
   return false;
 }
 
+/// std::lround for the pixel coordinates (|x| far below 2^52): the same
+/// result without the library call (half-way cases away from zero).
+long RoundHalfAway(double x) {
+  const long r = static_cast<long>(x);  // towards zero; x - r is exact
+  const double rest = x - static_cast<double>(r);
+  return rest >= 0.5 ? r + 1 : (rest <= -0.5 ? r - 1 : r);
+}
+
+/// The support of cMo and of poses translated from it: the strided model
+/// points and normals are put in the camera frame once, so a translated pose
+/// costs a projection per point (the slide search scores a dozen of them).
+class SupportScorer {
+ public:
+  SupportScorer(const ModelCloud& model, const Eigen::Isometry3d& cMo, const ColorImage& color,
+                const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
+                const PoseSupportOptions& options)
+      : model_(model), color_(color), depth_(depth), depth_scale_m_(depth_scale_m), K_(K), options_(options) {
+    check_color_ = options.max_color_distance < 768.0 && color.width == depth.width &&
+                   color.height == depth.height && !color.empty();
+    valid_ = !model.points_o.empty() && !depth.empty() && cMo.matrix().allFinite() && depth_scale_m > 0.0;
+    if (!valid_) return;
+    const Eigen::Isometry3f cMo_f = cMo.cast<float>();
+    const Eigen::Matrix3f cRo = cMo_f.linear();
+    cRo_ = cRo;
+    t_c_ = cMo_f.translation();
+    const std::size_t n = model.points_o.size();
+    const std::size_t step = std::max<std::size_t>(1, n / std::max(1, 2 * options.max_points));  // about half face the camera
+    for (std::size_t i = 0; i < n; i += step) {
+      index_.push_back(i);
+      p_c_.push_back(cMo_f * model.points_o[i]);
+      n_c_.push_back(cRo * model.normals_o[i]);
+    }
+  }
+
+  /// The support of cMo translated by shift_c (frame c).
+  PoseSupport Score(const Eigen::Vector3f& shift_c) const {
+    PoseSupport support;
+    if (!valid_) return support;
+    support.box = {INT_MAX, INT_MAX, INT_MIN, INT_MIN};
+    // The camera in o at the translated pose, for the self-occlusion test.
+    const Eigen::Vector3f c_o = -(cRo_.transpose() * (t_c_ + shift_c));
+    for (std::size_t k = 0; k < index_.size(); ++k) {
+      const Eigen::Vector3f p = p_c_[k] + shift_c;
+      if (p.z() < 0.05f || n_c_[k].dot(p) >= 0.0f) continue;
+      const Eigen::Vector2d uv = K_.Project(p.cast<double>());
+      const int u = static_cast<int>(RoundHalfAway(uv.x())), v = static_cast<int>(RoundHalfAway(uv.y()));
+      if (u < 0 || v < 0 || u >= depth_.width || v >= depth_.height) continue;
+      support.box.x0 = std::min(support.box.x0, u);
+      support.box.y0 = std::min(support.box.y0, v);
+      support.box.x1 = std::max(support.box.x1, u + 1);
+      support.box.y1 = std::max(support.box.y1, v + 1);
+      const std::uint16_t d = depth_.at(u, v);
+      if (d == 0) continue;
+      ++support.projected;
+      const double z_obs = d * depth_scale_m_;
+      const double tolerance =
+          std::max(options_.min_tolerance_m, 3.0 * options_.depth_noise_per_m2 * p.z() * p.z());
+      if (std::abs(z_obs - p.z()) <= tolerance) {
+        const std::size_t i = index_[k];
+        if (!check_color_ ||
+            ColorDistance(Eigen::Vector3f(color_.at(u, v, 0), color_.at(u, v, 1), color_.at(u, v, 2)),
+                          model_.colors[i]) <= options_.max_color_distance) {
+          ++support.agree;
+        } else if (tolerance > options_.min_tolerance_m && z_obs < p.z() - 0.5 * tolerance &&
+                   SelfOccluded(model_, i, c_o)) {
+          --support.projected;  // a nearer part of the model hides it
+        } else {
+          ++support.see_through;
+        }
+      } else if (z_obs > p.z()) {
+        ++support.see_through;
+      } else {
+        ++support.occluded;
+      }
+    }
+    if (support.box.x0 == INT_MAX) support.box = {};
+    return support;
+  }
+
+ private:
+  const ModelCloud& model_;
+  const ColorImage& color_;
+  const DepthImage& depth_;
+  double depth_scale_m_;
+  CameraIntrinsics K_;
+  PoseSupportOptions options_;
+  bool check_color_ = false, valid_ = false;
+  Eigen::Matrix3f cRo_ = Eigen::Matrix3f::Identity();
+  Eigen::Vector3f t_c_ = Eigen::Vector3f::Zero();  // cMo's translation
+  std::vector<std::size_t> index_;       // model point of each sample
+  std::vector<Eigen::Vector3f> p_c_, n_c_;  // its point and normal in c at cMo
+};
+
 }  // namespace
 
 PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo, const ColorImage& color,
                              const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
                              const PoseSupportOptions& options) {
-  const bool check_color = options.max_color_distance < 768.0 && color.width == depth.width &&
-                           color.height == depth.height && !color.empty();
-  PoseSupport support;
-  support.box = {INT_MAX, INT_MAX, INT_MIN, INT_MIN};
-  if (model.points_o.empty() || depth.empty() || !cMo.matrix().allFinite() || !(depth_scale_m > 0.0)) {
-    support.box = {};
-    return support;
-  }
-  const Eigen::Isometry3f cMo_f = cMo.cast<float>();
-  const Eigen::Matrix3f cRo = cMo_f.linear();
-  const Eigen::Vector3f c_o = cMo_f.inverse().translation();  // the camera in frame o
-  const std::size_t n = model.points_o.size();
-  const std::size_t step = std::max<std::size_t>(1, n / std::max(1, 2 * options.max_points));  // about half face the camera
-  for (std::size_t i = 0; i < n; i += step) {
-    const Eigen::Vector3f p = cMo_f * model.points_o[i];
-    if (p.z() < 0.05f || (cRo * model.normals_o[i]).dot(p) >= 0.0f) continue;
-    const Eigen::Vector2d uv = K.Project(p.cast<double>());
-    const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
-    if (u < 0 || v < 0 || u >= depth.width || v >= depth.height) continue;
-    support.box.x0 = std::min(support.box.x0, u);
-    support.box.y0 = std::min(support.box.y0, v);
-    support.box.x1 = std::max(support.box.x1, u + 1);
-    support.box.y1 = std::max(support.box.y1, v + 1);
-    const std::uint16_t d = depth.at(u, v);
-    if (d == 0) continue;
-    ++support.projected;
-    const double z_obs = d * depth_scale_m;
-    const double tolerance =
-        std::max(options.min_tolerance_m, 3.0 * options.depth_noise_per_m2 * p.z() * p.z());
-    if (std::abs(z_obs - p.z()) <= tolerance) {
-      if (!check_color ||
-          ColorDistance(Eigen::Vector3f(color.at(u, v, 0), color.at(u, v, 1), color.at(u, v, 2)), model.colors[i]) <=
-              options.max_color_distance) {
-        ++support.agree;
-      } else if (tolerance > options.min_tolerance_m && z_obs < p.z() - 0.5 * tolerance &&
-                 SelfOccluded(model, i, c_o)) {
-        --support.projected;  // a nearer part of the model hides it
-      } else {
-        ++support.see_through;
-      }
-    } else if (z_obs > p.z()) {
-      ++support.see_through;
-    } else {
-      ++support.occluded;
-    }
-  }
-  if (support.box.x0 == INT_MAX) support.box = {};
-  return support;
+  return SupportScorer(model, cMo, color, depth, depth_scale_m, K, options).Score(Eigen::Vector3f::Zero());
 }
 
 SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo, const Eigen::Vector3d& direction_o,
@@ -98,17 +146,24 @@ SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cM
   PoseSupportOptions dense = options;
   dense.max_points = std::max(options.max_points, 2000);
   const double fine_m = std::max(1e-4, step_m), coarse_m = 4.0 * fine_m;
+  const SupportScorer scorer(model, cMo, color, depth, depth_scale_m, K, dense);
+  const Eigen::Vector3d direction_c = cMo.linear() * direction_o;
   const auto slid = [&](double offset_m) {
     Eigen::Isometry3d candidate = cMo;
-    candidate.translation() += cMo.linear() * (direction_o * offset_m);
+    candidate.translation() += direction_c * offset_m;
     return candidate;
   };
-  const auto score = [&](const Eigen::Isometry3d& candidate) {
-    const PoseSupport s = ScorePoseSupport(model, candidate, color, depth, depth_scale_m, K, dense);
-    return s.agree - s.see_through;
+  // Scores by offset: the fine search starts on the coarse search's best.
+  std::vector<std::pair<double, int>> scored;
+  const auto score = [&](double offset_m) {
+    for (const auto& [offset, s] : scored) {
+      if (offset == offset_m) return s;
+    }
+    const PoseSupport support = scorer.Score((direction_c * offset_m).cast<float>());
+    scored.emplace_back(offset_m, support.agree - support.see_through);
+    return scored.back().second;
   };
   SlideFit fit;
-  fit.cMo = cMo;
   double best_offset_m = 0.0;
   int best_score = INT_MIN;
   auto search = [&](double centre_m, double step, int steps) {
@@ -116,18 +171,17 @@ SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cM
     // Offsets centre, +1, -1, +2, -2, ... steps: ties go to the smaller slide.
     for (int i = 0; i <= 2 * steps; ++i) {
       const double offset_m = centre_m + (i + 1) / 2 * (i % 2 ? 1 : -1) * step;
-      const Eigen::Isometry3d candidate = slid(offset_m);
-      const int s = score(candidate);
+      const int s = score(offset_m);
       if (s > best_score) {
         best_score = s;
-        fit.cMo = candidate;
         best_offset_m = offset_m;
       }
     }
   };
   search(0.0, coarse_m, static_cast<int>(std::lround(range_m / coarse_m)));
   search(best_offset_m, fine_m, 3);
-  fit.drop = best_score - std::max(score(slid(best_offset_m - probe_m)), score(slid(best_offset_m + probe_m)));
+  fit.cMo = slid(best_offset_m);
+  fit.drop = best_score - std::max(score(best_offset_m - probe_m), score(best_offset_m + probe_m));
   return fit;
 }
 
