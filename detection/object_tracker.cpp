@@ -45,6 +45,7 @@ void PerceptionOptions::Validate() const {
           "must be above cloud.min_depth_m > 0");
   Require(ekf.gate_nis > 0.0, "ekf.gate_nis", "must be > 0");
   Require(gated_frames_to_reset >= 1, "gated_frames_to_reset", "must be >= 1");
+  Require(detect_every_frames >= 1 && detect_every_frames <= 30, "detect_every_frames", "must be in [1, 30]");
   Require(whole_frame_points >= 50 && whole_frame_points <= 100000, "whole_frame_points", "must be in [50, 100000]");
   Require(weak_direction_ratio >= 0.0 && weak_direction_ratio <= 1.0, "weak_direction_ratio", "must be in [0, 1]");
   // The stages' own options (their headers document these bounds).
@@ -211,13 +212,18 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
                         depth_scale_m > 0.0 && std::isfinite(stamp_s);
   if (ekf_.initialized()) ekf_.Predict(stamp_s);
 
-  // Detection.
-  double t = ThreadCpuMs();
-  if (detector_ && input_ok) {
+  // Detection: every frame until the track is found, then every
+  // detect_every_frames frames while it is measured (the prediction's outline
+  // crops the frames between).
+  const bool tracked = ekf_.initialized() && monitor_.state() == TrackState::kFound && last_measured_;
+  ++frames_since_detection_;
+  if (detector_ && input_ok && (!tracked || frames_since_detection_ >= options_.detect_every_frames)) {
+    const double t_detect = ThreadCpuMs();
+    frames_since_detection_ = 0;
     const std::vector<Detection> detections = detector_->Detect(color, options_.min_detection_score);
     if (!detections.empty()) report.detection = detections.front();
+    report.times.detect_ms = ThreadCpuMs() - t_detect;
   }
-  report.times.detect_ms = ThreadCpuMs() - t;
 
   // The prior: the filter's prediction, else a given first pose, else the last good pose.
   std::optional<Eigen::Isometry3d> prior;
@@ -239,7 +245,7 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
   }
 
   // Crop and cloud.
-  t = ThreadCpuMs();
+  double t = ThreadCpuMs();
   SceneCloud cloud;
   if (input_ok) {
     if (report.detection) {
@@ -338,6 +344,7 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
   // would forbid the global registration for good once the object has moved
   // away from it (the mission then never found a lost object again).
   initial_cMo_.reset();
+  last_measured_ = report.measured;
   const double confidence =
       report.measured ? std::min(1.0, report.support.ratio()) * std::min(1.0, report.support.coverage() / 0.5) *
                             (report.gated ? 0.5 : 1.0)

@@ -89,7 +89,7 @@ void ReadTrack(const ConfigNode& n, TrackMonitorOptions* t) {
 PerceptionOptions LoadPerceptionOptions(const std::string& path, const PerceptionOptions& defaults) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.RequireOnlyKeys({"model", "cloud", "icp", "global", "ekf", "track", "min_detection_score", "box_margin",
-                        "min_support_ratio", "min_coverage", "min_cloud_points", "whole_frame_points",
+                        "min_support_ratio", "min_coverage", "min_cloud_points", "whole_frame_points", "detect_every_frames",
                         "min_global_range_m", "max_global_range_m", "reacquire_radius_m", "reacquire_speed_mps",
                         "measurement_position_std_m",
                         "measurement_rotation_std_rad", "gated_frames_to_reset", "weak_direction_ratio",
@@ -107,6 +107,7 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path, const Perceptio
   o.min_coverage = root.GetDouble("min_coverage", o.min_coverage);
   o.min_cloud_points = root.GetInt("min_cloud_points", o.min_cloud_points);
   o.whole_frame_points = root.GetInt("whole_frame_points", o.whole_frame_points);
+  o.detect_every_frames = root.GetInt("detect_every_frames", o.detect_every_frames);
   o.min_global_range_m = root.GetDouble("min_global_range_m", o.min_global_range_m);
   o.max_global_range_m = root.GetDouble("max_global_range_m", o.max_global_range_m);
   o.reacquire_radius_m = root.GetDouble("reacquire_radius_m", o.reacquire_radius_m);

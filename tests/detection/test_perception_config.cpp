@@ -67,6 +67,7 @@ void ExpectSameOptions(const PerceptionOptions& a, const PerceptionOptions& b) {
   EXPECT_SAME_FIELD(min_coverage);
   EXPECT_SAME_FIELD(min_cloud_points);
   EXPECT_SAME_FIELD(whole_frame_points);
+  EXPECT_SAME_FIELD(detect_every_frames);
   EXPECT_SAME_FIELD(min_global_range_m);
   EXPECT_SAME_FIELD(max_global_range_m);
   EXPECT_SAME_FIELD(reacquire_radius_m);
