@@ -408,13 +408,10 @@ void Mission::Perception() {
   job.frame = frame;
   const CameraIntrinsics K = hw_->camera().intrinsics();
   const double scale = hw_->camera().depth_scale_m();
-  // Briefly lost with the object held at its last world pose, or lost while
-  // one gripper holds it (for as long as it does: the arm carries it): that
-  // pose seeds the tracker (a local ICP) instead of a global registration on
-  // the frame, which costs ten times more and may lock onto clutter.
-  if (HoldingObjectInWorld() || (holding_arm_ >= 0 && vision_.state() != VisionState::kFound)) {
-    tracker_->SetInitialPose(hw_->platform().dMc().inverse() * dMoNow());
-  }
+  // Briefly lost with the object held at its last world pose: that pose seeds
+  // the tracker (a local ICP) instead of a global registration on the frame,
+  // which costs ten times more and may lock onto clutter.
+  if (HoldingObjectInWorld()) tracker_->SetInitialPose(hw_->platform().dMc().inverse() * dMoNow());
   ObjectTracker* tracker = tracker_.get();
   const Eigen::Isometry3d wMc = job.wMd * hw_->platform().dMc();
   perceiving_ = std::async(std::launch::async, [tracker, K, scale, wMc, job = std::move(job)]() mutable {
