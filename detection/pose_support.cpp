@@ -58,15 +58,14 @@ class SupportScorer {
     valid_ = !model.points_o.empty() && !depth.empty() && cMo.matrix().allFinite() && depth_scale_m > 0.0;
     if (!valid_) return;
     const Eigen::Isometry3f cMo_f = cMo.cast<float>();
-    const Eigen::Matrix3f cRo = cMo_f.linear();
-    cRo_ = cRo;
+    cRo_ = cMo_f.linear();
     t_c_ = cMo_f.translation();
     const std::size_t n = model.points_o.size();
     const std::size_t step = std::max<std::size_t>(1, n / std::max(1, 2 * options.max_points));  // about half face the camera
     for (std::size_t i = 0; i < n; i += step) {
       index_.push_back(i);
       p_c_.push_back(cMo_f * model.points_o[i]);
-      n_c_.push_back(cRo * model.normals_o[i]);
+      n_c_.push_back(cRo_ * model.normals_o[i]);
     }
   }
 
