@@ -11,8 +11,8 @@
 namespace aerograsp {
 namespace {
 
-// Rays per rtcIntersect16 call: a tile of 4 x 4 neighbouring pixels.
-constexpr int kTileW = 4, kTileH = 4, kPacket = kTileW * kTileH;
+// Rays per rtcIntersect16 call: a tile of 8 x 2 neighbouring pixels.
+constexpr int kTileW = 8, kTileH = 2, kPacket = kTileW * kTileH;
 
 /// One triangle's shading for the frame being rendered: what depends on the
 /// pose and the lighting but not on the pixel. Side 0 is the one its normal
