@@ -10,9 +10,9 @@ cd "$(dirname "$0")/.."
 bash scripts/build.sh
 BUILD_DIR=${BUILD_DIR:-build}
 OUT_DIR=${OUT_DIR:-$BUILD_DIR/main_job}
-# Seed 23: the first attempt closes on nothing; on the second the pair becomes unreachable and the
-# arms switch to another, the right gripper holds and the left aims again and holds (README, Mission).
-"$BUILD_DIR/app/aerograsp" mission --seed 23 --out "$OUT_DIR/mission"
+# Seed 1 switches pairs when the first becomes unreachable; its first attempt closes on nothing;
+# on the second the left gripper holds and the right aims again (README, Mission).
+"$BUILD_DIR/app/aerograsp" mission --seed 1 --out "$OUT_DIR/mission"
 "$BUILD_DIR/app/aerograsp" record --out "$OUT_DIR/sequence" --frames 90 --seed 1 --motion crawl --overwrite
 "$BUILD_DIR/app/aerograsp" replay "$OUT_DIR/sequence" --out "$OUT_DIR/replay" --filter-frame world
 "$BUILD_DIR/app/aerograsp" calibrate --arm left --out "$OUT_DIR/calibration"

@@ -181,13 +181,12 @@ TEST(MissionRunnerTest, APlannedGraspSetByItsJointsHoldsTheObjectInTheSimulator)
 }
 
 TEST(MissionRunnerTest, AGripperThatHoldsStaysClosedWhileTheOtherAimsAgain) {
-  // Seed 23 (the main job's): the first attempt closes on nothing; on the
-  // second the followed pair becomes unreachable and the arms switch to
-  // another; the right gripper takes hold, the left does not, and the right
-  // keeps the object up while the left arm aims again and takes hold too, and
-  // the vehicle flies home with it.
+  // Seed 1 (the main job's): the arms switch pairs when the first becomes
+  // unreachable; on the second attempt the left gripper takes hold, the right
+  // does not; the left keeps the object up while the right arm aims at another
+  // pair and takes hold too, and the vehicle flies home with it.
   MissionOptions options;
-  options.seed = 23;
+  options.seed = 1;
   std::ostringstream log;
   MissionRecord record;
   const MissionResult result = RunMission(options, &record, &log);
