@@ -73,6 +73,33 @@ TEST(MissionCommandTest, TakesOffFindsTheObjectAndWritesTheReport) {
   fs::remove_all(dir);
 }
 
+TEST(MissionCommandTest, SeveralRunsWriteTheirTableRateAndSpeedsAndOneLogEach) {
+  const fs::path dir = TempDir("runs");
+  MissionCommandOptions options;
+  options.mission = ShortMission(3);
+  options.mission.timeout_s = 4.0;  // taking off: every run fails, quickly
+  options.runs = 2;
+  options.out_dir = dir.string();
+  std::ostringstream out, err;
+  RunMissionCommand(options, out, err);
+  std::ifstream in(dir / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  ASSERT_EQ(summary["runs"].size(), 2u);
+  EXPECT_EQ(summary["runs"][0]["seed"].get<int>(), 3);
+  EXPECT_EQ(summary["runs"][1]["seed"].get<int>(), 4);
+  EXPECT_EQ(summary["success_rate"].get<double>(), 0.0);
+  const double slowest = summary["realtime_factor_min"].get<double>();
+  const double median = summary["realtime_factor_median"].get<double>();
+  EXPECT_GT(slowest, 0.0);
+  EXPECT_GE(median, slowest);
+  EXPECT_TRUE(median == summary["runs"][0]["realtime_factor"].get<double>() ||
+              median == summary["runs"][1]["realtime_factor"].get<double>());
+  for (const char* log : {"seed_3.log", "seed_4.log"}) EXPECT_TRUE(fs::exists(dir / "logs" / log)) << log;
+  EXPECT_THAT(out.str(), ::testing::HasSubstr("0 of 2 succeeded"));
+  EXPECT_THAT(out.str(), ::testing::HasSubstr("x real time median"));
+  fs::remove_all(dir);
+}
+
 TEST(MissionRunnerTest, TheSameSeedFliesTheSameMission) {
   MissionRecord a, b;
   const MissionResult ra = RunMission(ShortMission(5), &a, nullptr);
