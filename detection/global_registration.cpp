@@ -1,6 +1,6 @@
 #include "detection/global_registration.h"
 
-#include <pcl/features/fpfh.h>
+#include <pcl/features/fpfh_omp.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/registration/sample_consensus_prerejective.h>
@@ -9,9 +9,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <thread>
 #include <unordered_set>
 
 #include "core/conversions.h"
+#include "core/parallel.h"
 #include "core/random.h"
 
 namespace aerograsp {
@@ -52,8 +54,10 @@ Cloud::Ptr ToCloud(const std::vector<Eigen::Vector3f>& points, const std::vector
   return cloud;
 }
 
+/// FPFH of the keypoints over the surface, on all cores (each point's
+/// histogram is computed alone: the same values as on one).
 Features::Ptr ComputeFpfh(const Cloud::Ptr& keypoints, const Cloud::Ptr& surface, double radius_m) {
-  pcl::FPFHEstimation<PointT, PointT, pcl::FPFHSignature33> fpfh;
+  pcl::FPFHEstimationOMP<PointT, PointT, pcl::FPFHSignature33> fpfh(std::max(1u, std::thread::hardware_concurrency()));
   fpfh.setInputCloud(keypoints);
   fpfh.setSearchSurface(surface);
   fpfh.setInputNormals(surface);
@@ -107,22 +111,28 @@ std::vector<IcpResult> GlobalRegistration::Candidates(const SceneCloud& scene, c
     quick.start_distance_m = std::max(icp.start_distance_m, 0.04);
     quick.end_distance_m = std::max(icp.end_distance_m, 0.01);
     quick.min_inliers = 10;
-    std::vector<IcpResult> coarse_results;
     const std::size_t per_centre =
         centres_c.size() == 1 ? impl_->orientations.size() : std::max<std::size_t>(1, impl_->orientations.size() / 4);
-    for (const Eigen::Vector3d& centre : centres_c) {
-      for (std::size_t k = 0; k < per_centre; ++k) {
-        Eigen::Isometry3d cMo = Eigen::Isometry3d::Identity();
-        cMo.linear() = impl_->orientations[k];
-        cMo.translation() = centre;
-        const IcpResult r = RefinePoseIcp(*impl_->model, coarse, cMo, quick);
-        if (r.ok) coarse_results.push_back(r);
-      }
+    // Hypothesis h: centre h / per_centre, orientation h % per_centre (each
+    // ICP alone, kept in this order whatever thread ran it).
+    std::vector<IcpResult> tried(centres_c.size() * per_centre);
+    ParallelFor(tried.size(), [&](std::size_t h) {
+      Eigen::Isometry3d cMo = Eigen::Isometry3d::Identity();
+      cMo.linear() = impl_->orientations[h % per_centre];
+      cMo.translation() = centres_c[h / per_centre];
+      tried[h] = RefinePoseIcp(*impl_->model, coarse, cMo, quick);
+    });
+    std::vector<IcpResult> coarse_results;
+    for (const IcpResult& r : tried) {
+      if (r.ok) coarse_results.push_back(r);
     }
     std::sort(coarse_results.begin(), coarse_results.end(),
               [](const IcpResult& a, const IcpResult& b) { return a.inliers > b.inliers; });
-    for (int k = 0; k < options.refined_orientations && k < int(coarse_results.size()); ++k) {
-      const IcpResult refined = RefinePoseIcp(*impl_->model, scene, coarse_results[k].cMo, icp);
+    coarse_results.resize(std::min<std::size_t>(coarse_results.size(), std::max(0, options.refined_orientations)));
+    ParallelFor(coarse_results.size(), [&](std::size_t k) {
+      coarse_results[k] = RefinePoseIcp(*impl_->model, scene, coarse_results[k].cMo, icp);
+    });
+    for (const IcpResult& refined : coarse_results) {
       if (refined.ok) out.push_back(refined);
     }
   }

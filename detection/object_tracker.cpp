@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/parallel.h"
 #include "core/thread_clock.h"
 
 namespace aerograsp {
@@ -172,21 +173,30 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color, co
   report->outline_drop = -1;  // the tracking attempt's, if any, is not the measurement's
   bool found = false;
   double best_score = -1.0;
-  for (const IcpResult& coarse : global_->Candidates(cloud, frame_icp_, centres_c)) {
+  // Each candidate registered and scored alone (on all cores), then chosen in order.
+  struct Registered {
+    IcpResult icp;
     int outline_drop = -1;
-    const IcpResult candidate = Register(cloud, color, depth, depth_scale_m, K, coarse.cMo, kFullSlideM, &outline_drop);
-    if (!candidate.ok) continue;
-    if (reacquire_zone_c_ &&
-        (candidate.cMo.translation() - reacquire_zone_c_->first).norm() > reacquire_zone_c_->second) {
-      continue;
-    }
-    const PoseSupport support = ScorePoseSupport(model_, candidate.cMo, color, depth, depth_scale_m, K, SupportOptions());
-    const double score = support.ratio() * support.agree;
-    if (passes(support) && score > best_score) {
+    bool usable = false;  // registered, and inside the reacquisition zone if any
+    PoseSupport support;
+  };
+  const std::vector<IcpResult> coarse = global_->Candidates(cloud, frame_icp_, centres_c);
+  std::vector<Registered> registered(coarse.size());
+  ParallelFor(coarse.size(), [&](std::size_t k) {
+    Registered& r = registered[k];
+    r.icp = Register(cloud, color, depth, depth_scale_m, K, coarse[k].cMo, kFullSlideM, &r.outline_drop);
+    r.usable = r.icp.ok && !(reacquire_zone_c_ && (r.icp.cMo.translation() - reacquire_zone_c_->first).norm() >
+                                                      reacquire_zone_c_->second);
+    if (r.usable) r.support = ScorePoseSupport(model_, r.icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
+  });
+  for (const Registered& r : registered) {
+    if (!r.usable) continue;
+    const double score = r.support.ratio() * r.support.agree;
+    if (passes(r.support) && score > best_score) {
       best_score = score;
-      report->icp = candidate;
-      report->support = support;
-      report->outline_drop = outline_drop;
+      report->icp = r.icp;
+      report->support = r.support;
+      report->outline_drop = r.outline_drop;
       found = true;
     }
   }

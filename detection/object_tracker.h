@@ -90,7 +90,9 @@ struct ObjectEstimate {
 };
 
 /// Milliseconds of thread CPU time per stage of one frame (detect_ms 0 on a
-/// frame the detector skipped, PerceptionOptions::detect_every_frames).
+/// frame the detector skipped, PerceptionOptions::detect_every_frames). The
+/// calling thread's: global_ms leaves out the share of the global
+/// registration that ran on the other cores.
 struct StageTimes {
   double detect_ms = 0, cloud_ms = 0, global_ms = 0, icp_ms = 0, filter_ms = 0, total_ms = 0;
 };

@@ -1,0 +1,72 @@
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "core/parallel.h"
+
+namespace aerograsp {
+namespace {
+
+TEST(ParallelForTest, EveryIndexRunsOnceAndResultsKeptByIndexMatchALoop) {
+  const std::size_t n = 1000;
+  std::vector<double> loop(n), parallel(n);
+  auto work = [](std::size_t i) {
+    double x = 0.0;
+    for (std::size_t k = 0; k <= i % 97; ++k) x += std::sin(double(i * k));  // uneven costs
+    return x;
+  };
+  for (std::size_t i = 0; i < n; ++i) loop[i] = work(i);
+  std::vector<std::atomic<int>> calls(n);
+  ParallelFor(n, [&](std::size_t i) {
+    ++calls[i];
+    parallel[i] = work(i);
+  });
+  for (std::size_t i = 0; i < n; ++i) {
+    EXPECT_EQ(calls[i].load(), 1) << i;
+    EXPECT_EQ(parallel[i], loop[i]) << i;
+  }
+}
+
+TEST(ParallelForTest, NoWorkCallsNothing) {
+  int calls = 0;
+  ParallelFor(0, [&](std::size_t) { ++calls; });
+  EXPECT_EQ(calls, 0);
+}
+
+TEST(ParallelForTest, UsesAnotherThreadWhenTheMachineHasOne) {
+  if (std::thread::hardware_concurrency() < 2) GTEST_SKIP() << "one core";
+  std::set<std::thread::id> seen;
+  std::mutex m;
+  std::atomic<int> arrived{0};
+  ParallelFor(2, [&](std::size_t) {
+    {
+      std::lock_guard<std::mutex> lock(m);
+      seen.insert(std::this_thread::get_id());
+    }
+    // Each call waits for the other: only two threads running at once finish.
+    ++arrived;
+    while (arrived.load() < 2) std::this_thread::yield();
+  });
+  EXPECT_EQ(seen.size(), 2u);
+}
+
+TEST(ParallelForTest, AThrownErrorReachesTheCallerAfterAllThreadsStop) {
+  std::atomic<int> calls{0};
+  EXPECT_THROW(ParallelFor(100,
+                           [&](std::size_t i) {
+                             ++calls;
+                             if (i == 3) throw std::runtime_error("item 3 failed");
+                           }),
+               std::runtime_error);
+  EXPECT_GE(calls.load(), 4);
+  EXPECT_LE(calls.load(), 100);
+}
+
+}  // namespace
+}  // namespace aerograsp
