@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <mutex>
 #include <set>
@@ -49,9 +50,10 @@ TEST(ParallelForTest, UsesAnotherThreadWhenTheMachineHasOne) {
       std::lock_guard<std::mutex> lock(m);
       seen.insert(std::this_thread::get_id());
     }
-    // Each call waits for the other: only two threads running at once finish.
+    // Each call waits (up to 5 s) for the other: with two threads they meet.
     ++arrived;
-    while (arrived.load() < 2) std::this_thread::yield();
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    while (arrived.load() < 2 && std::chrono::steady_clock::now() < give_up) std::this_thread::yield();
   });
   EXPECT_EQ(seen.size(), 2u);
 }
