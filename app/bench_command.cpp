@@ -47,15 +47,18 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kRadToDeg = 180.0 / M_PI;
 constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
-constexpr double kServoRateHz = 100.0;       // as the mission's default servo_rate_hz
-constexpr double kPlanPeriodS = 0.2;         // grasp re-evaluation, as the mission's 5 Hz
+constexpr double kServoRateHz = 100.0;         // as the mission's default servo_rate_hz
+constexpr double kPlanPeriodS = 0.2;           // grasp re-evaluation, as the mission's 5 Hz
 constexpr double kMaxTagReprojectionPx = 1.0;  // a board pose above this is not used (as calibrate)
 // A board pose from fewer tags is not used: from one 36 mm tag (the grippers
 // hide the others) its rotation was 4.1 deg RMS off the truth, from two 0.5, from three 0.4.
 constexpr int kMinBoardTags = 2;
-constexpr double kTrackingWithinM = 0.01;    // an arm tracks its target from the first cycle this close
-constexpr double kBranchJumpRad = 0.3;       // a re-solved grasp this far in joint space is another IK branch,
-constexpr double kBranchDriftRadPerS = 0.5;  // ... plus this per second since the last one accepted (OnSameIkBranch)
+constexpr double kTrackingWithinM =
+    0.01;  // an arm tracks its target from the first cycle this close
+constexpr double kBranchJumpRad =
+    0.3;  // a re-solved grasp this far in joint space is another IK branch,
+constexpr double kBranchDriftRadPerS =
+    0.5;  // ... plus this per second since the last one accepted (OnSameIkBranch)
 constexpr double kBoardAboveSurfaceM = 0.0005;  // the printed board lies this far above the face
 
 /// The bench's board: one row of three 36 mm tags (44 x 132 mm), which fits
@@ -74,7 +77,8 @@ TagBoardConfig BenchBoard() {
 /// Where a ray down the z axis of o first meets the mesh (its top over the origin), m along z_o.
 double TopSurfaceAtCentre(const TriangleMesh& mesh_o) {
   const double above_m = mesh_o.BoundsMax().z() + 1.0;
-  const std::vector<double> hits = IntersectRay(mesh_o, Eigen::Vector3d(0.0, 0.0, above_m), -Eigen::Vector3d::UnitZ());
+  const std::vector<double> hits =
+      IntersectRay(mesh_o, Eigen::Vector3d(0.0, 0.0, above_m), -Eigen::Vector3d::UnitZ());
   return hits.empty() ? mesh_o.BoundsMax().z() : above_m - hits.front();
 }
 
@@ -110,21 +114,26 @@ Eigen::Isometry3d ScriptedDmo(double t_s, double period_s, double scale) {
 void CheckBenchHardware(const HardwareConfig& config) {
   const std::string& f = config.source;
   if (config.camera.backend != "sim") {
-    throw ConfigError(fmt::format(
-        "{}: camera.backend: '{}': the bench moves the object by script in the simulated world, which only the "
-        "simulated camera ('sim') sees; a bench with a real camera (the object moved by hand) is not supported yet",
-        f, config.camera.backend));
+    throw ConfigError(
+        fmt::format("{}: camera.backend: '{}': the bench moves the object by script in the "
+                    "simulated world, which only the "
+                    "simulated camera ('sim') sees; a bench with a real camera (the object moved "
+                    "by hand) is not supported yet",
+                    f, config.camera.backend));
   }
   if (config.arms.backend == "scs") {
-    throw ConfigError(fmt::format(
-        "{}: arms.backend: 'scs' drives the real arms, but the camera is simulated: the servo error would compare "
-        "real arms with a simulated object; use 'sim-bus' (the real driver, simulated servos) or 'sim'",
-        f));
+    throw ConfigError(
+        fmt::format("{}: arms.backend: 'scs' drives the real arms, but the camera is simulated: "
+                    "the servo error would compare "
+                    "real arms with a simulated object; use 'sim-bus' (the real driver, simulated "
+                    "servos) or 'sim'",
+                    f));
   }
   if (config.autopilot.backend == "px4") {
-    throw ConfigError(fmt::format("{}: autopilot.backend: 'px4' is a real vehicle, but the bench's vehicle is the "
-                                  "simulated one on its stand; use 'sim-px4' or 'sim'",
-                                  f));
+    throw ConfigError(fmt::format(
+        "{}: autopilot.backend: 'px4' is a real vehicle, but the bench's vehicle is the "
+        "simulated one on its stand; use 'sim-px4' or 'sim'",
+        f));
   }
 }
 
@@ -174,10 +183,18 @@ void WriteServoErrorPlot(const ServoTrace traces[2], const std::string& path) {
     ExpandRange(traces[a].to_target_m, &lo, &hi);
     ExpandRange(traces[a].to_truth_m, &lo, &hi);
     hi = std::min(hi, 0.2);
-    const PlotPanel panel{fmt::format("{} arm: tool to its target (m): to the commanded target blue, to the target "
-                                      "on the true object orange; gaps: no target",
-                                      SideName(kSides[a])),
-                          t0, t1, 0.0, 1.05 * hi, kLeft, kTop + a * (kHeight + kGap), kWidth - kLeft - 20, kHeight};
+    const PlotPanel panel{
+        fmt::format("{} arm: tool to its target (m): to the commanded target blue, to the target "
+                    "on the true object orange; gaps: no target",
+                    SideName(kSides[a])),
+        t0,
+        t1,
+        0.0,
+        1.05 * hi,
+        kLeft,
+        kTop + a * (kHeight + kGap),
+        kWidth - kLeft - 20,
+        kHeight};
     DrawPanelAxes(&image, panel, "", 3);
     DrawPanelSeries(&image, panel, traces[a].t_s, traces[a].to_truth_m, PlotColor{30, 140, 230}, 1);
     DrawPanelSeries(&image, panel, traces[a].t_s, traces[a].to_target_m, PlotColor{200, 60, 30}, 2);
@@ -186,7 +203,8 @@ void WriteServoErrorPlot(const ServoTrace traces[2], const std::string& path) {
   WritePlotPng(image, path);
 }
 
-void AddTrace(PoseTrace* trace, double t_s, bool ok, const Eigen::Isometry3d& cMo, double rotation_error_deg) {
+void AddTrace(PoseTrace* trace, double t_s, bool ok, const Eigen::Isometry3d& cMo,
+              double rotation_error_deg) {
   trace->stamp_s.push_back(t_s);
   trace->x_m.push_back(ok ? cMo.translation().x() : kNaN);
   trace->y_m.push_back(ok ? cMo.translation().y() : kNaN);
@@ -197,7 +215,8 @@ void AddTrace(PoseTrace* trace, double t_s, bool ok, const Eigen::Isometry3d& cM
 
 }  // namespace
 
-void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std::ostream& progress) {
+void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
+                     std::ostream& progress) {
   const std::string cli = "command line";
   if (options.out_dir.empty()) throw ConfigError("--out: an output folder is required");
   CheckRange(cli, "--frames", options.frames, 1, 100000, "");
@@ -205,16 +224,19 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
   CheckRange(cli, "--path-period", options.path_period_s, 1.0, 1000.0, "s");
   CheckRange(cli, "--path-scale", options.path_scale, 0.0, 3.0, "");
   if (options.oMt && !IsValidTransform(*options.oMt)) {
-    throw ConfigError("--board-pose: not a rigid transform (a unit quaternion and a finite position are needed)");
+    throw ConfigError(
+        "--board-pose: not a rigid transform (a unit quaternion and a finite position are needed)");
   }
-  const PerceptionOptions perception =
-      options.perception_config.empty() ? PerceptionOptions{} : LoadPerceptionOptions(options.perception_config);
+  const PerceptionOptions perception = options.perception_config.empty()
+                                           ? PerceptionOptions{}
+                                           : LoadPerceptionOptions(options.perception_config);
 
   HardwareConfig hw_config;
   if (options.hardware_path.empty()) {
-    hw_config = HardwareConfig::InProcessSimulation(
-        DataPath("config/platform_4dof.yaml"),
-        options.world_config.empty() ? DataPath("config/world_default.yaml") : options.world_config);
+    hw_config = HardwareConfig::InProcessSimulation(DataPath("config/platform_4dof.yaml"),
+                                                    options.world_config.empty()
+                                                        ? DataPath("config/world_default.yaml")
+                                                        : options.world_config);
   } else {
     hw_config = HardwareConfig::Load(options.hardware_path);
     if (!options.world_config.empty()) hw_config.world = options.world_config;
@@ -232,7 +254,9 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
   };
   std::unique_ptr<Hardware> hw = Hardware::Open(hw_config, options.seed, on_stand);
   World* world = hw->world();
-  if (!world) throw ConfigError(hw_config.source + ": the bench needs a simulated world (no device is simulated)");
+  if (!world)
+    throw ConfigError(hw_config.source +
+                      ": the bench needs a simulated world (no device is simulated)");
   const Platform& platform = hw->platform();
   const ObjectModel& object = world->object();
 
@@ -255,9 +279,10 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
   planner_config.edge_margin_m = MissionConfig{}.grasp_edge_margin_m;
   if (hover) planner_config.precatch_distance_m = options.hover_m;
   planner_config.Validate(cli, platform.config().gripper);
-  GraspPlanner planner(platform, GraspObject{object.name, object.mesh_o, object.mass_kg, object.center_of_mass_o},
-                       ComputeContactPairs(object.mesh_o, platform.config().gripper, planner_config.contacts),
-                       planner_config);
+  GraspPlanner planner(
+      platform, GraspObject{object.name, object.mesh_o, object.mass_kg, object.center_of_mass_o},
+      ComputeContactPairs(object.mesh_o, platform.config().gripper, planner_config.contacts),
+      planner_config);
   // The servo and grasp sequence as the mission sets them (app/mission_runner.cpp).
   const PlatformCollision collision(platform);
   Eigen::VectorXd q[2];
@@ -268,11 +293,13 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
     const ArmModel& arm = platform.arm(kSides[a]);
     ServoConfig servo_config;
     servo_config.via_rad = {arm.Clamp(Eigen::VectorXd::Zero(arm.dof())), platform.home(kSides[a])};
-    if (arm.dof() < 6) servo_config.ik.tolerance = PoseTolerance{1e-4, 0.10, 0.15};  // position exactly, axes nearly
+    if (arm.dof() < 6)
+      servo_config.ik.tolerance = PoseTolerance{1e-4, 0.10, 0.15};  // position exactly, axes nearly
     servo_config.gain_per_s = 15.0;
     servo_config.unreachable_retry_s = 0.1;
     servo[a] = std::make_unique<ArmServo>(
-        arm, servo_config, MakeCollisionPredicate(collision, kSides[a], MissionConfig{}.servo_margin_m, &q[1 - a]));
+        arm, servo_config,
+        MakeCollisionPredicate(collision, kSides[a], MissionConfig{}.servo_margin_m, &q[1 - a]));
     GraspSequenceConfig sequence_config;
     sequence_config.precatch_distance_m = planner_config.precatch_distance_m;
     sequence_config.precatch_tolerance.position_m = 0.01;
@@ -281,15 +308,18 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
     sequence_config.grasp_tolerance.position_m = 0.006;
     sequence_config.close_time_s = platform.config().gripper.close_time_s;
     sequence[a] = std::make_unique<GraspSequence>(servo[a].get(), sequence_config);
-    sequence[a]->HoldAtPreCatch(hover);  // hover: stay at the pre-catch pose; else move in (the gripper stays open)
+    sequence[a]->HoldAtPreCatch(
+        hover);  // hover: stay at the pre-catch pose; else move in (the gripper stays open)
   }
 
   fs::create_directories(options.out_dir);
   const std::string csv_path = (fs::path(options.out_dir) / "frames.csv").string();
   std::ofstream csv(csv_path);
   if (!csv) throw std::runtime_error(csv_path + ": cannot be written");
-  csv << "frame,t_s,tags_ok,tags_used,tag_reprojection_px,found,tags_tx_m,tags_ty_m,tags_tz_m,est_tx_m,est_ty_m,"
-         "est_tz_m,err_translation_m,err_rotation_deg,tags_truth_translation_m,tags_truth_rotation_deg,"
+  csv << "frame,t_s,tags_ok,tags_used,tag_reprojection_px,found,tags_tx_m,tags_ty_m,tags_tz_m,est_"
+         "tx_m,est_ty_m,"
+         "est_tz_m,err_translation_m,err_rotation_deg,tags_truth_translation_m,tags_truth_rotation_"
+         "deg,"
          "left_servo_error_m,right_servo_error_m\n";
 
   const Eigen::Isometry3d wMd = world->wMd();  // fixed on the stand
@@ -297,7 +327,9 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
   const double dt_s = 1.0 / kServoRateHz;
   const double frame_period_s = 1.0 / world->config().camera.frame_rate_hz;
   const double t_start = world->now_s();
-  auto place_object = [&](double t_s) { world->PlaceObject(wMd * ScriptedDmo(t_s - t_start, options.path_period_s, options.path_scale)); };
+  auto place_object = [&](double t_s) {
+    world->PlaceObject(wMd * ScriptedDmo(t_s - t_start, options.path_period_s, options.path_scale));
+  };
 
   Stats perception_vs_tags, tags_vs_truth, perception_vs_truth;
   int tag_frames = 0, found_frames = 0, plans = 0, no_grasp_plans = 0, switches = 0;
@@ -342,8 +374,10 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
       const bool tags_ok = board_pose.valid && board_pose.tags_used >= kMinBoardTags &&
                            board_pose.reprojection_rms_px <= kMaxTagReprojectionPx;
       const Eigen::Isometry3d cMo_tags = board_pose.cMt * oMt.inverse();
-      // Our perception, as in replay and the mission (the filter in the camera frame: the camera stands still).
-      const FrameReport r = tracker.Process(rgbd.color, rgbd.depth, rgbd.stamp_s, K, hw->camera().depth_scale_m());
+      // Our perception, as in replay and the mission (the filter in the camera frame: the camera
+      // stands still).
+      const FrameReport r =
+          tracker.Process(rgbd.color, rgbd.depth, rgbd.stamp_s, K, hw->camera().depth_scale_m());
       frame_ms.push_back(r.times.total_ms);
       const bool found = r.estimate.valid && r.estimate.state == TrackState::kFound;
       if (found) estimate = r.estimate;
@@ -356,26 +390,30 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
       found_frames += found;
       double err_t = kNaN, err_r = kNaN, tags_truth_t = kNaN, tags_truth_r = kNaN;
       if (tags_ok && found) {
-        const PoseError e{ComparePoses(cMo_tags, r.estimate.cMo).translation_m,
-                          SymmetricRotationError(r.estimate.cMo.linear(), cMo_tags.linear(), symmetry)};
+        const PoseError e{
+            ComparePoses(cMo_tags, r.estimate.cMo).translation_m,
+            SymmetricRotationError(r.estimate.cMo.linear(), cMo_tags.linear(), symmetry)};
         perception_vs_tags.Add(e);
         err_t = e.translation_m, err_r = kRadToDeg * e.rotation_rad;
       }
       if (tags_ok) {
-        const PoseError e = ComparePoses(cMo_truth, cMo_tags);  // the board breaks the object's symmetry
+        const PoseError e =
+            ComparePoses(cMo_truth, cMo_tags);  // the board breaks the object's symmetry
         tags_vs_truth.Add(e);
         tags_truth_t = e.translation_m, tags_truth_r = kRadToDeg * e.rotation_rad;
       }
       if (found) {
-        perception_vs_truth.Add({ComparePoses(cMo_truth, r.estimate.cMo).translation_m,
-                                 SymmetricRotationError(r.estimate.cMo.linear(), cMo_truth.linear(), symmetry)});
+        perception_vs_truth.Add(
+            {ComparePoses(cMo_truth, r.estimate.cMo).translation_m,
+             SymmetricRotationError(r.estimate.cMo.linear(), cMo_truth.linear(), symmetry)});
       }
       AddTrace(&tags_trace, t - t_start, tags_ok, cMo_tags, kNaN);
       AddTrace(&est_trace, t - t_start, found, r.estimate.cMo, err_r);
       MissionSample sample;
       sample.t_s = t - t_start;
       sample.found = found;
-      for (int a = 0; a < 2; ++a) sample.q_target_rad[a] = q_command[a], sample.q_actual_rad[a] = q[a];
+      for (int a = 0; a < 2; ++a)
+        sample.q_target_rad[a] = q_command[a], sample.q_actual_rad[a] = q[a];
       record.samples.push_back(sample);
       if (found && tags_ok && (!record.snapshot || frame == options.frames / 2)) {
         MissionSnapshot snap;
@@ -391,14 +429,17 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
         snap.cMo = r.estimate.cMo;
         record.snapshot = snap;
       }
-      const double last_error[2] = {servo_traces[0].to_target_m.empty() ? kNaN : servo_traces[0].to_target_m.back(),
-                                    servo_traces[1].to_target_m.empty() ? kNaN : servo_traces[1].to_target_m.back()};
+      const double last_error[2] = {
+          servo_traces[0].to_target_m.empty() ? kNaN : servo_traces[0].to_target_m.back(),
+          servo_traces[1].to_target_m.empty() ? kNaN : servo_traces[1].to_target_m.back()};
       const Eigen::Vector3d p_tags = cMo_tags.translation(), p_est = r.estimate.cMo.translation();
-      csv << fmt::format("{},{:.4f},{},{},{:.3f},{},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.4f},{:.5f},{:.4f},"
-                         "{:.5f},{:.5f}\n",
-                         frame, t - t_start, int(tags_ok), board_pose.tags_used, board_pose.reprojection_rms_px,
-                         int(found), p_tags.x(), p_tags.y(), p_tags.z(), p_est.x(), p_est.y(), p_est.z(), err_t,
-                         err_r, tags_truth_t, tags_truth_r, last_error[0], last_error[1]);
+      csv << fmt::format(
+          "{},{:.4f},{},{},{:.3f},{},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.4f},{:.5f}"
+          ",{:.4f},"
+          "{:.5f},{:.5f}\n",
+          frame, t - t_start, int(tags_ok), board_pose.tags_used, board_pose.reprojection_rms_px,
+          int(found), p_tags.x(), p_tags.y(), p_tags.z(), p_est.x(), p_est.y(), p_est.z(), err_t,
+          err_r, tags_truth_t, tags_truth_r, last_error[0], last_error[1]);
       ++frame;
       bar.Update(frame);
     }
@@ -448,7 +489,8 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
         Infeasibility why = Infeasibility::kNone;
         if (planner.EvaluateArm(side, pair[a], dMo, q[a], &solved, &why) &&
             (reached_q[a].size() == 0 ||
-             OnSameIkBranch(solved.q_grasp, reached_q[a], kBranchJumpRad, kBranchDriftRadPerS, t - reached_t[a]))) {
+             OnSameIkBranch(solved.q_grasp, reached_q[a], kBranchJumpRad, kBranchDriftRadPerS,
+                            t - reached_t[a]))) {
           reached_q[a] = solved.q_grasp;
           reached_t[a] = t;
           reached_bMg[a] = platform.arm(side).ForwardKinematics(solved.q_grasp);
@@ -460,7 +502,8 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
         const Eigen::Isometry3d bMd = platform.dMb(side).inverse();
         const Eigen::Isometry3d bMo = bMd * dMc * estimate->cMo;
         // A briefly lost object is held where it was last found (the mission
-        // holds its world pose for lost_timeout_s); after that the target is stale and the arm holds.
+        // holds its world pose for lost_timeout_s); after that the target is stale and the arm
+        // holds.
         const bool held = t - estimate->stamp_s < MissionConfig{}.lost_timeout_s;
         sequence[a]->SetGrasp(reached_bMg[a], reached_bMp[a], held ? t : estimate->stamp_s);
         GraspCommand command;
@@ -470,14 +513,16 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
         q_command[a] = command.joints.q_target_rad;
         hw->arms().SetJointTargets(side, q_command[a]);
         // The pose the arm servoes to in this phase: the pre-catch (hover) pose, then the grasp.
-        const Eigen::Isometry3d& bMh = phase == GraspPhase::kPreCatch ? reached_bMp[a] : reached_bMg[a];
+        const Eigen::Isometry3d& bMh =
+            phase == GraspPhase::kPreCatch ? reached_bMp[a] : reached_bMg[a];
         const Eigen::Vector3d p_b = platform.arm(side).ForwardKinematics(q[a]).translation();
         if (status == ServoStatus::kMoving) {
           to_target = (p_b - bMh.translation()).norm();
           // The same target relative to the object, on the true object turned
           // by the symmetry nearest the estimate (the crawler's half turns look alike).
           Eigen::Isometry3d cMo_truth = world->wMc().inverse() * world->wMo();
-          cMo_truth.linear() = ClosestSymmetricRotation(cMo_truth.linear(), estimate->cMo.linear(), symmetry);
+          cMo_truth.linear() =
+              ClosestSymmetricRotation(cMo_truth.linear(), estimate->cMo.linear(), symmetry);
           const Eigen::Isometry3d bMh_truth = bMd * dMc * cMo_truth * bMo.inverse() * bMh;
           to_truth = (p_b - bMh_truth.translation()).norm();
           tracking[a] = tracking[a] || to_target < kTrackingWithinM;
@@ -500,14 +545,14 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
   bar.Finish();
   csv.close();
 
-
   // summary.json
   const Eigen::Vector4d q_t = QuaternionWxyz(oMt);
   nlohmann::json summary;
   summary["object"] = object.name;
   summary["hardware"] = hw_config.source;
   summary["seed"] = options.seed;
-  summary["perception"] = options.perception_config.empty() ? "code defaults" : options.perception_config;
+  summary["perception"] =
+      options.perception_config.empty() ? "code defaults" : options.perception_config;
   summary["frames"] = frame;
   summary["tag_frames"] = tag_frames;
   summary["found_frames"] = found_frames;
@@ -516,27 +561,36 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
   summary["rotation_rmse_deg"] = Stats::Rms(perception_vs_tags.r_err_deg);
   summary["translation_median_m"] = Percentile(perception_vs_tags.t_err_m, 0.5, kNaN);
   summary["rotation_median_deg"] = Percentile(perception_vs_tags.r_err_deg, 0.5, kNaN);
-  summary["rotation_error"] = "perception vs tags: angle minimised over the object's rotational symmetries";
-  summary["servo_target"] = options.hover_m > 0.0 ? fmt::format("hover {:.3f} m off the grasp", options.hover_m)
-                                                  : std::string("the grasp");
+  summary["rotation_error"] =
+      "perception vs tags: angle minimised over the object's rotational symmetries";
+  summary["servo_target"] = options.hover_m > 0.0
+                                ? fmt::format("hover {:.3f} m off the grasp", options.hover_m)
+                                : std::string("the grasp");
   summary["hover_m"] = options.hover_m;
   summary["servo_error_m_median"] = Percentile(servo_error_tracking_m, 0.5, kNaN);
   summary["servo_error_m_p95"] = Percentile(servo_error_tracking_m, 0.95, kNaN);
   summary["servo_tracking_cycles"] = servo_error_tracking_m.size();
   summary["servo_error_m_median_all_cycles"] = Percentile(servo_error_all_m, 0.5, kNaN);
   summary["servo_error_definition"] =
-      "distance from the tool point (measured joints) to its target (the estimated object times the planned grasp "
-      "or hover point), over the servo cycles an arm tracks: from its first cycle within 0.01 m of the target "
+      "distance from the tool point (measured joints) to its target (the estimated object times "
+      "the planned grasp "
+      "or hover point), over the servo cycles an arm tracks: from its first cycle within 0.01 m of "
+      "the target "
       "until the grasp changes or the target is refused; _all_cycles counts every moving cycle";
   summary["servo_status_cycles"] = status_cycles;
   summary["grasp_plans"] = plans;
   summary["grasp_plans_without_grasp"] = no_grasp_plans;
   summary["grasp_switches"] = switches;
   summary["frame_ms_median"] = Percentile(frame_ms, 0.5, kNaN);
-  summary["board"] = {{"family", board.family},   {"rows", board.rows},           {"cols", board.cols},
-                      {"tag_size_m", board.tag_size_m}, {"spacing_m", board.spacing_m}, {"first_id", board.first_id},
-                      {"oMt_xyz_qwxyz", {oMt.translation().x(), oMt.translation().y(), oMt.translation().z(), q_t[0],
-                                         q_t[1], q_t[2], q_t[3]}}};
+  summary["board"] = {{"family", board.family},
+                      {"rows", board.rows},
+                      {"cols", board.cols},
+                      {"tag_size_m", board.tag_size_m},
+                      {"spacing_m", board.spacing_m},
+                      {"first_id", board.first_id},
+                      {"oMt_xyz_qwxyz",
+                       {oMt.translation().x(), oMt.translation().y(), oMt.translation().z(), q_t[0],
+                        q_t[1], q_t[2], q_t[3]}}};
   summary["tags_vs_truth"] = tags_vs_truth.Json();
   summary["perception_vs_truth"] = perception_vs_truth.Json();
   summary["servo_error_to_truth_m_median"] = Percentile(servo_error_to_truth_m, 0.5, kNaN);
@@ -546,77 +600,94 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std:
   // The report.
   const fs::path dir(options.out_dir);
   const bool has_tags = tag_frames > 0;
-  if (has_tags) WritePosePlot(tags_trace, {est_trace}, (dir / "pose_vs_tags.png").string(), "cMo position");
+  if (has_tags)
+    WritePosePlot(tags_trace, {est_trace}, (dir / "pose_vs_tags.png").string(), "cMo position");
   WriteServoErrorPlot(servo_traces, (dir / "servo_error.png").string());
   const bool has_joints = WriteMissionJointPlot(record, (dir / "joints.png").string());
-  if (record.snapshot) WriteMissionCameraImage(*record.snapshot, object.mesh_o, (dir / "camera.png").string());
+  if (record.snapshot)
+    WriteMissionCameraImage(*record.snapshot, object.mesh_o, (dir / "camera.png").string());
   auto num = [&](const char* key, double scale, int decimals = 2) {
-    return summary[key].is_number() ? fmt::format("{:.{}f}", scale * summary[key].get<double>(), decimals)
-                                    : std::string("-");
+    return summary[key].is_number()
+               ? fmt::format("{:.{}f}", scale * summary[key].get<double>(), decimals)
+               : std::string("-");
   };
   std::ostringstream html;
   BeginHtmlPage("Bench report: " + object.name, html);
-  WriteHtmlTable({"result", "value"},
-                 {{"frames", std::to_string(frame)},
-                  {"frames with the board (tags)", std::to_string(tag_frames)},
-                  {"frames with the object found", std::to_string(found_frames)},
-                  {"perception vs tags: translation RMSE (mm)", num("translation_rmse_m", 1e3)},
-                  {"perception vs tags: rotation RMSE (deg)", num("rotation_rmse_deg", 1)},
-                  {"servo target", summary["servo_target"].get<std::string>()},
-                  {"servo error median while tracking (mm)", num("servo_error_m_median", 1e3)},
-                  {"servo error p95 while tracking (mm)", num("servo_error_m_p95", 1e3)},
-                  {"tags vs truth: translation RMSE (mm)",
-                   summary["tags_vs_truth"]["translation_rmse_m"].is_number()
-                       ? fmt::format("{:.2f}", 1e3 * summary["tags_vs_truth"]["translation_rmse_m"].get<double>())
-                       : "-"},
-                  {"hardware", hw_config.source}},
-                 html);
+  WriteHtmlTable(
+      {"result", "value"},
+      {{"frames", std::to_string(frame)},
+       {"frames with the board (tags)", std::to_string(tag_frames)},
+       {"frames with the object found", std::to_string(found_frames)},
+       {"perception vs tags: translation RMSE (mm)", num("translation_rmse_m", 1e3)},
+       {"perception vs tags: rotation RMSE (deg)", num("rotation_rmse_deg", 1)},
+       {"servo target", summary["servo_target"].get<std::string>()},
+       {"servo error median while tracking (mm)", num("servo_error_m_median", 1e3)},
+       {"servo error p95 while tracking (mm)", num("servo_error_m_p95", 1e3)},
+       {"tags vs truth: translation RMSE (mm)",
+        summary["tags_vs_truth"]["translation_rmse_m"].is_number()
+            ? fmt::format("{:.2f}",
+                          1e3 * summary["tags_vs_truth"]["translation_rmse_m"].get<double>())
+            : "-"},
+       {"hardware", hw_config.source}},
+      html);
   html << "<h2>Perception against the tags</h2>\n";
   WriteHtmlFigure(has_tags, "pose_vs_tags.png",
-                  "The object's position in the camera frame (cMo), from the tag board (black) and from perception; "
-                  "perception's rotation error against the tags (deg, over the object's symmetries) and whether it "
+                  "The object's position in the camera frame (cMo), from the tag board (black) and "
+                  "from perception; "
+                  "perception's rotation error against the tags (deg, over the object's "
+                  "symmetries) and whether it "
                   "had the object.",
                   "The board was never seen.", html);
   html << "<h2>Servo</h2>\n";
   WriteHtmlFigure(true, "servo_error.png",
-                  "Each arm's tool point to its target (the planned grasp, or the hover point off it) over time.", "",
-                  html);
-  WriteHtmlFigure(has_joints, "joints.png", "Joint targets (thin) vs measured positions (thick) of each arm, deg.",
+                  "Each arm's tool point to its target (the planned grasp, or the hover point off "
+                  "it) over time.",
+                  "", html);
+  WriteHtmlFigure(has_joints, "joints.png",
+                  "Joint targets (thin) vs measured positions (thick) of each arm, deg.",
                   "No joint samples were recorded.", html);
   html << "<h2>Camera</h2>\n";
-  WriteHtmlFigure(record.snapshot.has_value(), "camera.png",
-                  record.snapshot ? fmt::format("Camera frame at t = {:.2f} s: the detector box (green) and the object "
-                                                "model at the estimated pose cMo (cyan).",
-                                                record.snapshot->t_s)
-                                  : std::string(),
-                  "No frame had both the board and the object.", html);
+  WriteHtmlFigure(
+      record.snapshot.has_value(), "camera.png",
+      record.snapshot
+          ? fmt::format("Camera frame at t = {:.2f} s: the detector box (green) and the object "
+                        "model at the estimated pose cMo (cyan).",
+                        record.snapshot->t_s)
+          : std::string(),
+      "No frame had both the board and the object.", html);
   WriteHtmlPage(html.str(), options.out_dir);
 
   out << fmt::format("bench: {} frames, object {}, {}\n", frame, object.name, hw_config.source);
-  out << fmt::format("  board seen in {} frames, object found in {}, both in {}\n", tag_frames, found_frames,
-                     perception_vs_tags.t_err_m.size());
+  out << fmt::format("  board seen in {} frames, object found in {}, both in {}\n", tag_frames,
+                     found_frames, perception_vs_tags.t_err_m.size());
   out << fmt::format("  perception vs tags: translation RMSE {} mm, rotation RMSE {} deg\n",
                      num("translation_rmse_m", 1e3), num("rotation_rmse_deg", 1));
   if (tags_vs_truth.t_err_m.size()) {
     out << fmt::format("  tags vs truth: translation RMSE {:.2f} mm, rotation RMSE {:.3f} deg\n",
-                       1e3 * Stats::Rms(tags_vs_truth.t_err_m), Stats::Rms(tags_vs_truth.r_err_deg));
+                       1e3 * Stats::Rms(tags_vs_truth.t_err_m),
+                       Stats::Rms(tags_vs_truth.r_err_deg));
   }
-  out << fmt::format("  servo to {}: error median {} mm, p95 {} mm over {} tracking cycles ({} plans, {} without a grasp)\n",
-                     summary["servo_target"].get<std::string>(), num("servo_error_m_median", 1e3),
-                     num("servo_error_m_p95", 1e3), servo_error_tracking_m.size(), plans, no_grasp_plans);
+  out << fmt::format(
+      "  servo to {}: error median {} mm, p95 {} mm over {} tracking cycles ({} plans, {} without "
+      "a grasp)\n",
+      summary["servo_target"].get<std::string>(), num("servo_error_m_median", 1e3),
+      num("servo_error_m_p95", 1e3), servo_error_tracking_m.size(), plans, no_grasp_plans);
   out << "  wrote " << summary_path << ", " << (dir / "index.html").string() << "\n";
 
   if (tag_frames == 0) {
     throw std::runtime_error(fmt::format(
-        "bench: the tag board was never detected in {} frames (board {}x{} tags of {:.0f} mm, ids from {}, on the "
-        "object at oMt translation {:.3f} {:.3f} {:.3f} m): is its printed face towards the camera (--board-pose)? "
+        "bench: the tag board was never detected in {} frames (board {}x{} tags of {:.0f} mm, ids "
+        "from {}, on the "
+        "object at oMt translation {:.3f} {:.3f} {:.3f} m): is its printed face towards the camera "
+        "(--board-pose)? "
         "See {}/frames.csv",
-        frame, board.rows, board.cols, 1e3 * board.tag_size_m, board.first_id, oMt.translation().x(),
-        oMt.translation().y(), oMt.translation().z(), options.out_dir));
+        frame, board.rows, board.cols, 1e3 * board.tag_size_m, board.first_id,
+        oMt.translation().x(), oMt.translation().y(), oMt.translation().z(), options.out_dir));
   }
   if (found_frames == 0) {
-    throw std::runtime_error(fmt::format("bench: perception never found the object ({}) in {} frames; see {}/frames.csv",
-                                         object.name, frame, options.out_dir));
+    throw std::runtime_error(
+        fmt::format("bench: perception never found the object ({}) in {} frames; see {}/frames.csv",
+                    object.name, frame, options.out_dir));
   }
 }
 

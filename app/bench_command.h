@@ -23,12 +23,13 @@
 namespace aerograsp {
 
 struct BenchCommandOptions {
-  std::string out_dir;         ///< created; the report
-  std::string hardware_path;   ///< hardware YAML; empty: every device simulated in-process
-  std::string world_config;    ///< world YAML without --hardware; empty: data/config/world_default.yaml
-  std::string object;          ///< shipped object name or model path; empty: the world's
-  int frames = 300;            ///< camera frames, [1, 100000]
-  std::uint64_t seed = 1;      ///< world seed
+  std::string out_dir;        ///< created; the report
+  std::string hardware_path;  ///< hardware YAML; empty: every device simulated in-process
+  std::string
+      world_config;        ///< world YAML without --hardware; empty: data/config/world_default.yaml
+  std::string object;      ///< shipped object name or model path; empty: the world's
+  int frames = 300;        ///< camera frames, [1, 100000]
+  std::uint64_t seed = 1;  ///< world seed
   /// The arms servo to the planned grasp moved back this far along its
   /// approach axis (a hover point: nothing is grasped); 0 = the grasp itself. [0, 0.3] m.
   double hover_m = 0.04;
@@ -40,7 +41,8 @@ struct BenchCommandOptions {
   /// The board (frame t) on the object (frame o); empty: centred on the top of
   /// the object, printed face up (for the crawler: in the recess between its tracks).
   std::optional<Eigen::Isometry3d> oMt;
-  std::string perception_config;  ///< perception YAML (detection/perception_config.h); empty: the code's defaults
+  std::string perception_config;  ///< perception YAML (detection/perception_config.h); empty: the
+                                  ///< code's defaults
 };
 
 /// @throws ConfigError for bad options, a bad perception YAML or a hardware config the bench cannot

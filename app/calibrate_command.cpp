@@ -8,10 +8,10 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <optional>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "app/calibrate_intrinsics.h"
 #include "app/calibration_file.h"
@@ -34,9 +34,9 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
-constexpr double kMaxReprojectionPx = 1.0;    // a sample above this is rejected
-constexpr double kMinBoardFraction = 0.5;     // of the board's tags seen
-constexpr int kPlanningCandidates = 40000;    // random joint vectors tried
+constexpr double kMaxReprojectionPx = 1.0;  // a sample above this is rejected
+constexpr double kMinBoardFraction = 0.5;   // of the board's tags seen
+constexpr int kPlanningCandidates = 40000;  // random joint vectors tried
 constexpr double kImageMarginPx = 15.0;
 
 /// Where the board sits on the gripper: a plate 25 mm past the tool point
@@ -64,7 +64,8 @@ Side ParseSide(const std::string& arm) {
 /// Board corners of every tag, in t.
 std::vector<Eigen::Vector3d> AllCorners(const TagBoardConfig& board) {
   std::vector<Eigen::Vector3d> corners;
-  for (const BoardTag& tag : BoardTags(board)) corners.insert(corners.end(), tag.corners_t.begin(), tag.corners_t.end());
+  for (const BoardTag& tag : BoardTags(board))
+    corners.insert(corners.end(), tag.corners_t.begin(), tag.corners_t.end());
   return corners;
 }
 
@@ -72,8 +73,8 @@ std::vector<Eigen::Vector3d> AllCorners(const TagBoardConfig& board) {
 /// with the arm clear of the safe volume and of the other arm at home; then
 /// a diverse subset (greedy: each next pose the farthest in rotation from
 /// those already chosen).
-std::vector<Eigen::VectorXd> PlanPoses(const Platform& platform, Side side, const TagBoardConfig& board, int count,
-                                       std::uint64_t seed) {
+std::vector<Eigen::VectorXd> PlanPoses(const Platform& platform, Side side,
+                                       const TagBoardConfig& board, int count, std::uint64_t seed) {
   const ArmModel& arm = platform.arm(side);
   const PlatformCollision collision(platform);
   const Eigen::Isometry3d cMb = platform.dMc().inverse() * platform.dMb(side);
@@ -85,7 +86,8 @@ std::vector<Eigen::VectorXd> PlanPoses(const Platform& platform, Side side, cons
   std::vector<Eigen::Matrix3d> rotations;
   for (int i = 0; i < kPlanningCandidates; ++i) {
     Eigen::VectorXd q(arm.dof());
-    for (int j = 0; j < arm.dof(); ++j) q[j] = rng.Uniform(arm.lower_limits()[j], arm.upper_limits()[j]);
+    for (int j = 0; j < arm.dof(); ++j)
+      q[j] = rng.Uniform(arm.lower_limits()[j], arm.upper_limits()[j]);
     const Eigen::Isometry3d bMe = arm.ForwardKinematics(q);
     const Eigen::Isometry3d cMt = cMb * bMe * eMt;
     const Eigen::Vector3d to_camera = -cMt.translation().normalized();
@@ -102,7 +104,9 @@ std::vector<Eigen::VectorXd> PlanPoses(const Platform& platform, Side side, cons
     if (!in_view) continue;
     if (collision.ArmInSafeVolume(side, q)) continue;  // the upper arm passes 5 mm under it
     const Eigen::VectorXd& other = platform.home(side == Side::kLeft ? Side::kRight : Side::kLeft);
-    if (side == Side::kLeft ? collision.ArmsCollide(q, other, 0.01) : collision.ArmsCollide(other, q, 0.01)) continue;
+    if (side == Side::kLeft ? collision.ArmsCollide(q, other, 0.01)
+                            : collision.ArmsCollide(other, q, 0.01))
+      continue;
     candidates.push_back(q);
     rotations.push_back(bMe.linear());
   }
@@ -116,7 +120,8 @@ std::vector<Eigen::VectorXd> PlanPoses(const Platform& platform, Side side, cons
       const double angle = Eigen::AngleAxisd(rotations[next].transpose() * rotations[i]).angle();
       nearest[i] = std::min(nearest[i], angle);
     }
-    next = static_cast<std::size_t>(std::max_element(nearest.begin(), nearest.end()) - nearest.begin());
+    next = static_cast<std::size_t>(std::max_element(nearest.begin(), nearest.end()) -
+                                    nearest.begin());
   }
   return chosen;
 }
@@ -136,7 +141,8 @@ void WriteSamplesYaml(const std::string& path, const std::string& platform_path,
     y << YAML::Key << "image" << YAML::Value << s.image;
     y << YAML::Key << "accepted" << YAML::Value << s.accepted;
     y << YAML::Key << "reject_reason" << YAML::Value << s.reject_reason;
-    y << YAML::Key << "q_rad" << YAML::Value << YAML::Flow << std::vector<double>(s.q_rad.data(), s.q_rad.data() + s.q_rad.size());
+    y << YAML::Key << "q_rad" << YAML::Value << YAML::Flow
+      << std::vector<double>(s.q_rad.data(), s.q_rad.data() + s.q_rad.size());
     y << YAML::Key << "cMt" << YAML::Value << YAML::Flow << FlattenRowMajor(s.data.cMt);
     y << YAML::Key << "corners" << YAML::Value;
     EmitCorners(s.data.corners, &y);
@@ -144,7 +150,8 @@ void WriteSamplesYaml(const std::string& path, const std::string& platform_path,
   }
   y << YAML::EndSeq << YAML::EndMap;
   std::ofstream out(path);
-  out << "# aerograsp calibration samples: re-solve with `aerograsp calibrate --resolve DIR`.\n" << y.c_str() << "\n";
+  out << "# aerograsp calibration samples: re-solve with `aerograsp calibrate --resolve DIR`.\n"
+      << y.c_str() << "\n";
   if (!out) throw std::runtime_error(path + ": cannot be written");
 }
 
@@ -169,7 +176,8 @@ std::vector<Sample> ReadSamplesYaml(const std::string& path, std::string* platfo
       s.reject_reason = all[i]["reject_reason"].as<std::string>("");
       const auto q = all[i]["q_rad"].as<std::vector<double>>();
       s.q_rad = Eigen::Map<const Eigen::VectorXd>(q.data(), static_cast<long>(q.size()));
-      if (s.q_rad.size() != platform.arm(*side).dof()) root.Fail(where + ".q_rad", "wrong number of joints");
+      if (s.q_rad.size() != platform.arm(*side).dof())
+        root.Fail(where + ".q_rad", "wrong number of joints");
       s.data.bMe = platform.arm(*side).ForwardKinematics(s.q_rad);
       const auto m = all[i]["cMt"].as<std::vector<double>>();
       if (m.size() != 16) root.Fail(where + ".cMt", "expected 16 numbers");
@@ -187,8 +195,9 @@ std::vector<Sample> ReadSamplesYaml(const std::string& path, std::string* platfo
 
 /// Outlines of the board as measured (green) and as the calibration predicts
 /// (red) for every accepted sample, over the first accepted image.
-void DrawPoses(const std::string& folder, const std::vector<Sample>& samples, const TagBoardConfig& board,
-               const CameraIntrinsics& K, const HandEyeResult& solution) {
+void DrawPoses(const std::string& folder, const std::vector<Sample>& samples,
+               const TagBoardConfig& board, const CameraIntrinsics& K,
+               const HandEyeResult& solution) {
   cv::Mat canvas(K.height, K.width, CV_8UC3, cv::Scalar(40, 40, 40));
   for (const Sample& s : samples) {
     if (!s.accepted) continue;
@@ -201,12 +210,16 @@ void DrawPoses(const std::string& folder, const std::vector<Sample>& samples, co
     break;
   }
   const Eigen::Vector2d half = 0.5 * board.Size();
-  const Eigen::Vector3d outline_t[4] = {{-half.x(), -half.y(), 0}, {half.x(), -half.y(), 0},
-                                        {half.x(), half.y(), 0}, {-half.x(), half.y(), 0}};
+  const Eigen::Vector3d outline_t[4] = {{-half.x(), -half.y(), 0},
+                                        {half.x(), -half.y(), 0},
+                                        {half.x(), half.y(), 0},
+                                        {-half.x(), half.y(), 0}};
   auto draw = [&](const Eigen::Isometry3d& cMt, const cv::Scalar& colour, int thickness) {
     for (int k = 0; k < 4; ++k) {
-      const Eigen::Vector2d a = K.Project(cMt * outline_t[k]), b = K.Project(cMt * outline_t[(k + 1) % 4]);
-      cv::line(canvas, cv::Point2d(a.x(), a.y()), cv::Point2d(b.x(), b.y()), colour, thickness, cv::LINE_AA);
+      const Eigen::Vector2d a = K.Project(cMt * outline_t[k]),
+                            b = K.Project(cMt * outline_t[(k + 1) % 4]);
+      cv::line(canvas, cv::Point2d(a.x(), a.y()), cv::Point2d(b.x(), b.y()), colour, thickness,
+               cv::LINE_AA);
     }
   };
   for (const Sample& s : samples) {
@@ -214,8 +227,9 @@ void DrawPoses(const std::string& folder, const std::vector<Sample>& samples, co
     draw(s.data.cMt, cv::Scalar(0, 220, 0), 2);
     if (solution.ok) draw(solution.cMb * s.data.bMe * solution.eMt, cv::Scalar(0, 0, 255), 1);
   }
-  cv::putText(canvas, "board measured (green) / predicted by the calibration (red)", cv::Point(10, 20),
-              cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+  cv::putText(canvas, "board measured (green) / predicted by the calibration (red)",
+              cv::Point(10, 20), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(255, 255, 255), 1,
+              cv::LINE_AA);
   cv::imwrite((fs::path(folder) / "poses.png").string(), canvas);
 }
 
@@ -252,21 +266,27 @@ void SolveAndReport(const std::string& folder, const std::string& platform_path,
       ++rejected;
     }
   }
-  out << fmt::format("samples: {} used, {} rejected (kept in {}/samples.yaml)\n", used.size(), rejected, folder);
+  out << fmt::format("samples: {} used, {} rejected (kept in {}/samples.yaml)\n", used.size(),
+                     rejected, folder);
   if (used.size() < 3) {
-    throw std::runtime_error(fmt::format("{}: only {} usable samples (at least 3 needed): no board visible or all "
-                                         "samples rejected; see samples.yaml for the reasons",
-                                         folder, used.size()));
+    throw std::runtime_error(
+        fmt::format("{}: only {} usable samples (at least 3 needed): no board visible or all "
+                    "samples rejected; see samples.yaml for the reasons",
+                    folder, used.size()));
   }
   const PoseSetDiversity diversity = MeasureDiversity(used);
   if (!diversity.Sufficient()) {
-    out << fmt::format("warning: the poses are not diverse enough (largest rotation {:.1f} deg, rotation axes span "
-                       "{} dimension(s)); the solution may be poor\n",
-                       diversity.max_rotation_deg, diversity.axis_rank);
+    out << fmt::format(
+        "warning: the poses are not diverse enough (largest rotation {:.1f} deg, rotation axes "
+        "span "
+        "{} dimension(s)); the solution may be poor\n",
+        diversity.max_rotation_deg, diversity.axis_rank);
   }
   if (diversity.axis_rank < 2) {
-    throw std::runtime_error(folder + ": singular pose set: every rotation is about one axis; add poses that turn "
-                                      "the gripper about other axes");
+    throw std::runtime_error(
+        folder +
+        ": singular pose set: every rotation is about one axis; add poses that turn "
+        "the gripper about other axes");
   }
   const HandEyeResult visp = SolveEyeToHandVisp(used, K);
   const std::vector<HandEyeResult> opencv = SolveEyeToHandOpenCv(used, K);
@@ -274,7 +294,8 @@ void SolveAndReport(const std::string& folder, const std::string& platform_path,
   const HandEyeResult& best = refined.ok ? refined : visp;
   if (!best.ok) throw std::runtime_error(folder + ": the hand-eye solve failed: " + visp.message);
 
-  out << fmt::format("{:<20} {:>12} {:>12} {:>10}", "method", "residual mm", "residual deg", "reproj px");
+  out << fmt::format("{:<20} {:>12} {:>12} {:>10}", "method", "residual mm", "residual deg",
+                     "reproj px");
   if (truth_cMb) out << fmt::format(" {:>12} {:>12}", "truth err mm", "truth err deg");
   out << "\n";
   std::vector<const HandEyeResult*> all = {&refined, &visp};
@@ -284,8 +305,8 @@ void SolveAndReport(const std::string& folder, const std::string& platform_path,
       out << fmt::format("{:<20} failed: {}\n", r->method, r->message);
       continue;
     }
-    out << fmt::format("{:<20} {:>12.3f} {:>12.3f} {:>10.3f}", r->method, r->residual_mm_rms, r->residual_deg_rms,
-                       r->reprojection_rms_px);
+    out << fmt::format("{:<20} {:>12.3f} {:>12.3f} {:>10.3f}", r->method, r->residual_mm_rms,
+                       r->residual_deg_rms, r->reprojection_rms_px);
     if (truth_cMb) {
       const PoseError e = ComparePoses(r->cMb, *truth_cMb);
       out << fmt::format(" {:>12.3f} {:>12.4f}", 1e3 * e.translation_m, kRadToDeg * e.rotation_rad);
@@ -295,7 +316,8 @@ void SolveAndReport(const std::string& folder, const std::string& platform_path,
 
   // The calibration the mission loads: cMb, and dMb through the nominal dMc.
   const Eigen::Isometry3d dMb = platform.dMc() * best.cMb;
-  const std::string yaml_path = (fs::path(folder) / fmt::format("calibration_{}.yaml", SideName(side))).string();
+  const std::string yaml_path =
+      (fs::path(folder) / fmt::format("calibration_{}.yaml", SideName(side))).string();
   ArmCalibration calibration;
   calibration.side = side;
   calibration.method = best.method;
@@ -315,7 +337,8 @@ void SolveAndReport(const std::string& folder, const std::string& platform_path,
                             {"max_rotation_between_poses_deg", diversity.max_rotation_deg},
                             {"visp", ErrorToTruth(visp, truth_cMb)}};
   nlohmann::json per_method;
-  for (const HandEyeResult& r : opencv) per_method[r.method.substr(std::string("opencv-").size())] = ErrorToTruth(r, truth_cMb);
+  for (const HandEyeResult& r : opencv)
+    per_method[r.method.substr(std::string("opencv-").size())] = ErrorToTruth(r, truth_cMb);
   summary["opencv"] = per_method;
   if (truth_cMb) {
     const PoseError e = ComparePoses(best.cMb, *truth_cMb);
@@ -329,7 +352,8 @@ void SolveAndReport(const std::string& folder, const std::string& platform_path,
 
 }  // namespace
 
-void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& out, std::ostream& progress) {
+void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& out,
+                         std::ostream& progress) {
   if (!options.resolve_dir.empty()) {
     if (IsIntrinsicsFolder(options.resolve_dir)) {
       ResolveIntrinsics(options.resolve_dir, out);
@@ -338,8 +362,8 @@ void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& o
     std::string platform_path;
     Side side;
     TagBoardConfig board;
-    const std::vector<Sample> samples =
-        ReadSamplesYaml((fs::path(options.resolve_dir) / "samples.yaml").string(), &platform_path, &side, &board);
+    const std::vector<Sample> samples = ReadSamplesYaml(
+        (fs::path(options.resolve_dir) / "samples.yaml").string(), &platform_path, &side, &board);
     SolveAndReport(options.resolve_dir, platform_path, side, board, samples, std::nullopt, out);
     return;
   }
@@ -349,7 +373,8 @@ void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& o
   }
   const Side side = ParseSide(options.arm);
   if (options.out_dir.empty()) throw ConfigError("--out: an output folder is required");
-  const CalibrationHardware hw = OpenCalibrationHardware(options.hardware_path, options.world_config, options.seed);
+  const CalibrationHardware hw =
+      OpenCalibrationHardware(options.hardware_path, options.world_config, options.seed);
   World& world = *hw.devices->world();
   const TagBoardConfig board;
   world.AttachToTool(side, MakeBoardRenderMesh(board), NominalBoardOnGripper());
@@ -357,14 +382,16 @@ void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& o
   ArmsDriver& arms = hw.devices->arms();
   const Platform& platform = hw.devices->platform();
 
-  const std::vector<Eigen::VectorXd> poses = PlanPoses(platform, side, board, options.poses, options.seed);
+  const std::vector<Eigen::VectorXd> poses =
+      PlanPoses(platform, side, board, options.poses, options.seed);
   if (poses.empty()) {
-    throw std::runtime_error(fmt::format("no arm pose of the {} arm shows the whole board to the camera while "
-                                         "clear of the safe volume",
-                                         SideName(side)));
+    throw std::runtime_error(
+        fmt::format("no arm pose of the {} arm shows the whole board to the camera while "
+                    "clear of the safe volume",
+                    SideName(side)));
   }
-  out << fmt::format("planned {} poses of the {} arm (of {} requested); devices: {}\n", poses.size(),
-                     SideName(side), options.poses, hw.config.source);
+  out << fmt::format("planned {} poses of the {} arm (of {} requested); devices: {}\n",
+                     poses.size(), SideName(side), options.poses, hw.config.source);
   fs::create_directories(fs::path(options.out_dir) / "samples");
   TagDetector detector(board.family);
   const int board_tags = board.rows * board.cols;
@@ -403,18 +430,21 @@ void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& o
     if (!settled) {
       s.reject_reason = fmt::format("arm not settled after {:.1f} s", options.settle_timeout_s);
     } else if (!pose.valid || pose.tags_used < kMinBoardFraction * board_tags) {
-      s.reject_reason = fmt::format("board partly seen ({} of {} tags)", pose.tags_used, board_tags);
+      s.reject_reason =
+          fmt::format("board partly seen ({} of {} tags)", pose.tags_used, board_tags);
     } else if (pose.reprojection_rms_px > kMaxReprojectionPx) {
       s.reject_reason = fmt::format("reprojection error {:.2f} px", pose.reprojection_rms_px);
     }
     s.accepted = s.reject_reason.empty();
     samples.push_back(s);
-    WriteSamplesYaml(samples_yaml, hw.config.platform, side, board, samples);  // nothing is lost on an error
+    WriteSamplesYaml(samples_yaml, hw.config.platform, side, board,
+                     samples);  // nothing is lost on an error
     bar.Update(static_cast<std::int64_t>(samples.size()));
   }
   bar.Finish();
   for (std::size_t i = 0; i < samples.size(); ++i) {
-    if (!samples[i].accepted) out << fmt::format("  sample {:3d} rejected: {}\n", i, samples[i].reject_reason);
+    if (!samples[i].accepted)
+      out << fmt::format("  sample {:3d} rejected: {}\n", i, samples[i].reject_reason);
   }
   // In the simulator the truth is the world's platform's nominal geometry.
   const Platform& truth = world.platform();

@@ -11,14 +11,15 @@
 namespace aerograsp {
 
 struct CalibrateCommandOptions {
-  std::string arm{"left"};     ///< "left" | "right"
-  bool intrinsics = false;     ///< the camera's intrinsics instead of an arm (app/calibrate_intrinsics.h)
-  std::string out_dir;         ///< samples, calibration YAML, summary.json
-  std::string resolve_dir;     ///< when set: solve again from the samples (or views) saved there
-  std::string world_config;    ///< default data/config/world_default.yaml
-  std::string hardware_path;   ///< empty: the built-in simulation (app/calibration_hardware.h)
-  int poses = 15;              ///< arm poses (or board views) to visit, [4, 100]
-  std::uint64_t seed = 1;      ///< world and pose-planning seed
+  std::string arm{"left"};  ///< "left" | "right"
+  bool intrinsics =
+      false;            ///< the camera's intrinsics instead of an arm (app/calibrate_intrinsics.h)
+  std::string out_dir;  ///< samples, calibration YAML, summary.json
+  std::string resolve_dir;        ///< when set: solve again from the samples (or views) saved there
+  std::string world_config;       ///< default data/config/world_default.yaml
+  std::string hardware_path;      ///< empty: the built-in simulation (app/calibration_hardware.h)
+  int poses = 15;                 ///< arm poses (or board views) to visit, [4, 100]
+  std::uint64_t seed = 1;         ///< world and pose-planning seed
   double settle_timeout_s = 3.0;  ///< longest wait for the arm to settle at a pose
 };
 
@@ -32,6 +33,7 @@ struct CalibrateCommandOptions {
 /// @throws std::runtime_error / ConfigError with a message naming what is wrong
 /// (no board visible, all samples rejected, a singular pose set); the samples
 /// collected so far are kept on disk.
-void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& out, std::ostream& progress);
+void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& out,
+                         std::ostream& progress);
 
 }  // namespace aerograsp

@@ -29,7 +29,7 @@ constexpr int kMinViews = 4;
 constexpr double kMinBoardFraction = 0.5;  // of the board's tags seen
 constexpr double kOutlierFactor = 3.0;     // a view's error above this times the median...
 constexpr double kOutlierFloorPx = 1.0;    // ...and above this is rejected
-constexpr double kViewStep_s = 0.1;        // simulated time between views (the hand moves the board)
+constexpr double kViewStep_s = 0.1;  // simulated time between views (the hand moves the board)
 
 struct View {
   std::string image;  // relative to the output folder
@@ -45,12 +45,15 @@ struct View {
 /// hold well separated tilts: Zhang's method needs non-parallel boards), a
 /// roll of +-30 deg, the centre anywhere in the image (corners near the image
 /// edges constrain the principal point and the distortion).
-std::vector<Eigen::Isometry3d> PlanBoardViews(const CameraIntrinsics& K, const TagBoardConfig& board, int count,
+std::vector<Eigen::Isometry3d> PlanBoardViews(const CameraIntrinsics& K,
+                                              const TagBoardConfig& board, int count,
                                               std::uint64_t seed) {
   FastRandom rng(seed);
   const Eigen::Vector2d half = 0.5 * board.Size();
-  const Eigen::Vector3d outline_t[4] = {{-half.x(), -half.y(), 0}, {half.x(), -half.y(), 0},
-                                        {half.x(), half.y(), 0}, {-half.x(), half.y(), 0}};
+  const Eigen::Vector3d outline_t[4] = {{-half.x(), -half.y(), 0},
+                                        {half.x(), -half.y(), 0},
+                                        {half.x(), half.y(), 0},
+                                        {-half.x(), half.y(), 0}};
   const double margin_px = 0.02 * K.width;
   const double golden_rad = M_PI * (3.0 - std::sqrt(5.0));
   std::vector<Eigen::Isometry3d> views;
@@ -63,7 +66,8 @@ std::vector<Eigen::Isometry3d> PlanBoardViews(const CameraIntrinsics& K, const T
       const double u = rng.Uniform(0.0, K.width), v = rng.Uniform(0.0, K.height);
       Eigen::Isometry3d cMt = Eigen::Isometry3d::Identity();
       // z_t along +z_c tilted: the printed face (looking along -z_t) faces the camera.
-      cMt.linear() = (Eigen::AngleAxisd(tilt_rad, Eigen::Vector3d(std::cos(axis_rad), std::sin(axis_rad), 0.0)) *
+      cMt.linear() = (Eigen::AngleAxisd(
+                          tilt_rad, Eigen::Vector3d(std::cos(axis_rad), std::sin(axis_rad), 0.0)) *
                       Eigen::AngleAxisd(roll_rad, Eigen::Vector3d::UnitZ()))
                          .toRotationMatrix();
       cMt.translation() = K.Unproject(u, v, z_m);
@@ -86,12 +90,15 @@ std::vector<Eigen::Isometry3d> PlanBoardViews(const CameraIntrinsics& K, const T
 struct ViewsFile {
   TagBoardConfig board;
   CameraIntrinsics factory;  // the camera's own intrinsics; in simulation the truth
-  std::string camera_name{"Camera"};  // the platform's name for it in camera XML (platform.h: camera_name)
+  std::string camera_name{
+      "Camera"};  // the platform's name for it in camera XML (platform.h: camera_name)
   bool simulated = false;
   std::vector<View> views;
 };
 
-std::string ViewsPath(const std::string& folder) { return (fs::path(folder) / "views.yaml").string(); }
+std::string ViewsPath(const std::string& folder) {
+  return (fs::path(folder) / "views.yaml").string();
+}
 
 void WriteViewsYaml(const std::string& folder, const ViewsFile& file) {
   YAML::Emitter y;
@@ -102,9 +109,10 @@ void WriteViewsYaml(const std::string& folder, const ViewsFile& file) {
   y << YAML::Key << "camera_name" << YAML::Value << file.camera_name;
   y << YAML::Key << "factory" << YAML::Value << YAML::Flow << YAML::BeginMap;
   const CameraIntrinsics& K = file.factory;
-  y << YAML::Key << "width" << YAML::Value << K.width << YAML::Key << "height" << YAML::Value << K.height
-    << YAML::Key << "fx_px" << YAML::Value << K.fx << YAML::Key << "fy_px" << YAML::Value << K.fy << YAML::Key
-    << "cx_px" << YAML::Value << K.cx << YAML::Key << "cy_px" << YAML::Value << K.cy << YAML::EndMap;
+  y << YAML::Key << "width" << YAML::Value << K.width << YAML::Key << "height" << YAML::Value
+    << K.height << YAML::Key << "fx_px" << YAML::Value << K.fx << YAML::Key << "fy_px"
+    << YAML::Value << K.fy << YAML::Key << "cx_px" << YAML::Value << K.cx << YAML::Key << "cy_px"
+    << YAML::Value << K.cy << YAML::EndMap;
   y << YAML::Key << "board" << YAML::Value;
   EmitTagBoard(file.board, &y);
   y << YAML::Key << "views" << YAML::Value << YAML::BeginSeq;
@@ -121,7 +129,8 @@ void WriteViewsYaml(const std::string& folder, const ViewsFile& file) {
   y << YAML::EndSeq << YAML::EndMap;
   const std::string path = ViewsPath(folder);
   std::ofstream out(path);
-  out << "# aerograsp intrinsics views: re-solve with `aerograsp calibrate --resolve DIR`.\n" << y.c_str() << "\n";
+  out << "# aerograsp intrinsics views: re-solve with `aerograsp calibrate --resolve DIR`.\n"
+      << y.c_str() << "\n";
   if (!out) throw std::runtime_error(path + ": cannot be written");
 }
 
@@ -185,36 +194,46 @@ IntrinsicsResult Solve(ViewsFile* file, std::vector<std::size_t>* used) {
   for (std::size_t k = 0; k < used->size(); ++k) {
     if (result.per_view_rms_px[k] > limit_px) outliers.push_back(k);
   }
-  if (outliers.empty() || static_cast<int>(used->size() - outliers.size()) < kMinViews) return result;
+  if (outliers.empty() || static_cast<int>(used->size() - outliers.size()) < kMinViews)
+    return result;
   for (std::size_t k : outliers) {
     View& v = file->views[(*used)[k]];
     v.accepted = false;
-    v.reject_reason = fmt::format("reprojection error {:.2f} px in the first solve (limit {:.2f} px)",
-                                  result.per_view_rms_px[k], limit_px);
+    v.reject_reason =
+        fmt::format("reprojection error {:.2f} px in the first solve (limit {:.2f} px)",
+                    result.per_view_rms_px[k], limit_px);
   }
   return CalibrateIntrinsics(accepted(), width, height, kMinViews);
 }
 
-void WriteIntrinsicsYaml(const std::string& path, const IntrinsicsResult& r, const CameraIntrinsics& factory,
-                         int views_used) {
+void WriteIntrinsicsYaml(const std::string& path, const IntrinsicsResult& r,
+                         const CameraIntrinsics& factory, int views_used) {
   YAML::Emitter y;
   y.SetDoublePrecision(10);
   y << YAML::BeginMap;
-  y << YAML::Key << "width" << YAML::Value << r.K.width << YAML::Key << "height" << YAML::Value << r.K.height;
-  y << YAML::Key << "fx_px" << YAML::Value << r.K.fx << YAML::Key << "fy_px" << YAML::Value << r.K.fy;
-  y << YAML::Key << "cx_px" << YAML::Value << r.K.cx << YAML::Key << "cy_px" << YAML::Value << r.K.cy;
+  y << YAML::Key << "width" << YAML::Value << r.K.width << YAML::Key << "height" << YAML::Value
+    << r.K.height;
+  y << YAML::Key << "fx_px" << YAML::Value << r.K.fx << YAML::Key << "fy_px" << YAML::Value
+    << r.K.fy;
+  y << YAML::Key << "cx_px" << YAML::Value << r.K.cx << YAML::Key << "cy_px" << YAML::Value
+    << r.K.cy;
   y << YAML::Key << "distortion" << YAML::Value << YAML::Flow
     << std::vector<double>(r.distortion.begin(), r.distortion.end());
-  y << YAML::Key << "rms_px" << YAML::Value << r.rms_px << YAML::Key << "views_used" << YAML::Value << views_used;
-  y << YAML::Key << "factory" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "fx_px" << YAML::Value
-    << factory.fx << YAML::Key << "fy_px" << YAML::Value << factory.fy << YAML::Key << "cx_px" << YAML::Value
-    << factory.cx << YAML::Key << "cy_px" << YAML::Value << factory.cy << YAML::EndMap;
+  y << YAML::Key << "rms_px" << YAML::Value << r.rms_px << YAML::Key << "views_used" << YAML::Value
+    << views_used;
+  y << YAML::Key << "factory" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "fx_px"
+    << YAML::Value << factory.fx << YAML::Key << "fy_px" << YAML::Value << factory.fy << YAML::Key
+    << "cx_px" << YAML::Value << factory.cx << YAML::Key << "cy_px" << YAML::Value << factory.cy
+    << YAML::EndMap;
   y << YAML::Key << "camera_xml" << YAML::Value << "camera.xml";
   y << YAML::EndMap;
   std::ofstream out(path);
-  out << "# Camera intrinsics from `aerograsp calibrate --intrinsics` (pixels, OpenCV's pixel-centre convention).\n"
-         "# distortion: OpenCV's k1, k2, p1, p2, k3 (k3 held at 0). camera.xml beside this file holds fx, fy, cx,\n"
-         "# cy as ViSP's camera XML without distortion, the model the platform loads (camera.xml in its YAML).\n"
+  out << "# Camera intrinsics from `aerograsp calibrate --intrinsics` (pixels, OpenCV's "
+         "pixel-centre convention).\n"
+         "# distortion: OpenCV's k1, k2, p1, p2, k3 (k3 held at 0). camera.xml beside this file "
+         "holds fx, fy, cx,\n"
+         "# cy as ViSP's camera XML without distortion, the model the platform loads (camera.xml "
+         "in its YAML).\n"
       << y.c_str() << "\n";
   if (!out) throw std::runtime_error(path + ": cannot be written");
 }
@@ -225,35 +244,42 @@ void SolveAndReport(const std::string& folder, ViewsFile* file, std::ostream& ou
   const int usable = static_cast<int>(file->views.size()) - not_usable;
   if (usable < kMinViews) {
     WriteViewsYaml(folder, *file);
-    throw std::runtime_error(fmt::format(
-        "{}: only {} usable views of the board (at least {} needed; {} rejected: not seen or partly seen); the "
-        "views are kept in {}",
-        folder, usable, kMinViews, not_usable, ViewsPath(folder)));
+    throw std::runtime_error(
+        fmt::format("{}: only {} usable views of the board (at least {} needed; {} rejected: not "
+                    "seen or partly seen); the "
+                    "views are kept in {}",
+                    folder, usable, kMinViews, not_usable, ViewsPath(folder)));
   }
   std::vector<std::size_t> used;
   const IntrinsicsResult r = Solve(file, &used);
   WriteViewsYaml(folder, *file);  // with the outliers' reasons
   if (!r.ok) throw std::runtime_error(folder + ": the intrinsics solve failed: " + r.message);
   const int rejected = static_cast<int>(file->views.size() - used.size());
-  out << fmt::format("views: {} used, {} rejected (kept in {})\n", used.size(), rejected, ViewsPath(folder));
+  out << fmt::format("views: {} used, {} rejected (kept in {})\n", used.size(), rejected,
+                     ViewsPath(folder));
   for (std::size_t i = 0; i < file->views.size(); ++i) {
-    if (!file->views[i].accepted) out << fmt::format("  view {:3d} rejected: {}\n", i, file->views[i].reject_reason);
+    if (!file->views[i].accepted)
+      out << fmt::format("  view {:3d} rejected: {}\n", i, file->views[i].reject_reason);
   }
   out << fmt::format("{:>6} {:>6} {:>8}\n", "view", "tags", "rms px");
   for (std::size_t k = 0; k < used.size(); ++k) {
-    out << fmt::format("{:>6} {:>6} {:>8.3f}\n", used[k], file->views[used[k]].tags_used, r.per_view_rms_px[k]);
+    out << fmt::format("{:>6} {:>6} {:>8.3f}\n", used[k], file->views[used[k]].tags_used,
+                       r.per_view_rms_px[k]);
   }
   const CameraIntrinsics& F = file->factory;
   const std::string factory_name = file->simulated ? "factory (truth)" : "factory";
   out << fmt::format("{:<10} {:>12} {:>16} {:>12}\n", "", "recovered", factory_name, "difference");
-  const std::pair<const char*, std::pair<double, double>> rows[] = {
-      {"fx (px)", {r.K.fx, F.fx}}, {"fy (px)", {r.K.fy, F.fy}}, {"cx (px)", {r.K.cx, F.cx}}, {"cy (px)", {r.K.cy, F.cy}}};
+  const std::pair<const char*, std::pair<double, double>> rows[] = {{"fx (px)", {r.K.fx, F.fx}},
+                                                                    {"fy (px)", {r.K.fy, F.fy}},
+                                                                    {"cx (px)", {r.K.cx, F.cx}},
+                                                                    {"cy (px)", {r.K.cy, F.cy}}};
   for (const auto& [name, values] : rows) {
     out << fmt::format("{:<10} {:>12.3f} {:>16.3f} {:>+12.3f}\n", name, values.first, values.second,
                        values.first - values.second);
   }
-  out << fmt::format("distortion k1 k2 p1 p2 k3: {:.5f} {:.5f} {:.5f} {:.5f} {:.5f}\n", r.distortion[0],
-                     r.distortion[1], r.distortion[2], r.distortion[3], r.distortion[4]);
+  out << fmt::format("distortion k1 k2 p1 p2 k3: {:.5f} {:.5f} {:.5f} {:.5f} {:.5f}\n",
+                     r.distortion[0], r.distortion[1], r.distortion[2], r.distortion[3],
+                     r.distortion[4]);
   out << fmt::format("reprojection error: {:.3f} px rms over {} views\n", r.rms_px, used.size());
 
   const std::string yaml_path = (fs::path(folder) / "intrinsics.yaml").string();
@@ -261,29 +287,33 @@ void SolveAndReport(const std::string& folder, ViewsFile* file, std::ostream& ou
   SaveCameraXml(r.K, file->camera_name, (fs::path(folder) / "camera.xml").string());
   nlohmann::json rejected_views = nlohmann::json::array();
   for (std::size_t i = 0; i < file->views.size(); ++i) {
-    if (!file->views[i].accepted) rejected_views.push_back({{"view", i}, {"reason", file->views[i].reject_reason}});
+    if (!file->views[i].accepted)
+      rejected_views.push_back({{"view", i}, {"reason", file->views[i].reject_reason}});
   }
-  nlohmann::json summary = {
-      {"views_used", used.size()},
-      {"views_rejected", rejected},
-      {"rms_px", r.rms_px},
-      {"per_view_rms_px", r.per_view_rms_px},
-      {"views_used_index", used},
-      {"rejected", rejected_views},
-      {"width", r.K.width},
-      {"height", r.K.height},
-      {"fx", r.K.fx},
-      {"fy", r.K.fy},
-      {"cx", r.K.cx},
-      {"cy", r.K.cy},
-      {"dist", r.distortion},
-      {"factory",
-       {{"is_truth", file->simulated},
-        {"fx", F.fx},
-        {"fy", F.fy},
-        {"cx", F.cx},
-        {"cy", F.cy},
-        {"difference_px", {{"fx", r.K.fx - F.fx}, {"fy", r.K.fy - F.fy}, {"cx", r.K.cx - F.cx}, {"cy", r.K.cy - F.cy}}}}}};
+  nlohmann::json summary = {{"views_used", used.size()},
+                            {"views_rejected", rejected},
+                            {"rms_px", r.rms_px},
+                            {"per_view_rms_px", r.per_view_rms_px},
+                            {"views_used_index", used},
+                            {"rejected", rejected_views},
+                            {"width", r.K.width},
+                            {"height", r.K.height},
+                            {"fx", r.K.fx},
+                            {"fy", r.K.fy},
+                            {"cx", r.K.cx},
+                            {"cy", r.K.cy},
+                            {"dist", r.distortion},
+                            {"factory",
+                             {{"is_truth", file->simulated},
+                              {"fx", F.fx},
+                              {"fy", F.fy},
+                              {"cx", F.cx},
+                              {"cy", F.cy},
+                              {"difference_px",
+                               {{"fx", r.K.fx - F.fx},
+                                {"fy", r.K.fy - F.fy},
+                                {"cx", r.K.cx - F.cx},
+                                {"cy", r.K.cy - F.cy}}}}}};
   WriteSummaryFile(folder, summary.dump(2));
   out << fmt::format("wrote {}, {}/camera.xml, {}/summary.json\n", yaml_path, folder, folder);
 }
@@ -314,10 +344,12 @@ void ResolveIntrinsics(const std::string& folder, std::ostream& out) {
   SolveAndReport(folder, &file, out);
 }
 
-void RunCalibrateIntrinsics(const CalibrateCommandOptions& options, std::ostream& out, std::ostream& progress) {
+void RunCalibrateIntrinsics(const CalibrateCommandOptions& options, std::ostream& out,
+                            std::ostream& progress) {
   if (options.out_dir.empty()) throw ConfigError("--out: an output folder is required");
   CheckRange("command line", "--poses", options.poses, kMinViews, 100, "");
-  const CalibrationHardware hw = OpenCalibrationHardware(options.hardware_path, options.world_config, options.seed);
+  const CalibrationHardware hw =
+      OpenCalibrationHardware(options.hardware_path, options.world_config, options.seed);
   World& world = *hw.devices->world();
   RgbdCamera& camera = hw.devices->camera();
   ViewsFile file;
@@ -325,12 +357,16 @@ void RunCalibrateIntrinsics(const CalibrateCommandOptions& options, std::ostream
   file.factory = camera.intrinsics();
   file.simulated = true;  // OpenCalibrationHardware opens the simulated camera only
   file.camera_name = hw.devices->platform().config().camera_name;
-  const std::vector<Eigen::Isometry3d> views = PlanBoardViews(file.factory, file.board, options.poses, options.seed);
-  if (views.empty()) throw std::runtime_error("no board pose in front of the camera keeps the whole board in view");
-  out << fmt::format("planned {} views of a {} x {} board of {:.0f} mm tags (of {} requested); devices: {}\n",
-                     views.size(), file.board.rows, file.board.cols, 1e3 * file.board.tag_size_m, options.poses,
-                     hw.config.source);
-  const std::size_t board_index = world.AttachToCamera(MakeBoardRenderMesh(file.board, 4000.0), views.front());
+  const std::vector<Eigen::Isometry3d> views =
+      PlanBoardViews(file.factory, file.board, options.poses, options.seed);
+  if (views.empty())
+    throw std::runtime_error("no board pose in front of the camera keeps the whole board in view");
+  out << fmt::format(
+      "planned {} views of a {} x {} board of {:.0f} mm tags (of {} requested); devices: {}\n",
+      views.size(), file.board.rows, file.board.cols, 1e3 * file.board.tag_size_m, options.poses,
+      hw.config.source);
+  const std::size_t board_index =
+      world.AttachToCamera(MakeBoardRenderMesh(file.board, 4000.0), views.front());
   fs::create_directories(fs::path(options.out_dir) / "views");
   TagDetector detector(file.board.family);
   const int board_tags = file.board.rows * file.board.cols;

@@ -26,7 +26,8 @@ TagBoardConfig IntrinsicsBoard();
 /// with the difference to the camera's own (factory) intrinsics.
 /// @throws ConfigError for bad options or hardware; std::runtime_error when
 /// fewer than 4 views are usable (the views stay on disk).
-void RunCalibrateIntrinsics(const CalibrateCommandOptions& options, std::ostream& out, std::ostream& progress);
+void RunCalibrateIntrinsics(const CalibrateCommandOptions& options, std::ostream& out,
+                            std::ostream& progress);
 
 /// Whether `folder` holds an intrinsics run's views (views.yaml).
 bool IsIntrinsicsFolder(const std::string& folder);

@@ -12,20 +12,26 @@
 namespace aerograsp {
 namespace {
 
-Eigen::Isometry3d ReadTransform(const ConfigNode& root, const std::string& path, const std::string& key) {
+Eigen::Isometry3d ReadTransform(const ConfigNode& root, const std::string& path,
+                                const std::string& key) {
   std::vector<double> m;
   try {
     m = YAML::LoadFile(path)[key].as<std::vector<double>>();
   } catch (const YAML::Exception&) {
     root.Fail(key, "expected a list of 16 numbers (a 4x4 matrix, row by row)");
   }
-  if (m.size() != 16) root.Fail(key, "expected 16 numbers (a 4x4 matrix, row by row), got " + std::to_string(m.size()));
+  if (m.size() != 16)
+    root.Fail(key,
+              "expected 16 numbers (a 4x4 matrix, row by row), got " + std::to_string(m.size()));
   Eigen::Isometry3d aMb;
   for (int r = 0; r < 4; ++r) {
     for (int c = 0; c < 4; ++c) aMb.matrix()(r, c) = m[4 * r + c];
   }
-  if (!IsValidTransform(aMb, 1e-5) || !aMb.matrix().row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1))) {
-    root.Fail(key, "not a rigid transform (the rotation must be orthonormal with determinant +1, the last row 0 0 0 1)");
+  if (!IsValidTransform(aMb, 1e-5) ||
+      !aMb.matrix().row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1))) {
+    root.Fail(key,
+              "not a rigid transform (the rotation must be orthonormal with determinant +1, the "
+              "last row 0 0 0 1)");
   }
   return aMb;
 }
@@ -42,7 +48,8 @@ std::vector<double> FlattenRowMajor(const Eigen::Isometry3d& aMb) {
 
 ArmCalibration ArmCalibration::Load(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);
-  root.RequireOnlyKeys({"arm", "method", "cMb", "dMb", "eMt", "residual_mm", "residual_deg", "samples"});
+  root.RequireOnlyKeys(
+      {"arm", "method", "cMb", "dMb", "eMt", "residual_mm", "residual_deg", "samples"});
   ArmCalibration c;
   c.source = path;
   const std::string arm = root.GetString("arm");
@@ -77,7 +84,8 @@ void ArmCalibration::Write(const std::string& path) const {
   y << YAML::Key << "samples" << YAML::Value << samples;
   y << YAML::EndMap;
   std::ofstream file(path);
-  file << "# aerograsp camera-to-arm calibration (cMb: arm base in the camera frame; dMb through the nominal "
+  file << "# aerograsp camera-to-arm calibration (cMb: arm base in the camera frame; dMb through "
+          "the nominal "
           "dMc).\n"
        << y.c_str() << "\n";
   if (!file) throw std::runtime_error(path + ": cannot be written");

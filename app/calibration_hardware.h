@@ -15,7 +15,7 @@
 namespace aerograsp {
 
 struct CalibrationHardware {
-  HardwareConfig config;             ///< what was opened (source: the file or "built-in simulation")
+  HardwareConfig config;  ///< what was opened (source: the file or "built-in simulation")
   std::unique_ptr<Hardware> devices;  ///< its world() is never null
 };
 
@@ -29,7 +29,7 @@ void CheckCalibrationHardware(const HardwareConfig& config);
 /// data/config/world_default.yaml when that is empty too; a `world_path` given
 /// with a hardware file replaces the file's world), checks it and opens it.
 /// @throws ConfigError / HardwareError naming the file, the key or the device.
-CalibrationHardware OpenCalibrationHardware(const std::string& hardware_path, const std::string& world_path,
-                                            std::uint64_t seed);
+CalibrationHardware OpenCalibrationHardware(const std::string& hardware_path,
+                                            const std::string& world_path, std::uint64_t seed);
 
 }  // namespace aerograsp

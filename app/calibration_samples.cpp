@@ -10,20 +10,23 @@ namespace aerograsp {
 
 void EmitTagBoard(const TagBoardConfig& board, YAML::Emitter* y) {
   *y << YAML::BeginMap;
-  *y << YAML::Key << "family" << YAML::Value << board.family << YAML::Key << "rows" << YAML::Value << board.rows
-     << YAML::Key << "cols" << YAML::Value << board.cols << YAML::Key << "tag_size_m" << YAML::Value
-     << board.tag_size_m << YAML::Key << "spacing_m" << YAML::Value << board.spacing_m << YAML::Key << "margin_m"
-     << YAML::Value << board.margin_m << YAML::Key << "first_id" << YAML::Value << board.first_id;
+  *y << YAML::Key << "family" << YAML::Value << board.family << YAML::Key << "rows" << YAML::Value
+     << board.rows << YAML::Key << "cols" << YAML::Value << board.cols << YAML::Key << "tag_size_m"
+     << YAML::Value << board.tag_size_m << YAML::Key << "spacing_m" << YAML::Value
+     << board.spacing_m << YAML::Key << "margin_m" << YAML::Value << board.margin_m << YAML::Key
+     << "first_id" << YAML::Value << board.first_id;
   *y << YAML::EndMap;
 }
 
 void EmitCorners(const std::vector<BoardCorner>& corners, YAML::Emitter* y) {
   *y << YAML::BeginSeq;
-  for (const auto& [p_t, px] : corners) *y << YAML::Flow << std::vector<double>{p_t.x(), p_t.y(), p_t.z(), px.x(), px.y()};
+  for (const auto& [p_t, px] : corners)
+    *y << YAML::Flow << std::vector<double>{p_t.x(), p_t.y(), p_t.z(), px.x(), px.y()};
   *y << YAML::EndSeq;
 }
 
-std::vector<BoardCorner> ReadCorners(const YAML::Node& list, const ConfigNode& file, const std::string& where) {
+std::vector<BoardCorner> ReadCorners(const YAML::Node& list, const ConfigNode& file,
+                                     const std::string& where) {
   std::vector<BoardCorner> corners;
   if (!list || !list.IsSequence()) file.Fail(where, "expected a list of corners [x, y, z, u, v]");
   for (const YAML::Node& row : list) {

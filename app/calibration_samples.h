@@ -23,7 +23,8 @@ void EmitTagBoard(const TagBoardConfig& board, YAML::Emitter* y);
 void EmitCorners(const std::vector<BoardCorner>& corners, YAML::Emitter* y);
 /// Reads EmitCorners' list. @throws ConfigError "<file>: <where>: ..." naming
 /// the entry that is not five numbers.
-std::vector<BoardCorner> ReadCorners(const YAML::Node& list, const ConfigNode& file, const std::string& where);
+std::vector<BoardCorner> ReadCorners(const YAML::Node& list, const ConfigNode& file,
+                                     const std::string& where);
 
 /// Writes an RGB image as a PNG. @throws std::runtime_error naming the file.
 void WriteColorPng(const ColorImage& rgb, const std::string& path);

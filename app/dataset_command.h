@@ -24,17 +24,18 @@
 namespace aerograsp {
 
 struct DatasetCommandOptions {
-  std::string object;        ///< shipped name or model path
+  std::string object;  ///< shipped name or model path
   std::string out_dir;
-  int count = 1000;          ///< images, [1, 1e6]
-  std::uint64_t seed = 1;    ///< the same seed gives the same images
-  bool overwrite = false;    ///< replace an existing dataset in out_dir
+  int count = 1000;            ///< images, [1, 1e6]
+  std::uint64_t seed = 1;      ///< the same seed gives the same images
+  bool overwrite = false;      ///< replace an existing dataset in out_dir
   int min_object_pixels = 60;  ///< fewer visible object pixels (640x480) count as "not visible"
-  double on_support = 0.0;   ///< fraction of images with the object on the support pipe, [0, 1]
+  double on_support = 0.0;     ///< fraction of images with the object on the support pipe, [0, 1]
 };
 
 /// @throws ConfigError / MeshError naming the object; std::runtime_error when
 /// DIR holds a dataset and overwrite is false, or cannot be written.
-void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out, std::ostream& progress);
+void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out,
+                       std::ostream& progress);
 
 }  // namespace aerograsp

@@ -1,11 +1,10 @@
 #include "app/grasp_plot.h"
 
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
 namespace aerograsp {
@@ -51,7 +50,8 @@ void DrawMesh(const TriangleMesh& mesh, const Eigen::Isometry3d& dMo, const View
   }
   std::vector<std::size_t> order(mesh.triangles.size());
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return depth[a] > depth[b]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return depth[a] > depth[b]; });
   for (std::size_t i : order) {
     const Eigen::Vector3d n_d = dMo.linear() * mesh.TriangleNormal(i);
     const double facing = -n_d.dot(view.into);

@@ -15,7 +15,7 @@ namespace aerograsp {
 /// above and to the side). Writes a PNG.
 /// @throws std::runtime_error naming the path when it cannot be written.
 void WriteGraspPlot(const GraspObject& object, const ContactSet& contacts,
-                    const std::vector<DualGrasp>& ranked, int count,
-                    const Eigen::Isometry3d& dMo, const std::string& png_path);
+                    const std::vector<DualGrasp>& ranked, int count, const Eigen::Isometry3d& dMo,
+                    const std::string& png_path);
 
 }  // namespace aerograsp

@@ -18,7 +18,8 @@ namespace aerograsp {
 namespace {
 
 std::string Where(const ArmsHardwareConfig& arms) {
-  if (arms.backend == "scs") return fmt::format("scs on {} at {} baud", arms.scs.port, arms.scs.baud);
+  if (arms.backend == "scs")
+    return fmt::format("scs on {} at {} baud", arms.scs.port, arms.scs.baud);
   if (arms.backend == "sim-bus") return "simulated SCS bus on a pty";
   return "in-process simulator";
 }
@@ -33,7 +34,8 @@ std::string Where(const AutopilotHardwareConfig& autopilot) {
 
 std::string Where(const CameraHardwareConfig& camera) {
   if (camera.backend == "replay") return "replay of " + camera.path;
-  if (camera.backend == "realsense") return "RealSense" + (camera.serial.empty() ? "" : " " + camera.serial);
+  if (camera.backend == "realsense")
+    return "RealSense" + (camera.serial.empty() ? "" : " " + camera.serial);
   return "simulated D435";
 }
 
@@ -61,8 +63,9 @@ int RunHardwareCheck(const HardwareCheckOptions& options, std::ostream& out) {
     RgbdFrame frame;
     const bool got = camera->Grab(&frame);
     const CameraIntrinsics& K = camera->intrinsics();
-    out << fmt::format("  {:<10} ok: {}: {}x{}, fx {:.1f} fy {:.1f}, depth scale {} m; {}\n", "camera",
-                       Where(config.camera), K.width, K.height, K.fx, K.fy, camera->depth_scale_m(),
+    out << fmt::format("  {:<10} ok: {}: {}x{}, fx {:.1f} fy {:.1f}, depth scale {} m; {}\n",
+                       "camera", Where(config.camera), K.width, K.height, K.fx, K.fy,
+                       camera->depth_scale_m(),
                        got ? fmt::format("frame {} grabbed ({}x{})", frame.index, frame.color.width,
                                          frame.color.height)
                            : std::string("the stream is empty"));
@@ -76,17 +79,19 @@ int RunHardwareCheck(const HardwareCheckOptions& options, std::ostream& out) {
     auto* px4 = dynamic_cast<Px4Autopilot*>(autopilot.get());
     if (px4) px4->Spin();
     const VehicleState state = autopilot->State();
-    out << fmt::format("  {:<10} ok: {}{}: {}, at ({:.2f}, {:.2f}, {:.2f}) m NED, link {}\n", "autopilot",
-                       Where(config.autopilot), px4 ? " (" + px4->Describe() + ")" : "", FlightModeName(state.mode),
-                       state.wMd.translation().x(), state.wMd.translation().y(), state.wMd.translation().z(),
-                       state.link_ok ? "ok" : "LOST");
+    out << fmt::format("  {:<10} ok: {}{}: {}, at ({:.2f}, {:.2f}, {:.2f}) m NED, link {}\n",
+                       "autopilot", Where(config.autopilot),
+                       px4 ? " (" + px4->Describe() + ")" : "", FlightModeName(state.mode),
+                       state.wMd.translation().x(), state.wMd.translation().y(),
+                       state.wMd.translation().z(), state.link_ok ? "ok" : "LOST");
   } catch (const std::exception& e) {
     report_failure("autopilot", e);
   }
 
   try {
     std::unique_ptr<SimServoBus> bus;
-    std::unique_ptr<ArmsDriver> arms = OpenArms(config.arms, platform, world.get(), &bus, /*torque_on=*/false);
+    std::unique_ptr<ArmsDriver> arms =
+        OpenArms(config.arms, platform, world.get(), &bus, /*torque_on=*/false);
     auto* scs = dynamic_cast<ScsArmsDriver*>(arms.get());
     if (!scs) {
       out << fmt::format("  {:<10} ok: {}\n", "arms", Where(config.arms));
@@ -94,11 +99,13 @@ int RunHardwareCheck(const HardwareCheckOptions& options, std::ostream& out) {
       // One cycle per servo, so each one's load, voltage and temperature are read once.
       const std::size_t servos = scs->servo_statuses().size();
       for (std::size_t i = 0; i < servos; ++i) scs->Cycle();
-      out << fmt::format("  {:<10} ok: {}: {} servos answer (torque left off)\n", "arms", Where(config.arms), servos);
+      out << fmt::format("  {:<10} ok: {}: {} servos answer (torque left off)\n", "arms",
+                         Where(config.arms), servos);
       for (const ScsServoStatus& s : scs->servo_statuses()) {
-        out << fmt::format("             {:<14} id {:>3}  raw {:>4}  load {:>5}  {:.1f} V  {} C{}\n", s.name, s.id,
-                           s.raw_position, s.load, s.voltage_v, s.temperature_c,
-                           s.error ? "  errors: " + scs::ErrorBitsText(s.error) : "");
+        out << fmt::format(
+            "             {:<14} id {:>3}  raw {:>4}  load {:>5}  {:.1f} V  {} C{}\n", s.name, s.id,
+            s.raw_position, s.load, s.voltage_v, s.temperature_c,
+            s.error ? "  errors: " + scs::ErrorBitsText(s.error) : "");
       }
     }
   } catch (const std::exception& e) {

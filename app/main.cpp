@@ -1,15 +1,14 @@
 // The aerograsp command line.
 #include <CLI/CLI.hpp>
-
 #include <exception>
 #include <iostream>
 #include <vector>
 
 #include "app/bench_command.h"
 #include "app/calibrate_command.h"
+#include "app/dataset_command.h"
 #include "app/hardware_check_command.h"
 #include "app/mission_command.h"
-#include "app/dataset_command.h"
 #include "app/plan_command.h"
 #include "app/record_command.h"
 #include "app/render_benchmark.h"
@@ -37,41 +36,51 @@ int main(int argc, char** argv) {
   robot_cmd->add_option("config", robot.config_path, "Platform YAML")
       ->capture_default_str()
       ->check(CLI::ExistingFile);
-  robot_cmd->add_option("--samples", robot.reach_samples,
-                        "Random configurations sampled for the workspace figures")
+  robot_cmd
+      ->add_option("--samples", robot.reach_samples,
+                   "Random configurations sampled for the workspace figures")
       ->capture_default_str()
       ->check(CLI::Range(1, 10000000));
-  robot_cmd->add_option("--seed", robot.seed, "Seed of the workspace samples")->capture_default_str();
+  robot_cmd->add_option("--seed", robot.seed, "Seed of the workspace samples")
+      ->capture_default_str();
   robot_cmd->add_option("--plot", robot.plot_path,
                         "Write a PNG of the platform (side and front views, arms at home)");
 
   aerograsp::RecordCommandOptions record;
   CLI::App* record_cmd = app.add_subcommand(
-      "record", "Simulate a hover in front of the object and write an RGB-D sequence with ground truth");
+      "record",
+      "Simulate a hover in front of the object and write an RGB-D sequence with ground truth");
   record_cmd->add_option("--out", record.out_dir, "Sequence folder to create")->required();
   record_cmd->add_option("--frames", record.frames, "Number of frames")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000000));
-  record_cmd->add_option("--seed", record.seed, "World seed (same seed, same sequence)")->capture_default_str();
-  record_cmd->add_option("--world", record.world_config, "World YAML (default: data/config/world_default.yaml)")
+  record_cmd->add_option("--seed", record.seed, "World seed (same seed, same sequence)")
+      ->capture_default_str();
+  record_cmd
+      ->add_option("--world", record.world_config,
+                   "World YAML (default: data/config/world_default.yaml)")
       ->check(CLI::ExistingFile);
-  record_cmd->add_option("--object", record.object, "Object: a shipped name (crawler, u_shape, pipe) or a model path");
+  record_cmd->add_option("--object", record.object,
+                         "Object: a shipped name (crawler, u_shape, pipe) or a model path");
   record_cmd->add_option("--motion", record.motion, "Object motion along the pipe")
       ->check(CLI::IsMember({"static", "crawl"}));
   record_cmd->add_flag("--overwrite", record.overwrite, "Replace a sequence already in --out");
-  record_cmd->add_option("--occlude-at", record.occlude_at_s,
-                         "A panel hides the object fully from this simulated time on, s (off by default)")
+  record_cmd
+      ->add_option("--occlude-at", record.occlude_at_s,
+                   "A panel hides the object fully from this simulated time on, s (off by default)")
       ->check(CLI::Range(0.0, 1e6));
-  record_cmd->add_option("--occlude-for", record.occlude_for_s, "How long the panel hides the object, s")
+  record_cmd
+      ->add_option("--occlude-for", record.occlude_for_s, "How long the panel hides the object, s")
       ->capture_default_str()
       ->check(CLI::Range(1e-3, 1e6));
-  record_cmd->add_option("--occlude-every", record.occlude_every_s,
-                         "The panel hides the object again every this many seconds (0: once)")
+  record_cmd
+      ->add_option("--occlude-every", record.occlude_every_s,
+                   "The panel hides the object again every this many seconds (0: once)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1e6));
 
-  CLI::App* benchmark_cmd =
-      app.add_subcommand("benchmark", "Speed and accuracy figures of one stage, printed and in DIR/summary.json");
+  CLI::App* benchmark_cmd = app.add_subcommand(
+      "benchmark", "Speed and accuracy figures of one stage, printed and in DIR/summary.json");
   benchmark_cmd->require_subcommand(1);
   aerograsp::RenderBenchmarkOptions render_bench;
   CLI::App* render_bench_cmd =
@@ -81,119 +90,173 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));
   render_bench_cmd->add_option("--seed", render_bench.seed, "World seed")->capture_default_str();
-  render_bench_cmd->add_option("--world", render_bench.world_config, "World YAML")->check(CLI::ExistingFile);
+  render_bench_cmd->add_option("--world", render_bench.world_config, "World YAML")
+      ->check(CLI::ExistingFile);
   aerograsp::ServoBenchmarkOptions servo_benchmark;
-  CLI::App* servo_benchmark_cmd = benchmark_cmd->add_subcommand(
-      "servo", "Dual-arm servo: convergence, iterations, step time, safe-volume entries; KDL IK on the same targets");
+  CLI::App* servo_benchmark_cmd =
+      benchmark_cmd->add_subcommand("servo",
+                                    "Dual-arm servo: convergence, iterations, step time, "
+                                    "safe-volume entries; KDL IK on the same targets");
   aerograsp::AddServoBenchmarkOptions(servo_benchmark_cmd, &servo_benchmark);
   // ---- benchmark servo-bus: closed-loop cycle on the simulated SCS bus (issue 8) ----
   aerograsp::ServoBusBenchmarkOptions servo_bus_bench;
-  CLI::App* servo_bus_bench_cmd = benchmark_cmd->add_subcommand(
-      "servo-bus", "Arm driver cycle (sync write to all servos, read every position) on the simulated bus (pty)");
+  CLI::App* servo_bus_bench_cmd =
+      benchmark_cmd->add_subcommand("servo-bus",
+                                    "Arm driver cycle (sync write to all servos, read every "
+                                    "position) on the simulated bus (pty)");
   servo_bus_bench_cmd->add_option("--out", servo_bus_bench.out_dir, "Folder for summary.json");
   servo_bus_bench_cmd->add_option("--cycles", servo_bus_bench.cycles, "Bus cycles to time")
       ->capture_default_str()
       ->check(CLI::Range(10, 1000000));
-  servo_bus_bench_cmd->add_option("--world", servo_bus_bench.world_config, "World YAML")->check(CLI::ExistingFile);
+  servo_bus_bench_cmd->add_option("--world", servo_bus_bench.world_config, "World YAML")
+      ->check(CLI::ExistingFile);
   // ---- end benchmark servo-bus ----
   // ---- hardware-check: open each device of a hardware config (issue 8) ----
   aerograsp::HardwareCheckOptions hardware_check;
   CLI::App* hardware_check_cmd = app.add_subcommand(
-      "hardware-check", "Open each device of a hardware configuration and report it (nothing moves)");
-  hardware_check_cmd->add_option("--hardware", hardware_check.config_path, "Hardware YAML (e.g. data/config/hardware_sim.yaml)")
+      "hardware-check",
+      "Open each device of a hardware configuration and report it (nothing moves)");
+  hardware_check_cmd
+      ->add_option("--hardware", hardware_check.config_path,
+                   "Hardware YAML (e.g. data/config/hardware_sim.yaml)")
       ->required()
       ->check(CLI::ExistingFile);
-  hardware_check_cmd->add_option("--seed", hardware_check.seed, "World seed of simulated devices")->capture_default_str();
+  hardware_check_cmd->add_option("--seed", hardware_check.seed, "World seed of simulated devices")
+      ->capture_default_str();
   // ---- end hardware-check ----
   // ---- plan: dual grasps of an object (issue 5) ----
   aerograsp::PlanCommandOptions plan;
   plan.config_path = aerograsp::DataPath("config/platform_4dof.yaml");
   std::vector<double> plan_xyz, plan_rpy;
   CLI::App* plan_cmd = app.add_subcommand(
-      "plan", "Rank the dual grasps of an object (shipped name or mesh path); table, PNG, summary.json");
-  plan_cmd->add_option("object", plan.object, "Shipped object (crawler, pipe, u_shape) or a mesh file")
+      "plan",
+      "Rank the dual grasps of an object (shipped name or mesh path); table, PNG, summary.json");
+  plan_cmd
+      ->add_option("object", plan.object, "Shipped object (crawler, pipe, u_shape) or a mesh file")
       ->required();
-  plan_cmd->add_option("--out", plan.out_dir, "Output folder (summary.json, grasps.png)")->required();
+  plan_cmd->add_option("--out", plan.out_dir, "Output folder (summary.json, grasps.png)")
+      ->required();
   plan_cmd->add_option("--config", plan.config_path, "Platform YAML")
       ->capture_default_str()
       ->check(CLI::ExistingFile);
-  plan_cmd->add_option("--object-xyz", plan_xyz,
-                       "Object position in the body frame d (FRD), m [default 0.10 0 0.46]")
+  plan_cmd
+      ->add_option("--object-xyz", plan_xyz,
+                   "Object position in the body frame d (FRD), m [default 0.10 0 0.46]")
       ->expected(3);
-  plan_cmd->add_option("--object-rpy", plan_rpy, "Object roll pitch yaw in d, deg [default 180 0 90]")
+  plan_cmd
+      ->add_option("--object-rpy", plan_rpy, "Object roll pitch yaw in d, deg [default 180 0 90]")
       ->expected(3);
-  plan_cmd->add_option("--resolution", plan.resolution_m, "Contact ray grid, m")->capture_default_str();
-  plan_cmd->add_option("--depth-min", plan.depth_min_m, "Contacts at least this far behind the tool point, m")
+  plan_cmd->add_option("--resolution", plan.resolution_m, "Contact ray grid, m")
       ->capture_default_str();
-  plan_cmd->add_option("--reach-margin", plan.reach_margin_m,
-                       "A grasp is robust when it stays feasible with the object moved this far along each axis, m")
+  plan_cmd
+      ->add_option("--depth-min", plan.depth_min_m,
+                   "Contacts at least this far behind the tool point, m")
       ->capture_default_str();
-  plan_cmd->add_option("--edge-margin", plan.edge_margin_m,
-                       "Grasps whose contacts stay on their faces with the object shifted this far along them rank first, m")
+  plan_cmd
+      ->add_option("--reach-margin", plan.reach_margin_m,
+                   "A grasp is robust when it stays feasible with the object moved this far along "
+                   "each axis, m")
+      ->capture_default_str();
+  plan_cmd
+      ->add_option("--edge-margin", plan.edge_margin_m,
+                   "Grasps whose contacts stay on their faces with the object shifted this far "
+                   "along them rank first, m")
       ->capture_default_str();
   plan_cmd->add_option("--mass", plan.mass_kg, "Mass of a bare mesh, kg")->capture_default_str();
   plan_cmd->add_option("--cache-dir", plan.cache_dir, "Contact cache folder [~/.cache/aerograsp]");
   plan_cmd->add_flag("!--no-cache", plan.use_cache, "Neither read nor write the contact cache");
-  plan_cmd->add_option("--top", plan.top, "Rows of the table")->capture_default_str()->check(CLI::Range(1, 1000));
+  plan_cmd->add_option("--top", plan.top, "Rows of the table")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
   plan_cmd->add_option("--repeats", plan.repeats, "Timing repetitions (median)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
   // ---- end plan ----
 
   aerograsp::CalibrateCommandOptions calibrate;
-  CLI::App* calibrate_cmd = app.add_subcommand(
-      "calibrate", "Camera-to-arm calibration from an AprilTag board on the gripper, or the camera's intrinsics");
+  CLI::App* calibrate_cmd = app.add_subcommand("calibrate",
+                                               "Camera-to-arm calibration from an AprilTag board "
+                                               "on the gripper, or the camera's intrinsics");
   calibrate_cmd->add_option("--arm", calibrate.arm, "Arm to calibrate")
       ->capture_default_str()
       ->check(CLI::IsMember({"left", "right"}));
-  calibrate_cmd->add_flag("--intrinsics", calibrate.intrinsics,
-                          "Calibrate the camera's intrinsics from a board shown in varied poses (not an arm)");
-  calibrate_cmd->add_option("--out", calibrate.out_dir, "Folder for the samples, the calibration and the report");
-  calibrate_cmd->add_option("--resolve", calibrate.resolve_dir, "Solve again from the samples saved in this folder")
+  calibrate_cmd->add_flag(
+      "--intrinsics", calibrate.intrinsics,
+      "Calibrate the camera's intrinsics from a board shown in varied poses (not an arm)");
+  calibrate_cmd->add_option("--out", calibrate.out_dir,
+                            "Folder for the samples, the calibration and the report");
+  calibrate_cmd
+      ->add_option("--resolve", calibrate.resolve_dir,
+                   "Solve again from the samples saved in this folder")
       ->check(CLI::ExistingDirectory);
-  calibrate_cmd->add_option("--poses", calibrate.poses, "Arm poses (or board views, with --intrinsics) to visit")
+  calibrate_cmd
+      ->add_option("--poses", calibrate.poses,
+                   "Arm poses (or board views, with --intrinsics) to visit")
       ->capture_default_str()
       ->check(CLI::Range(4, 100));
-  calibrate_cmd->add_option("--seed", calibrate.seed, "World and pose-planning seed")->capture_default_str();
-  calibrate_cmd->add_option("--world", calibrate.world_config, "World YAML")->check(CLI::ExistingFile);
-  calibrate_cmd->add_option("--hardware", calibrate.hardware_path,
-                            "Hardware YAML (the built-in simulation when absent); simulated devices only")
+  calibrate_cmd->add_option("--seed", calibrate.seed, "World and pose-planning seed")
+      ->capture_default_str();
+  calibrate_cmd->add_option("--world", calibrate.world_config, "World YAML")
+      ->check(CLI::ExistingFile);
+  calibrate_cmd
+      ->add_option("--hardware", calibrate.hardware_path,
+                   "Hardware YAML (the built-in simulation when absent); simulated devices only")
       ->check(CLI::ExistingFile);
   // ---- replay and dataset: perception (issue 4) ----
   aerograsp::ReplayCommandOptions replay;
   std::vector<double> replay_init;
-  CLI::App* replay_cmd = app.add_subcommand(
-      "replay", "Run perception on a recorded sequence: poses.csv, summary.json, plots; ViSP's tracker beside it");
-  replay_cmd->add_option("sequence", replay.sequence, "Sequence folder")->required()->check(CLI::ExistingDirectory);
+  CLI::App* replay_cmd = app.add_subcommand("replay",
+                                            "Run perception on a recorded sequence: poses.csv, "
+                                            "summary.json, plots; ViSP's tracker beside it");
+  replay_cmd->add_option("sequence", replay.sequence, "Sequence folder")
+      ->required()
+      ->check(CLI::ExistingDirectory);
   replay_cmd->add_option("--out", replay.out_dir, "Output folder")->required();
-  replay_cmd->add_option("--object", replay.object, "Object (shipped name or model path) [from sequence.yaml]");
-  replay_cmd->add_option("--detector", replay.detector, "Detector ONNX [data/objects/NAME/detector.onnx]");
-  replay_cmd->add_flag("!--no-detector", replay.use_detector, "No CNN: global registration on the whole frame");
-  replay_cmd->add_option("--init-pose", replay_init, "Known first cMo: x y z (m) qw qx qy qz")->expected(7);
-  replay_cmd->add_flag("--init-from-truth", replay.init_from_truth, "Known first cMo from groundtruth.csv");
-  replay_cmd->add_flag("!--no-peer", replay.run_peer, "Do not run ViSP's vpMbGenericTracker beside ours");
-  replay_cmd->add_option("--filter-frame", replay.filter_frame,
-                         "Pose filter frame: camera, or world (camera poses from the recorded vehicle states)")
+  replay_cmd->add_option("--object", replay.object,
+                         "Object (shipped name or model path) [from sequence.yaml]");
+  replay_cmd->add_option("--detector", replay.detector,
+                         "Detector ONNX [data/objects/NAME/detector.onnx]");
+  replay_cmd->add_flag("!--no-detector", replay.use_detector,
+                       "No CNN: global registration on the whole frame");
+  replay_cmd->add_option("--init-pose", replay_init, "Known first cMo: x y z (m) qw qx qy qz")
+      ->expected(7);
+  replay_cmd->add_flag("--init-from-truth", replay.init_from_truth,
+                       "Known first cMo from groundtruth.csv");
+  replay_cmd->add_flag("!--no-peer", replay.run_peer,
+                       "Do not run ViSP's vpMbGenericTracker beside ours");
+  replay_cmd
+      ->add_option(
+          "--filter-frame", replay.filter_frame,
+          "Pose filter frame: camera, or world (camera poses from the recorded vehicle states)")
       ->capture_default_str();
-  replay_cmd->add_option("--platform", replay.platform, "Platform YAML for the camera mount [config/platform_4dof.yaml]");
+  replay_cmd->add_option("--platform", replay.platform,
+                         "Platform YAML for the camera mount [config/platform_4dof.yaml]");
   replay_cmd->add_option("--frames", replay.max_frames, "Process at most this many frames (0: all)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  replay_cmd->add_option("--perception", replay.perception_config,
-                         "Perception YAML (see data/config/perception_default.yaml) [the code's defaults]")
+  replay_cmd
+      ->add_option(
+          "--perception", replay.perception_config,
+          "Perception YAML (see data/config/perception_default.yaml) [the code's defaults]")
       ->check(CLI::ExistingFile);
 
   aerograsp::DatasetCommandOptions dataset;
   CLI::App* dataset_cmd = app.add_subcommand(
-      "dataset", "Render labelled detector training images of an object (160x120 PNG + labels.csv)");
-  dataset_cmd->add_option("--object", dataset.object, "Shipped object name or model path")->required();
+      "dataset",
+      "Render labelled detector training images of an object (160x120 PNG + labels.csv)");
+  dataset_cmd->add_option("--object", dataset.object, "Shipped object name or model path")
+      ->required();
   dataset_cmd->add_option("--out", dataset.out_dir, "Output folder")->required();
-  dataset_cmd->add_option("--count", dataset.count, "Images")->capture_default_str()->check(CLI::Range(1, 1000000));
-  dataset_cmd->add_option("--seed", dataset.seed, "Seed (same seed, same images)")->capture_default_str();
+  dataset_cmd->add_option("--count", dataset.count, "Images")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
+  dataset_cmd->add_option("--seed", dataset.seed, "Seed (same seed, same images)")
+      ->capture_default_str();
   dataset_cmd->add_flag("--overwrite", dataset.overwrite, "Replace a dataset already in --out");
   dataset_cmd
       ->add_option("--on-support", dataset.on_support,
-                   "Fraction of images with the object lying on the support pipe, seen from the vehicle's camera "
+                   "Fraction of images with the object lying on the support pipe, seen from the "
+                   "vehicle's camera "
                    "with its arms in view")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
@@ -201,39 +264,59 @@ int main(int argc, char** argv) {
 
   // ---- mission: the simulated mission end to end (issue 7) ----
   aerograsp::MissionCommandOptions mission;
-  CLI::App* mission_cmd = app.add_subcommand(
-      "mission", "Fly a full grasping mission in the simulator: take-off, approach, detect, grasp with both arms, "
-                 "lift, home, land; report in DIR");
+  CLI::App* mission_cmd = app.add_subcommand("mission",
+                                             "Fly a full grasping mission in the simulator: "
+                                             "take-off, approach, detect, grasp with both arms, "
+                                             "lift, home, land; report in DIR");
   aerograsp::AddMissionOptions(mission_cmd, &mission);
   // ---- end mission ----
   // ---- bench: perception and servo against tags on a test stand (issue 9) ----
   aerograsp::BenchCommandOptions bench;
   std::vector<double> bench_board_pose;
-  CLI::App* bench_cmd = app.add_subcommand(
-      "bench", "Vehicle on a test stand, the object with a tag board moved by script: perception against the tags, "
-               "servo error to the grasp or a hover point off it; report in DIR");
-  bench_cmd->add_option("--out", bench.out_dir, "Report folder (index.html, summary.json, frames.csv)")->required();
-  bench_cmd->add_option("--hardware", bench.hardware_path,
-                        "Hardware YAML (e.g. data/config/hardware_sim.yaml: the real drivers against simulated devices)")
+  CLI::App* bench_cmd =
+      app.add_subcommand("bench",
+                         "Vehicle on a test stand, the object with a tag board moved by script: "
+                         "perception against the tags, "
+                         "servo error to the grasp or a hover point off it; report in DIR");
+  bench_cmd
+      ->add_option("--out", bench.out_dir, "Report folder (index.html, summary.json, frames.csv)")
+      ->required();
+  bench_cmd
+      ->add_option("--hardware", bench.hardware_path,
+                   "Hardware YAML (e.g. data/config/hardware_sim.yaml: the real drivers against "
+                   "simulated devices)")
       ->check(CLI::ExistingFile);
-  bench_cmd->add_option("--world", bench.world_config, "World YAML [data/config/world_default.yaml]")
+  bench_cmd
+      ->add_option("--world", bench.world_config, "World YAML [data/config/world_default.yaml]")
       ->check(CLI::ExistingFile);
-  bench_cmd->add_option("--object", bench.object, "Object: a shipped name or a model path [the world's]");
-  bench_cmd->add_option("--frames", bench.frames, "Camera frames")->capture_default_str()->check(CLI::Range(1, 100000));
+  bench_cmd->add_option("--object", bench.object,
+                        "Object: a shipped name or a model path [the world's]");
+  bench_cmd->add_option("--frames", bench.frames, "Camera frames")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
   bench_cmd->add_option("--seed", bench.seed, "World seed")->capture_default_str();
-  bench_cmd->add_option("--hover-m", bench.hover_m,
-                        "Servo to the grasp moved back this far along its approach (0: the grasp itself), m")
+  bench_cmd
+      ->add_option(
+          "--hover-m", bench.hover_m,
+          "Servo to the grasp moved back this far along its approach (0: the grasp itself), m")
       ->capture_default_str();
-  bench_cmd->add_option("--path-period", bench.path_period_s, "Period of the object's scripted path, s")
+  bench_cmd
+      ->add_option("--path-period", bench.path_period_s, "Period of the object's scripted path, s")
       ->capture_default_str();
-  bench_cmd->add_option("--path-scale", bench.path_scale,
-                        "Scale of the scripted path (1: +-6 cm fore and aft; 0: the object held still at the grasp point)")
+  bench_cmd
+      ->add_option("--path-scale", bench.path_scale,
+                   "Scale of the scripted path (1: +-6 cm fore and aft; 0: the object held still "
+                   "at the grasp point)")
       ->capture_default_str();
-  bench_cmd->add_option("--board-pose", bench_board_pose,
-                        "The tag board on the object, oMt: x y z (m) qw qx qy qz [centred on its top, face up]")
+  bench_cmd
+      ->add_option(
+          "--board-pose", bench_board_pose,
+          "The tag board on the object, oMt: x y z (m) qw qx qy qz [centred on its top, face up]")
       ->expected(7);
-  bench_cmd->add_option("--perception", bench.perception_config,
-                        "Perception YAML (see data/config/perception_default.yaml) [the code's defaults]")
+  bench_cmd
+      ->add_option(
+          "--perception", bench.perception_config,
+          "Perception YAML (see data/config/perception_default.yaml) [the code's defaults]")
       ->check(CLI::ExistingFile);
   // ---- end bench ----
 
@@ -251,8 +334,10 @@ int main(int argc, char** argv) {
     if (*servo_bus_bench_cmd) aerograsp::RunServoBusBenchmark(servo_bus_bench, std::cout);
     if (*hardware_check_cmd && aerograsp::RunHardwareCheck(hardware_check, std::cout) > 0) return 1;
     if (*plan_cmd) {
-      if (!plan_xyz.empty()) plan.object_xyz_m = Eigen::Vector3d(plan_xyz[0], plan_xyz[1], plan_xyz[2]);
-      if (!plan_rpy.empty()) plan.object_rpy_deg = Eigen::Vector3d(plan_rpy[0], plan_rpy[1], plan_rpy[2]);
+      if (!plan_xyz.empty())
+        plan.object_xyz_m = Eigen::Vector3d(plan_xyz[0], plan_xyz[1], plan_xyz[2]);
+      if (!plan_rpy.empty())
+        plan.object_rpy_deg = Eigen::Vector3d(plan_rpy[0], plan_rpy[1], plan_rpy[2]);
       aerograsp::RunPlanCommand(plan, std::cout);
     }
     if (*servo_benchmark_cmd) aerograsp::RunServoBenchmark(servo_benchmark, std::cout);
@@ -263,7 +348,8 @@ int main(int argc, char** argv) {
     if (*dataset_cmd) aerograsp::RunDatasetCommand(dataset, std::cout, std::cerr);
     if (*mission_cmd) aerograsp::RunMissionCommand(mission, std::cout, std::cerr);
     if (*bench_cmd) {
-      if (!bench_board_pose.empty()) bench.oMt = aerograsp::PoseFromValues(bench_board_pose, "--board-pose");
+      if (!bench_board_pose.empty())
+        bench.oMt = aerograsp::PoseFromValues(bench_board_pose, "--board-pose");
       aerograsp::RunBenchCommand(bench, std::cout, std::cerr);
     }
   } catch (const std::exception& e) {

@@ -20,8 +20,8 @@ std::optional<Eigen::Isometry3d> LoadCalibration(const std::string& source, cons
     throw ConfigError(source + ": " + key + ": " + e.what());
   }
   if (calibration.side != side) {
-    throw ConfigError(source + ": " + key + ": " + path + ": arm: the file calibrates the " + SideName(calibration.side) +
-                      " arm, not the " + SideName(side) + " one");
+    throw ConfigError(source + ": " + key + ": " + path + ": arm: the file calibrates the " +
+                      SideName(calibration.side) + " arm, not the " + SideName(side) + " one");
   }
   return calibration.cMb;
 }
@@ -30,15 +30,35 @@ std::optional<Eigen::Isometry3d> LoadCalibration(const std::string& source, cons
 
 MissionConfig MissionConfig::Load(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);
-  root.RequireOnlyKeys({"world", "perception", "takeoff_altitude_m", "approach_w_m", "yaw_rad", "grasp_dto_m",
-                        "arrive_tolerance_m", "near_tolerance_m", "tracking_radius_m", "lift_m", "servo_rate_hz", "setpoint_rate_hz",
-                        "reevaluate_rate_hz", "object_filter_s", "settle_s", "max_attempts", "lost_timeout_s",
-                        "search_timeout_s", "planning_timeout_s", "timeout_s", "servo_margin_m",
-                        "grasp_edge_margin_m", "calibration_left", "calibration_right"});
+  root.RequireOnlyKeys({"world",
+                        "perception",
+                        "takeoff_altitude_m",
+                        "approach_w_m",
+                        "yaw_rad",
+                        "grasp_dto_m",
+                        "arrive_tolerance_m",
+                        "near_tolerance_m",
+                        "tracking_radius_m",
+                        "lift_m",
+                        "servo_rate_hz",
+                        "setpoint_rate_hz",
+                        "reevaluate_rate_hz",
+                        "object_filter_s",
+                        "settle_s",
+                        "max_attempts",
+                        "lost_timeout_s",
+                        "search_timeout_s",
+                        "planning_timeout_s",
+                        "timeout_s",
+                        "servo_margin_m",
+                        "grasp_edge_margin_m",
+                        "calibration_left",
+                        "calibration_right"});
   MissionConfig c;
   c.source = path;
   if (root.Has("world")) c.world = root.GetPath("world");
-  if (root.Has("perception") && !root.GetString("perception").empty()) c.perception = root.GetPath("perception");
+  if (root.Has("perception") && !root.GetString("perception").empty())
+    c.perception = root.GetPath("perception");
   c.takeoff_altitude_m = root.GetDouble("takeoff_altitude_m", c.takeoff_altitude_m);
   if (root.Has("approach_w_m")) c.approach_w_m = root.GetVector3("approach_w_m");
   c.yaw_rad = root.GetDouble("yaw_rad", c.yaw_rad);
@@ -61,12 +81,15 @@ MissionConfig MissionConfig::Load(const std::string& path) {
   c.grasp_edge_margin_m = root.GetDouble("grasp_edge_margin_m", c.grasp_edge_margin_m);
   for (const char* key : {"calibration_left", "calibration_right"}) {
     if (root.Has(key) && !root.GetString(key).empty()) {
-      (std::string(key) == "calibration_left" ? c.calibration_left : c.calibration_right) = root.GetPath(key);
+      (std::string(key) == "calibration_left" ? c.calibration_left : c.calibration_right) =
+          root.GetPath(key);
     }
   }
   c.Validate();
-  c.calibrated_cMb[0] = LoadCalibration(c.source, "calibration_left", c.calibration_left, Side::kLeft);
-  c.calibrated_cMb[1] = LoadCalibration(c.source, "calibration_right", c.calibration_right, Side::kRight);
+  c.calibrated_cMb[0] =
+      LoadCalibration(c.source, "calibration_left", c.calibration_left, Side::kLeft);
+  c.calibrated_cMb[1] =
+      LoadCalibration(c.source, "calibration_right", c.calibration_right, Side::kRight);
   return c;
 }
 

@@ -11,34 +11,39 @@
 namespace aerograsp {
 
 struct MissionConfig {
-  std::string source;                            ///< the file (for messages)
-  std::string world{"world_mission.yaml"};       ///< simulated world, resolved against the file's folder
+  std::string source;                       ///< the file (for messages)
+  std::string world{"world_mission.yaml"};  ///< simulated world, resolved against the file's folder
   /// Perception settings (detection/perception_config.h), resolved against the
   /// file's folder; empty: the code's defaults.
   std::string perception;
-  double takeoff_altitude_m{2.0};                ///< above the take-off point, [0.5, 20] m
-  Eigen::Vector3d approach_w_m{2.70, 0.0, -2.2}; ///< waypoint near the object (NED), each [-100, 100] m
-  double yaw_rad{0.0};                           ///< heading held through the mission, [-pi, pi] rad
+  double takeoff_altitude_m{2.0};  ///< above the take-off point, [0.5, 20] m
+  Eigen::Vector3d approach_w_m{2.70, 0.0,
+                               -2.2};  ///< waypoint near the object (NED), each [-100, 100] m
+  double yaw_rad{0.0};                 ///< heading held through the mission, [-pi, pi] rad
   /// Where the object should sit in the body frame while the arms grasp it
   /// (FRD: ahead, right, below), each [-1, 1] m.
   Eigen::Vector3d grasp_dto_m{0.075, 0.0, 0.47};
-  double arrive_tolerance_m{0.15};      ///< a waypoint counts as reached within this, (0, 5] m
-  double near_tolerance_m{0.03};        ///< the object is "near" within this of grasp_dto_m, (0, 1] m
+  double arrive_tolerance_m{0.15};  ///< a waypoint counts as reached within this, (0, 5] m
+  double near_tolerance_m{0.03};    ///< the object is "near" within this of grasp_dto_m, (0, 1] m
   /// Tracking never takes the vehicle farther than this from the approach
   /// waypoint, and an object seen farther than this from it is not followed, (0, 10] m.
   double tracking_radius_m{1.0};
-  double lift_m{0.5};                   ///< climb after the grasp, [0, 10] m
-  double servo_rate_hz{100.0};          ///< arm servo loop, [10, 1000] Hz
-  double setpoint_rate_hz{10.0};        ///< autopilot position setpoints, [2, 100] Hz
-  double reevaluate_rate_hz{5.0};       ///< background grasp re-evaluation, (0, 100] Hz
-  double object_filter_s{0.5};          ///< low-pass time constant of the tracked object position, (0, 10] s
-  double settle_s{0.2};                 ///< both arms at their pre-catch poses this long before moving in, [0, 5] s
-  int max_attempts{12};                 ///< grasp attempts (plans) before giving up, [1, 100]
-  double lost_timeout_s{2.0};           ///< object lost this long while grasping: plan again, (0, 60] s
-  double search_timeout_s{20.0};        ///< at the waypoint without finding the object: give up, (0, 600] s
-  double planning_timeout_s{10.0};      ///< near the object without a feasible grasp: give up, (0, 600] s
-  double timeout_s{180.0};              ///< the whole mission, (0, 3600] s
-  double servo_margin_m{0.005};         ///< arms' clearance to the safe volume and each other, [0, 0.05] m
+  double lift_m{0.5};              ///< climb after the grasp, [0, 10] m
+  double servo_rate_hz{100.0};     ///< arm servo loop, [10, 1000] Hz
+  double setpoint_rate_hz{10.0};   ///< autopilot position setpoints, [2, 100] Hz
+  double reevaluate_rate_hz{5.0};  ///< background grasp re-evaluation, (0, 100] Hz
+  double object_filter_s{
+      0.5};  ///< low-pass time constant of the tracked object position, (0, 10] s
+  double settle_s{
+      0.2};  ///< both arms at their pre-catch poses this long before moving in, [0, 5] s
+  int max_attempts{12};        ///< grasp attempts (plans) before giving up, [1, 100]
+  double lost_timeout_s{2.0};  ///< object lost this long while grasping: plan again, (0, 60] s
+  double search_timeout_s{
+      20.0};  ///< at the waypoint without finding the object: give up, (0, 600] s
+  double planning_timeout_s{
+      10.0};                     ///< near the object without a feasible grasp: give up, (0, 600] s
+  double timeout_s{180.0};       ///< the whole mission, (0, 3600] s
+  double servo_margin_m{0.005};  ///< arms' clearance to the safe volume and each other, [0, 0.05] m
   /// Grasps whose contacts stay on their faces with the object this much
   /// further along them rank first (GraspPlannerConfig::edge_margin_m): the
   /// estimate is worst along an extrusion, where only its ends fix it;

@@ -24,8 +24,9 @@ struct MissionSample {
   /// (NaN on hardware, where there is none).
   Eigen::Vector3d dto_estimate_m = Eigen::Vector3d::Constant(NAN);
   Eigen::Vector3d dto_truth_m = Eigen::Vector3d::Constant(NAN);
-  double rotation_error_deg = NAN;  ///< estimate vs truth (symmetry-aware), NaN when either is missing
-  bool found = false;               ///< vision state found
+  double rotation_error_deg =
+      NAN;             ///< estimate vs truth (symmetry-aware), NaN when either is missing
+  bool found = false;  ///< vision state found
   /// Per arm (0 left, 1 right): the joint targets sent and the joints measured, rad.
   Eigen::VectorXd q_target_rad[2];
   Eigen::VectorXd q_actual_rad[2];
@@ -37,7 +38,7 @@ struct MissionTransition {
   double t_s = 0.0;
   std::string machine;  ///< "global", "vehicle", "vision", "planner", "arms"
   std::string from, to;
-  std::string cause;    ///< the signal or condition, one line
+  std::string cause;  ///< the signal or condition, one line
 };
 
 /// The followed dual grasp changed (contact-pair indices per arm).

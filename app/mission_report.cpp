@@ -78,22 +78,24 @@ void WriteMissionReport(const MissionRecord& record, const TriangleMesh& object_
       "(deg, over the object's symmetries) and whether vision had the object.",
       "No samples were recorded.", html);
   html << "<h2>Joints</h2>\n";
-  WriteHtmlFigure(has_joints, "joints.png",
-              "Joint targets (thin) vs measured positions (thick) of each arm, deg; red lines mark "
-              "the grasp switches, numbered as in the table below.",
-              "No joint samples were recorded.", html);
+  WriteHtmlFigure(
+      has_joints, "joints.png",
+      "Joint targets (thin) vs measured positions (thick) of each arm, deg; red lines mark "
+      "the grasp switches, numbered as in the table below.",
+      "No joint samples were recorded.", html);
   html << "<h2>State machines</h2>\n";
   WriteHtmlFigure(has_timeline, "timeline.png",
-              "The state of each machine over time; red lines mark the grasp switches.",
-              "No state transitions were recorded.", html);
+                  "The state of each machine over time; red lines mark the grasp switches.",
+                  "No state transitions were recorded.", html);
   html << "<h2>Camera</h2>\n";
-  WriteHtmlFigure(record.snapshot.has_value(), "camera.png",
-              record.snapshot
-                  ? fmt::format("Camera frame at t = {:.2f} s: the detector box (green) and the "
-                                "object model at the estimated pose cMo (cyan).",
-                                record.snapshot->t_s)
-                  : std::string(),
-              "No camera snapshot was recorded.", html);
+  WriteHtmlFigure(
+      record.snapshot.has_value(), "camera.png",
+      record.snapshot
+          ? fmt::format("Camera frame at t = {:.2f} s: the detector box (green) and the "
+                        "object model at the estimated pose cMo (cyan).",
+                        record.snapshot->t_s)
+          : std::string(),
+      "No camera snapshot was recorded.", html);
   if (!runs.empty()) {
     html << "<h2>Runs</h2>\n";
     WriteRunsTable(runs, html);

@@ -32,8 +32,8 @@ namespace fs = std::filesystem;
 using WallClock = std::chrono::steady_clock;
 
 constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
-/// Consecutive re-evaluations (1 s at 5 Hz) that find the followed pair unreachable before it is left:
-/// meanwhile each servo cycle solves the pair again where the object is (Servo()).
+/// Consecutive re-evaluations (1 s at 5 Hz) that find the followed pair unreachable before it is
+/// left: meanwhile each servo cycle solves the pair again where the object is (Servo()).
 constexpr int kUnreachableToSwitch = 5;
 /// Joint change (rad) between servo cycles beyond which a re-solved grasp is another branch.
 constexpr double kBranchJumpRad = 0.15;
@@ -162,9 +162,9 @@ class Mission {
   Eigen::Isometry3d reevaluate_dMo_ = Eigen::Isometry3d::Identity();
   SwitchState choice_;
   int unreachable_in_a_row_ = 0;
-  int holding_arm_ = -1;  // while one gripper holds and the other re-aims: its index
+  int holding_arm_ = -1;          // while one gripper holds and the other re-aims: its index
   bool a_gripper_holds_ = false;  // either gripper, as last read (Planner)
-  int reaims_ = 0;        // re-aims of the free arm in this attempt
+  int reaims_ = 0;                // re-aims of the free arm in this attempt
   Eigen::Isometry3d eMo_held_ = Eigen::Isometry3d::Identity();  // the object in the holding gripper
   Eigen::Isometry3d oMg_[2];  // the tool at the grasp, in the object frame
   Eigen::Isometry3d oMp_[2];  // the tool at the pre-catch pose
@@ -198,7 +198,8 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
       options.config_path.empty() ? DataPath("config/mission_default.yaml") : options.config_path;
   config_ = MissionConfig::Load(config_path);
   if (options.timeout_s > 0) config_.timeout_s = options.timeout_s;
-  planner_sm_ = PlannerMachine(config_.max_attempts, [this](const StateTransition& t) { OnTransition(t); });
+  planner_sm_ =
+      PlannerMachine(config_.max_attempts, [this](const StateTransition& t) { OnTransition(t); });
   if (options.arm_type != "4dof" && options.arm_type != "6dof") {
     throw ConfigError("--arm: '" + options.arm_type + "' is not one of 4dof, 6dof");
   }
@@ -217,18 +218,21 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
     if (options.sway_amplitude_m >= 0) {
       w->vehicle.sway_amplitude_m = Eigen::Vector3d(1.0, 1.0, 2.0 / 3.0) * options.sway_amplitude_m;
     }
-    if (options.sway_frequency_hz >= 0) w->vehicle.sway_frequency_hz.setConstant(options.sway_frequency_hz);
+    if (options.sway_frequency_hz >= 0)
+      w->vehicle.sway_frequency_hz.setConstant(options.sway_frequency_hz);
   };
   hw_ = Hardware::Open(hw_config, options.seed, adjust);
-  for (int a = 0; a < 2; ++a) {  // camera-to-arm calibrations (calibration_left / _right): dMb = dMc * cMb
-    if (config_.calibrated_cMb[a]) hw_->SetArmBase(kSides[a], hw_->platform().dMc() * *config_.calibrated_cMb[a]);
+  for (int a = 0; a < 2;
+       ++a) {  // camera-to-arm calibrations (calibration_left / _right): dMb = dMc * cMb
+    if (config_.calibrated_cMb[a])
+      hw_->SetArmBase(kSides[a], hw_->platform().dMc() * *config_.calibrated_cMb[a]);
   }
   world_ = hw_->world();
   const Platform& platform = hw_->platform();
 
-  object_ = std::make_unique<ObjectModel>(world_ ? world_->object()
-                                                 : ObjectModel::Load(options.object.empty() ? "crawler"
-                                                                                            : options.object));
+  object_ = std::make_unique<ObjectModel>(
+      world_ ? world_->object()
+             : ObjectModel::Load(options.object.empty() ? "crawler" : options.object));
   std::unique_ptr<BoxDetector> detector;
   const fs::path onnx = fs::path(object_->source).parent_path() / "detector.onnx";
   if (fs::exists(onnx)) detector = std::make_unique<BoxDetector>(onnx.string());
@@ -249,9 +253,12 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
   planner_config.depth_max_m = 0.10;
   planner_config.edge_margin_m = config_.grasp_edge_margin_m;
   planner_config.Validate(config_.source, platform.config().gripper);
-  GraspObject grasp_object{object_->name, object_->mesh_o, object_->mass_kg, object_->center_of_mass_o};
-  ContactSet contacts = ComputeContactPairs(object_->mesh_o, platform.config().gripper, planner_config.contacts);
-  planner_ = std::make_unique<GraspPlanner>(platform, std::move(grasp_object), std::move(contacts), planner_config);
+  GraspObject grasp_object{object_->name, object_->mesh_o, object_->mass_kg,
+                           object_->center_of_mass_o};
+  ContactSet contacts =
+      ComputeContactPairs(object_->mesh_o, platform.config().gripper, planner_config.contacts);
+  planner_ = std::make_unique<GraspPlanner>(platform, std::move(grasp_object), std::move(contacts),
+                                            planner_config);
 
   collision_ = std::make_unique<PlatformCollision>(platform);
   for (int a = 0; a < 2; ++a) {
@@ -274,14 +281,15 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
     sequence_config.precatch_tolerance.position_m = 0.01;
     sequence_config.precatch_timeout_s = 10.0;  // 0.35 m from home while the target sways
     sequence_config.grasp_timeout_s = 5.0;
-    servo_config.unreachable_retry_s = 0.1;     // the sway brings a target back within a cycle or two
+    servo_config.unreachable_retry_s = 0.1;  // the sway brings a target back within a cycle or two
     // A first-order tracker of gain k follows a sway of w = 2 pi 0.5 Hz with an
     // error of about A w / sqrt(w^2 + k^2): 2.2 cm of a 3 cm sway at the
     // default k = 3/s, 0.6 cm at 15/s.
     servo_config.gain_per_s = 15.0;
     sequence_config.grasp_tolerance.position_m = 0.006;
     servo_[a] = std::make_unique<ArmServo>(
-        arm, servo_config, MakeCollisionPredicate(*collision_, kSides[a], config_.servo_margin_m, &q_[1 - a]));
+        arm, servo_config,
+        MakeCollisionPredicate(*collision_, kSides[a], config_.servo_margin_m, &q_[1 - a]));
     sequence_config.precatch_distance_m = planner_config.precatch_distance_m;
     sequence_config.close_time_s = platform.config().gripper.close_time_s;
     sequence_[a] = std::make_unique<GraspSequence>(servo_[a].get(), sequence_config);
@@ -384,8 +392,9 @@ void Mission::Perception() {
   // (the lift and the flight home, about 10 s of a 25 s mission).
   auto wanted = [this] {
     const VehicleMode mode = vehicle_.state();
-    return mode != VehicleMode::kIdle && mode != VehicleMode::kTakeOff && global_.state() != GlobalState::kDone &&
-           global_.state() != GlobalState::kAborted && !holding_;
+    return mode != VehicleMode::kIdle && mode != VehicleMode::kTakeOff &&
+           global_.state() != GlobalState::kDone && global_.state() != GlobalState::kAborted &&
+           !holding_;
   };
   // The frame is rendered while the tracker still works on the previous one
   // (the two take about as long); its result is handled at this frame's time
@@ -396,7 +405,8 @@ void Mission::Perception() {
     frame = std::make_shared<RgbdFrame>();
     const WallClock::time_point render_start = WallClock::now();
     if (!hw_->camera().Grab(frame.get())) throw HardwareError("camera: the stream ended");
-    render_ms_.push_back(std::chrono::duration<double, std::milli>(WallClock::now() - render_start).count());
+    render_ms_.push_back(
+        std::chrono::duration<double, std::milli>(WallClock::now() - render_start).count());
     job.wMd = hw_->autopilot().State().wMd;
     if (world_) {
       job.dMo_truth = world_->wMd().inverse() * world_->wMo();
@@ -414,10 +424,12 @@ void Mission::Perception() {
   if (HoldingObjectInWorld()) tracker_->SetInitialPose(hw_->platform().dMc().inverse() * dMoNow());
   ObjectTracker* tracker = tracker_.get();
   const Eigen::Isometry3d wMc = job.wMd * hw_->platform().dMc();
-  perceiving_ = std::async(std::launch::async, [tracker, K, scale, wMc, job = std::move(job)]() mutable {
-    job.report = tracker->Process(job.frame->color, job.frame->depth, job.frame->stamp_s, K, scale, wMc);
-    return std::move(job);
-  });
+  perceiving_ =
+      std::async(std::launch::async, [tracker, K, scale, wMc, job = std::move(job)]() mutable {
+        job.report =
+            tracker->Process(job.frame->color, job.frame->depth, job.frame->stamp_s, K, scale, wMc);
+        return std::move(job);
+      });
 }
 
 void Mission::HandlePerceived(Perceived p) {
@@ -428,8 +440,9 @@ void Mission::HandlePerceived(Perceived p) {
   estimate_ = p.report.estimate;
   const bool found = estimate_.valid && estimate_.state == TrackState::kFound;
   const VisionSignal signal =
-      vision_.Update(t, found, found ? fmt::format("pose found (confidence {:.2f})", estimate_.confidence)
-                                     : fmt::format("pose lost (confidence {:.2f})", estimate_.confidence));
+      vision_.Update(t, found,
+                     found ? fmt::format("pose found (confidence {:.2f})", estimate_.confidence)
+                           : fmt::format("pose lost (confidence {:.2f})", estimate_.confidence));
   if (found) {
     lost_since_s_ = -1.0;
     last_found_stamp_s_ = estimate_.stamp_s;
@@ -439,19 +452,25 @@ void Mission::HandlePerceived(Perceived p) {
   const Eigen::Isometry3d dMc = hw_->platform().dMc();
   const Eigen::Isometry3d dMo_est = dMc * estimate_.cMo;  // at the frame
   const Eigen::Vector3d object_w = estimate_.fMo.translation();
-  const bool beyond = (object_w - config_.approach_w_m).norm() > config_.tracking_radius_m + config_.grasp_dto_m.norm();
+  const bool beyond = (object_w - config_.approach_w_m).norm() >
+                      config_.tracking_radius_m + config_.grasp_dto_m.norm();
   if (found && beyond && !logged_beyond_) {
     logged_beyond_ = true;
-    Log(t, fmt::format("vision: the object is seen {:.2f} m from the approach waypoint, beyond the tracking "
-                       "radius: not followed", (object_w - config_.approach_w_m).norm()));
+    Log(t,
+        fmt::format(
+            "vision: the object is seen {:.2f} m from the approach waypoint, beyond the tracking "
+            "radius: not followed",
+            (object_w - config_.approach_w_m).norm()));
   }
-  const double alpha = std::min(1.0, frame_period_s_ / config_.object_filter_s);  // low-pass gain per frame
+  const double alpha =
+      std::min(1.0, frame_period_s_ / config_.object_filter_s);  // low-pass gain per frame
   if (found && holding_arm_ >= 0) {
     // Held by one gripper the object moves with it: each frame's estimate
     // refines where it sits in that gripper (it was taken from the estimate
     // when the gripper closed, often while the fingers hid the object).
     Eigen::Isometry3d eMo = dMe(holding_arm_).inverse() * dMo_est;
-    eMo.linear() = ClosestSymmetricRotation(eMo.linear(), eMo_held_.linear(), tracker_->model().symmetry);
+    eMo.linear() =
+        ClosestSymmetricRotation(eMo.linear(), eMo_held_.linear(), tracker_->model().symmetry);
     eMo_held_.translation() += alpha * (eMo.translation() - eMo_held_.translation());
     eMo_held_.linear() = Eigen::Quaterniond(eMo_held_.linear())
                              .slerp(alpha, Eigen::Quaterniond(eMo.linear()))
@@ -460,7 +479,8 @@ void Mission::HandlePerceived(Perceived p) {
   }
   if (found && !beyond) {
     logged_beyond_ = false;
-    object_w_filtered_ = have_wMo_ ? object_w_filtered_ + alpha * (object_w - object_w_filtered_) : object_w;
+    object_w_filtered_ =
+        have_wMo_ ? object_w_filtered_ + alpha * (object_w - object_w_filtered_) : object_w;
     wMo_last_ = estimate_.fMo;
     have_wMo_ = true;
   }
@@ -476,7 +496,8 @@ void Mission::HandlePerceived(Perceived p) {
     if (estimate_.valid) {
       const Eigen::Matrix3d cRo_true = (dMc.inverse() * p.dMo_truth).linear();
       s.rotation_error_deg =
-          SymmetricRotationError(estimate_.cMo.linear(), cRo_true, tracker_->model().symmetry) * 180.0 / M_PI;
+          SymmetricRotationError(estimate_.cMo.linear(), cRo_true, tracker_->model().symmetry) *
+          180.0 / M_PI;
       // Accuracy where it matters: frames found while grasping (a lock on
       // clutter during the approach, beyond the geofence, is not followed).
       if (found && global_.state() == GlobalState::kGrasping) {
@@ -496,8 +517,11 @@ void Mission::HandlePerceived(Perceived p) {
   // The report's camera frame: the last one before the grippers close with the
   // arms servoing, else the last with the object found.
   const PlannerState ps = planner_sm_.state();
-  const int priority = !found ? 0 : (ps == PlannerState::kServoing || ps == PlannerState::kApproachPose ||
-                                     ps == PlannerState::kGrasping) ? 2 : 1;
+  const int priority = !found ? 0
+                       : (ps == PlannerState::kServoing || ps == PlannerState::kApproachPose ||
+                          ps == PlannerState::kGrasping)
+                           ? 2
+                           : 1;
   if (priority > 0 && priority >= snapshot_priority_ && !holding_) {
     snapshot_priority_ = priority;
     MissionSnapshot snap;
@@ -527,12 +551,14 @@ void Mission::Vehicle() {
     return;
   }
   const Eigen::Vector3d p_w = vs.wMd.translation();
-  const Eigen::Matrix3d wRyaw = Eigen::AngleAxisd(config_.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d wRyaw =
+      Eigen::AngleAxisd(config_.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   const auto go_to = [&](const Eigen::Vector3d& w, Leg leg, const std::string& name) {
     waypoint_w_ = w;
     leg_ = leg;
     setpoint_w_ = w;
-    vehicle_.GoTo(t, fmt::format("{}: waypoint [{:.2f}, {:.2f}, {:.2f}] m", name, w.x(), w.y(), w.z()));
+    vehicle_.GoTo(
+        t, fmt::format("{}: waypoint [{:.2f}, {:.2f}, {:.2f}] m", name, w.x(), w.y(), w.z()));
   };
   const GlobalState g = global_.state();
   if (g == GlobalState::kAborted || g == GlobalState::kDone) return;
@@ -550,7 +576,8 @@ void Mission::Vehicle() {
       }
       break;
     case VehicleMode::kTakeOff:
-      if (vs.mode == FlightMode::kHold && std::abs(-p_w.z() - config_.takeoff_altitude_m) < config_.arrive_tolerance_m) {
+      if (vs.mode == FlightMode::kHold &&
+          std::abs(-p_w.z() - config_.takeoff_altitude_m) < config_.arrive_tolerance_m) {
         vehicle_.Airborne(t);
         if (g == GlobalState::kApproaching) {
           go_to(config_.approach_w_m, Leg::kApproach, "approach");
@@ -581,13 +608,16 @@ void Mission::Vehicle() {
       } else if (vision_.state() == VisionState::kFound) {
         if (g == GlobalState::kApproaching) global_.Found(t, leg_ == Leg::kApproach);
         if (global_.state() == GlobalState::kGrasping && vehicle_.Found(t)) leg_ = Leg::kTrack;
-      } else if (g == GlobalState::kGrasping && lost_since_s_ >= 0 && t - lost_since_s_ > config_.lost_timeout_s &&
-                 leg_ == Leg::kTrack && holding_arm_ < 0) {
+      } else if (g == GlobalState::kGrasping && lost_since_s_ >= 0 &&
+                 t - lost_since_s_ > config_.lost_timeout_s && leg_ == Leg::kTrack &&
+                 holding_arm_ < 0) {
         go_to(config_.approach_w_m, Leg::kApproach, "search again");
-      } else if ((g == GlobalState::kApproaching || (g == GlobalState::kGrasping && leg_ == Leg::kApproach)) &&
+      } else if ((g == GlobalState::kApproaching ||
+                  (g == GlobalState::kGrasping && leg_ == Leg::kApproach)) &&
                  t - hover_since_s_ > config_.search_timeout_s) {
         global_.GiveUp(t, fmt::format("the object was {} in {:.0f} s at the approach waypoint",
-                                      g == GlobalState::kApproaching ? "not found" : "lost and not found again",
+                                      g == GlobalState::kApproaching ? "not found"
+                                                                     : "lost and not found again",
                                       config_.search_timeout_s));
       }
       break;
@@ -605,7 +635,8 @@ void Mission::Vehicle() {
         const Eigen::Vector3d off = wanted - config_.approach_w_m;
         setpoint_w_ = off.norm() <= config_.tracking_radius_m
                           ? wanted
-                          : Eigen::Vector3d(config_.approach_w_m + off.normalized() * config_.tracking_radius_m);
+                          : Eigen::Vector3d(config_.approach_w_m +
+                                            off.normalized() * config_.tracking_radius_m);
       }
       if (planner_sm_.state() == PlannerState::kIdle && vision_.state() == VisionState::kFound) {
         const double off_m = (dMoNow().translation() - config_.grasp_dto_m).norm();
@@ -646,12 +677,14 @@ bool Mission::AimFreeArm(int holding) {
   const ArmGrasp* best = nullptr;
   for (const ArmGrasp& g : candidates) {
     if (collide(g.q_grasp) || collide(g.q_precatch)) continue;
-    if (!best || std::make_pair(!g.clear_of_edges, g.cost_rad) < std::make_pair(!best->clear_of_edges, best->cost_rad)) {
+    if (!best || std::make_pair(!g.clear_of_edges, g.cost_rad) <
+                     std::make_pair(!best->clear_of_edges, best->cost_rad)) {
       best = &g;
     }
   }
   if (!best) {
-    Log(t, fmt::format("planner: the {} gripper holds the object but no pair clears it for the {} arm ({} feasible "
+    Log(t, fmt::format("planner: the {} gripper holds the object but no pair clears it for the {} "
+                       "arm ({} feasible "
                        "for it{})",
                        kArmNames[holding], kArmNames[free], candidates.size(),
                        candidates.empty() ? "" : ", each too near the holding arm"));
@@ -671,8 +704,10 @@ bool Mission::AimFreeArm(int holding) {
   sequence_[free]->Start(t);
   sequence_[free]->HoldAtPreCatch(false);
   ++result_.attempts;
-  Log(t, fmt::format("planner: the {} gripper holds the object and stays closed; the {} arm re-aims at pair {} "
-                     "({} feasible for it)", kArmNames[holding], kArmNames[free], best->pair, candidates.size()));
+  Log(t, fmt::format("planner: the {} gripper holds the object and stays closed; the {} arm "
+                     "re-aims at pair {} "
+                     "({} feasible for it)",
+                     kArmNames[holding], kArmNames[free], best->pair, candidates.size()));
   return true;
 }
 
@@ -687,7 +722,8 @@ bool Mission::StartPlan() {
         const std::string r = DescribeReasons(a == 0 ? plan.left_stats : plan.right_stats);
         if (!r.empty()) why += fmt::format("; {}: {}", kArmNames[a], r);
       }
-      Log(t, fmt::format("planner: no feasible dual grasp yet ({} left, {} right feasible{}; the object {:.0f} mm from "
+      Log(t, fmt::format("planner: no feasible dual grasp yet ({} left, {} right feasible{}; the "
+                         "object {:.0f} mm from "
                          "its grasp point under the body); waiting",
                          plan.left.size(), plan.right.size(), why,
                          1e3 * (query.dMo.translation() - config_.grasp_dto_m).norm()));
@@ -707,8 +743,9 @@ bool Mission::StartPlan() {
   }
   ++result_.attempts;
   arms_.Move(t, "servoing to the pre-catch poses");
-  planner_sm_.Planned(t, fmt::format("pairs L{} R{} of {} ranked: epsilon {:.3f}, score {:.3f}", best.left.pair,
-                                     best.right.pair, plan.ranked.size(), best.epsilon, best.score));
+  planner_sm_.Planned(
+      t, fmt::format("pairs L{} R{} of {} ranked: epsilon {:.3f}, score {:.3f}", best.left.pair,
+                     best.right.pair, plan.ranked.size(), best.epsilon, best.score));
   next_reevaluate_s_ = t + 1.0 / config_.reevaluate_rate_hz;
   return true;
 }
@@ -752,10 +789,11 @@ void Mission::Planner() {
     if (vision_.state() == VisionState::kFound && StartPlan()) {
       planning_since_s_ = -1.0;
     } else if (t - planning_since_s_ > config_.planning_timeout_s) {
-      global_.GiveUp(t, vision_.state() == VisionState::kFound
-                            ? fmt::format("no feasible dual grasp within {:.0f} s", config_.planning_timeout_s)
-                            : fmt::format("the object was not in view for {:.0f} s to plan again",
-                                          config_.planning_timeout_s));
+      global_.GiveUp(
+          t, vision_.state() == VisionState::kFound
+                 ? fmt::format("no feasible dual grasp within {:.0f} s", config_.planning_timeout_s)
+                 : fmt::format("the object was not in view for {:.0f} s to plan again",
+                               config_.planning_timeout_s));
     }
     return;
   }
@@ -775,7 +813,8 @@ void Mission::Planner() {
   if (lost_since_s_ >= 0 && t - lost_since_s_ > config_.lost_timeout_s && holding_arm_ < 0) {
     retry = fmt::format("object lost for {:.1f} s", t - lost_since_s_);
   }
-  const bool done = sequence_[0]->phase() == GraspPhase::kDone && sequence_[1]->phase() == GraspPhase::kDone;
+  const bool done =
+      sequence_[0]->phase() == GraspPhase::kDone && sequence_[1]->phase() == GraspPhase::kDone;
   // Each gripper read once per cycle (on hardware a read is a bus transaction).
   const GripperState gl = hw_->arms().Gripper(Side::kLeft), gr = hw_->arms().Gripper(Side::kRight);
   const bool held = gl.holding && gr.holding;
@@ -786,7 +825,8 @@ void Mission::Planner() {
   if (gl.holding != gr.holding) {
     const int holder = gl.holding ? 0 : 1;
     const GraspPhase free_phase = sequence_[1 - holder]->phase();
-    const bool free_ended = free_phase == GraspPhase::kDone || free_phase == GraspPhase::kTimedOut || !retry.empty();
+    const bool free_ended =
+        free_phase == GraspPhase::kDone || free_phase == GraspPhase::kTimedOut || !retry.empty();
     if (sequence_[holder]->phase() != GraspPhase::kDone) {
       if (free_ended) return;  // still closing
     } else if (free_ended && reaims_ < kMaxReaims && AimFreeArm(holder)) {
@@ -795,9 +835,11 @@ void Mission::Planner() {
     }
   }
   if (done && !held) {
-    retry = fmt::format("the grippers closed without holding the object (left {} at {:.0f} mm, right {} at {:.0f} mm)",
-                        gl.holding ? "holds" : "empty", 1e3 * gl.aperture_m, gr.holding ? "holds" : "empty",
-                        1e3 * gr.aperture_m);
+    retry = fmt::format(
+        "the grippers closed without holding the object (left {} at {:.0f} mm, right {} at {:.0f} "
+        "mm)",
+        gl.holding ? "holds" : "empty", 1e3 * gl.aperture_m, gr.holding ? "holds" : "empty",
+        1e3 * gr.aperture_m);
   }
   if (!retry.empty()) {
     holding_arm_ = -1;
@@ -851,11 +893,13 @@ void Mission::Reevaluate() {
   next_reevaluate_s_ = t + 1.0 / config_.reevaluate_rate_hz;
   if (reevaluating_.valid()) {
     const SwitchDecision decision = reevaluating_.get();
-    const bool closing = sequence_[0]->phase() == GraspPhase::kClose || sequence_[0]->phase() == GraspPhase::kDone ||
-                         sequence_[1]->phase() == GraspPhase::kClose || sequence_[1]->phase() == GraspPhase::kDone;
+    const bool closing =
+        sequence_[0]->phase() == GraspPhase::kClose || sequence_[0]->phase() == GraspPhase::kDone ||
+        sequence_[1]->phase() == GraspPhase::kClose || sequence_[1]->phase() == GraspPhase::kDone;
     // A pair unreachable at one re-evaluation may be reachable at the next (the
     // sway brings the object back): switch only when it stays unreachable.
-    unreachable_in_a_row_ = decision.status == SwitchDecision::Status::kSwitch ? unreachable_in_a_row_ + 1 : 0;
+    unreachable_in_a_row_ =
+        decision.status == SwitchDecision::Status::kSwitch ? unreachable_in_a_row_ + 1 : 0;
     if (decision.status == SwitchDecision::Status::kSwitch && !closing &&
         unreachable_in_a_row_ >= kUnreachableToSwitch) {
       unreachable_in_a_row_ = 0;
@@ -869,7 +913,8 @@ void Mission::Reevaluate() {
       choice_ = decision.next;
       ++result_.grasp_switches;
       if (record_) record_->switches.push_back({t, pairs[0], pairs[1], decision.reason});
-      planner_sm_.Switched(t, fmt::format("switch to pairs L{} R{}: {}", pairs[0], pairs[1], decision.reason));
+      planner_sm_.Switched(
+          t, fmt::format("switch to pairs L{} R{}: {}", pairs[0], pairs[1], decision.reason));
     } else if (decision.status == SwitchDecision::Status::kKeep) {
       choice_ = decision.next;
     }
@@ -879,7 +924,8 @@ void Mission::Reevaluate() {
   query.dMo = reevaluate_dMo_;
   const GraspPlanner* planner = planner_.get();
   const SwitchState choice = choice_;
-  reevaluating_ = std::async(std::launch::async, [planner, query, choice] { return planner->Reevaluate(query, choice); });
+  reevaluating_ = std::async(
+      std::launch::async, [planner, query, choice] { return planner->Reevaluate(query, choice); });
 }
 
 // ---- Servo and safety ---------------------------------------------------------------
@@ -908,7 +954,8 @@ void Mission::Servo() {
     Retract();
     return;
   }
-  if (state != PlannerState::kServoing && state != PlannerState::kApproachPose && state != PlannerState::kGrasping) {
+  if (state != PlannerState::kServoing && state != PlannerState::kApproachPose &&
+      state != PlannerState::kGrasping) {
     return;
   }
   const Eigen::Isometry3d dMo = dMoNow();
@@ -932,14 +979,17 @@ void Mission::Servo() {
       reached_bMg_[a] = bMo * oMg_[a];
       reached_bMp_[a] = bMo * oMp_[a];
     }
-    sequence_[a]->SetGrasp(reached_bMg_[a], reached_bMp_[a], HoldingObjectInWorld() || holding_arm_ >= 0 ? t : last_found_stamp_s_,
+    sequence_[a]->SetGrasp(reached_bMg_[a], reached_bMp_[a],
+                           HoldingObjectInWorld() || holding_arm_ >= 0 ? t : last_found_stamp_s_,
                            switch_pending_[a]);
     switch_pending_[a] = false;
     GraspCommand command;
     const GraspPhase phase_before = sequence_[a]->phase();
     sequence_[a]->Step(q_[a], t, dt_s_, &command);
-    if (world_ && phase_before != GraspPhase::kClose && command.phase == GraspPhase::kClose) LogClosing(a, dMo);
-    if (world_ && phase_before == GraspPhase::kClose && command.phase == GraspPhase::kDone) LogClosed(a);
+    if (world_ && phase_before != GraspPhase::kClose && command.phase == GraspPhase::kClose)
+      LogClosing(a, dMo);
+    if (world_ && phase_before == GraspPhase::kClose && command.phase == GraspPhase::kDone)
+      LogClosed(a);
     if (command.servo_status != last_status_[a]) {
       Log(t, fmt::format("servo   {} arm: {} (phase {}, {:.1f} mm from the target)", kArmNames[a],
                          ServoStatusName(command.servo_status), GraspPhaseName(command.phase),
@@ -987,28 +1037,36 @@ void Mission::LogClosing(int a, const Eigen::Isometry3d& dMo_est) {
   const Eigen::Isometry3d dMb = hw_->platform().dMb(side);
   const Eigen::Vector3d tool_d = dMe(a).translation();
   const Eigen::Vector3d target_o = (dMo_est.inverse() * dMb * reached_bMg_[a]).translation();
-  const Eigen::Vector3d error_o = dMo_est.linear().transpose() * (dMo_est.translation() - dMo_true.translation());
-  Log(Now(), fmt::format("servo   {} arm closes: the tool is {:.1f} mm from its target and {:.1f} mm from the grasp "
-                         "on the true object (target at [{:.3f}, {:.3f}, {:.3f}] m in o; estimate off by {:.1f} mm "
-                         "([{:.1f}, {:.1f}, {:.1f}] mm in o), {:.1f} deg; {}; target solved {:.0f} ms before)",
-                         kArmNames[a], 1e3 * (tool_d - dMo_est * target_o).norm(),
-                         1e3 * (tool_d - dMo_true * target_o).norm(), target_o.x(), target_o.y(), target_o.z(),
-                         1e3 * (dMo_est.translation() - dMo_true.translation()).norm(), 1e3 * error_o.x(),
-                         1e3 * error_o.y(), 1e3 * error_o.z(),
-                         SymmetricRotationError(dMo_est.linear(), dMo_true.linear(), symmetry) * 180.0 / M_PI,
-                         HoldingObjectInWorld() ? "object held in the world" : "object seen",
-                         1e3 * (Now() - reached_stamp_s_[a])));
+  const Eigen::Vector3d error_o =
+      dMo_est.linear().transpose() * (dMo_est.translation() - dMo_true.translation());
+  Log(Now(),
+      fmt::format(
+          "servo   {} arm closes: the tool is {:.1f} mm from its target and {:.1f} mm from the "
+          "grasp "
+          "on the true object (target at [{:.3f}, {:.3f}, {:.3f}] m in o; estimate off by {:.1f} "
+          "mm "
+          "([{:.1f}, {:.1f}, {:.1f}] mm in o), {:.1f} deg; {}; target solved {:.0f} ms before)",
+          kArmNames[a], 1e3 * (tool_d - dMo_est * target_o).norm(),
+          1e3 * (tool_d - dMo_true * target_o).norm(), target_o.x(), target_o.y(), target_o.z(),
+          1e3 * (dMo_est.translation() - dMo_true.translation()).norm(), 1e3 * error_o.x(),
+          1e3 * error_o.y(), 1e3 * error_o.z(),
+          SymmetricRotationError(dMo_est.linear(), dMo_true.linear(), symmetry) * 180.0 / M_PI,
+          HoldingObjectInWorld() ? "object held in the world" : "object seen",
+          1e3 * (Now() - reached_stamp_s_[a])));
 }
 
 void Mission::LogClosed(int a) {
   const Side side = kSides[a];
   const Eigen::Isometry3d oMe = world_->wMo().inverse() * world_->wMe(side);
   const GripperState g = world_->gripper(side);
-  const Eigen::Vector3d p = 1e3 * oMe.translation(), x = oMe.linear().col(0), z = oMe.linear().col(2);
-  Log(Now(), fmt::format("servo   {} gripper closed: {} at {:.0f} mm; the tool at [{:.1f}, {:.1f}, {:.1f}] mm in the "
-                         "true o, closing along [{:.2f}, {:.2f}, {:.2f}], approaching along [{:.2f}, {:.2f}, {:.2f}]",
-                         kArmNames[a], g.holding ? "holds" : "empty", 1e3 * g.aperture_m, p.x(), p.y(), p.z(), x.x(),
-                         x.y(), x.z(), z.x(), z.y(), z.z()));
+  const Eigen::Vector3d p = 1e3 * oMe.translation(), x = oMe.linear().col(0),
+                        z = oMe.linear().col(2);
+  Log(Now(), fmt::format("servo   {} gripper closed: {} at {:.0f} mm; the tool at [{:.1f}, {:.1f}, "
+                         "{:.1f}] mm in the "
+                         "true o, closing along [{:.2f}, {:.2f}, {:.2f}], approaching along "
+                         "[{:.2f}, {:.2f}, {:.2f}]",
+                         kArmNames[a], g.holding ? "holds" : "empty", 1e3 * g.aperture_m, p.x(),
+                         p.y(), p.z(), x.x(), x.y(), x.z(), z.x(), z.y(), z.z()));
 }
 
 void Mission::Safety() {
@@ -1058,14 +1116,16 @@ MissionResult Mission::Run() {
 
   result_.sim_time_s = Now();
   result_.wall_time_s = std::chrono::duration<double>(WallClock::now() - wall_start).count();
-  result_.realtime_factor = result_.wall_time_s > 0 ? result_.sim_time_s / result_.wall_time_s : 0.0;
+  result_.realtime_factor =
+      result_.wall_time_s > 0 ? result_.sim_time_s / result_.wall_time_s : 0.0;
   if (truth_frames_ > 0) {
     result_.pose_rmse_m = std::sqrt(sq_position_ / truth_frames_);
     result_.rotation_rmse_deg = std::sqrt(sq_rotation_ / truth_frames_);
   }
   result_.perception_ms_median = Percentile(perception_ms_, 0.5);
   result_.render_ms_median = Percentile(render_ms_, 0.5);
-  const bool held = world_ ? world_->held_by(Side::kLeft) && world_->held_by(Side::kRight) : holding_;
+  const bool held =
+      world_ ? world_->held_by(Side::kLeft) && world_->held_by(Side::kRight) : holding_;
   result_.success = global_.state() == GlobalState::kDone && !global_.failed() && held;
   if (!result_.success) {
     result_.failure = global_.failed() ? global_.failure()

@@ -36,8 +36,8 @@ double MsSince(Clock::time_point t0) {
 GraspObject LoadObject(const PlanCommandOptions& options, std::string* source) {
   GraspObject object;
   const std::string yaml = DataPath("objects/" + options.object + "/object.yaml");
-  const bool is_name = options.object.find('/') == std::string::npos &&
-                       fs::path(options.object).extension().empty();
+  const bool is_name =
+      options.object.find('/') == std::string::npos && fs::path(options.object).extension().empty();
   if (is_name && fs::exists(yaml)) {
     const ConfigNode node = ConfigNode::LoadFile(yaml);
     object.name = node.GetString("name", options.object);
@@ -105,8 +105,8 @@ std::string ExplainNoGrasp(const PlanResult& plan, const ContactSet& contacts,
     if (s.feasible > 0) continue;
     const ArmModel& arm = platform.arm(side);
     const Eigen::Vector3d shoulder_d = platform.dMb(side) * arm.ShoulderPosition();
-    why << fmt::format("{} arm: none of {} contact pairs is feasible ({}", SideName(side), s.candidates,
-                       DescribeReasons(s));
+    why << fmt::format("{} arm: none of {} contact pairs is feasible ({}", SideName(side),
+                       s.candidates, DescribeReasons(s));
     why << fmt::format("); the object centre is {:.3f} m from its shoulder, reach {:.3f} m. ",
                        (dMo.translation() - shoulder_d).norm(), arm.StretchedReach());
   }
@@ -122,7 +122,9 @@ std::string ExplainNoGrasp(const PlanResult& plan, const ContactSet& contacts,
 
 nlohmann::json GraspJson(const ArmGrasp& g, const ContactSet& contacts) {
   const ContactPair& p = contacts.pairs[g.pair];
-  auto vec = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+  auto vec = [](const Eigen::VectorXd& v) {
+    return std::vector<double>(v.data(), v.data() + v.size());
+  };
   const Eigen::Vector4d q = QuaternionWxyz(g.dMg);
   return {{"pair", g.pair},
           {"contact_a_o", vec(p.a.p_o)},
@@ -156,7 +158,8 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
   const ContactCacheKey key = MakeContactCacheKey(object.mesh_o, gripper, config.contacts);
   const std::string cache_dir = options.cache_dir.empty() ? DefaultCacheDir() : options.cache_dir;
   const std::string cache_path =
-      (fs::path(cache_dir) / fmt::format("{}_{:016x}.contacts", object.name, key.mesh_hash)).string();
+      (fs::path(cache_dir) / fmt::format("{}_{:016x}.contacts", object.name, key.mesh_hash))
+          .string();
   ContactSet contacts;
   std::string cache_state = "disabled";
   double cache_load_ms = 0.0;
@@ -221,56 +224,71 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
 
   // Report.
   const double contacts_ms = Percentile(generation_ms, 0.5);
-  out << fmt::format("Object '{}' ({}): {} triangles, mass {:.3f} kg, centre of mass [{:.4f} {:.4f} {:.4f}] m\n",
-                     object.name, mesh_source, object.mesh_o.triangles.size(), object.mass_kg,
-                     object.com_o.x(), object.com_o.y(), object.com_o.z());
-  out << fmt::format("Placed at dMo xyz [{:.3f} {:.3f} {:.3f}] m, rpy [{:.1f} {:.1f} {:.1f}] deg (body frame d, FRD); arms at home\n",
-                     options.object_xyz_m.x(), options.object_xyz_m.y(), options.object_xyz_m.z(),
-                     options.object_rpy_deg.x(), options.object_rpy_deg.y(), options.object_rpy_deg.z());
-  out << fmt::format("Friction: mu {:.2f}, {}-edge cones, torsional {:.4f} m (soft finger); torques about the centre of mass / {:.3f} m\n",
-                     config.friction.mu, config.friction.cone_edges, config.friction.torsional_m,
-                     planner.torque_scale_m());
-  out << fmt::format("Contacts: {} rays at {:.3f} m, {} hit, {} skipped, {} pairs fit the gripper (<= {:.3f} m), {} too wide; {:.2f} ms to generate, cache {} ({})\n",
-                     contacts.rays, contacts.resolution_m, contacts.rays_hit, contacts.rays_skipped,
-                     contacts.pairs.size(), contacts.max_width_m, contacts.pairs_too_wide,
-                     contacts_ms, cache_state, cache_path);
+  out << fmt::format(
+      "Object '{}' ({}): {} triangles, mass {:.3f} kg, centre of mass [{:.4f} {:.4f} {:.4f}] m\n",
+      object.name, mesh_source, object.mesh_o.triangles.size(), object.mass_kg, object.com_o.x(),
+      object.com_o.y(), object.com_o.z());
+  out << fmt::format(
+      "Placed at dMo xyz [{:.3f} {:.3f} {:.3f}] m, rpy [{:.1f} {:.1f} {:.1f}] deg (body frame d, "
+      "FRD); arms at home\n",
+      options.object_xyz_m.x(), options.object_xyz_m.y(), options.object_xyz_m.z(),
+      options.object_rpy_deg.x(), options.object_rpy_deg.y(), options.object_rpy_deg.z());
+  out << fmt::format(
+      "Friction: mu {:.2f}, {}-edge cones, torsional {:.4f} m (soft finger); torques about the "
+      "centre of mass / {:.3f} m\n",
+      config.friction.mu, config.friction.cone_edges, config.friction.torsional_m,
+      planner.torque_scale_m());
+  out << fmt::format(
+      "Contacts: {} rays at {:.3f} m, {} hit, {} skipped, {} pairs fit the gripper (<= {:.3f} m), "
+      "{} too wide; {:.2f} ms to generate, cache {} ({})\n",
+      contacts.rays, contacts.resolution_m, contacts.rays_hit, contacts.rays_skipped,
+      contacts.pairs.size(), contacts.max_width_m, contacts.pairs_too_wide, contacts_ms,
+      cache_state, cache_path);
   for (Side side : {Side::kLeft, Side::kRight}) {
     const ArmStats& s = side == Side::kLeft ? plan.left_stats : plan.right_stats;
     const std::vector<ArmGrasp>& grasps = side == Side::kLeft ? plan.left : plan.right;
-    out << fmt::format("{:>5} arm: {} of {} feasible ({} robust)", SideName(side), s.feasible, s.candidates,
-                       std::count_if(grasps.begin(), grasps.end(), [](const ArmGrasp& g) { return g.robust; }));
+    out << fmt::format(
+        "{:>5} arm: {} of {} feasible ({} robust)", SideName(side), s.feasible, s.candidates,
+        std::count_if(grasps.begin(), grasps.end(), [](const ArmGrasp& g) { return g.robust; }));
     const std::string reasons = DescribeReasons(s);
     out << (reasons.empty() ? "" : ", ") << reasons << "\n";
   }
   const PairStats& ps = plan.pair_stats;
-  out << fmt::format("Dual pairs: {} considered, {} without force closure, {} arms collide, {} dropped by the exact hull, {} valid ({} robust to {:.3f} m, {} clear of edges by {:.3f} m)\n",
-                     ps.considered, ps.no_force_closure, ps.arms_collide, ps.exact_dropped, ps.valid,
-                     std::count_if(plan.ranked.begin(), plan.ranked.end(), [](const DualGrasp& d) { return d.robust; }),
-                     config.reach_margin_m,
-                     std::count_if(plan.ranked.begin(), plan.ranked.end(),
-                                   [](const DualGrasp& d) { return d.clear_of_edges; }),
-                     config.edge_margin_m);
+  out << fmt::format(
+      "Dual pairs: {} considered, {} without force closure, {} arms collide, {} dropped by the "
+      "exact hull, {} valid ({} robust to {:.3f} m, {} clear of edges by {:.3f} m)\n",
+      ps.considered, ps.no_force_closure, ps.arms_collide, ps.exact_dropped, ps.valid,
+      std::count_if(plan.ranked.begin(), plan.ranked.end(),
+                    [](const DualGrasp& d) { return d.robust; }),
+      config.reach_margin_m,
+      std::count_if(plan.ranked.begin(), plan.ranked.end(),
+                    [](const DualGrasp& d) { return d.clear_of_edges; }),
+      config.edge_margin_m);
   out << fmt::format("Single grasps in force closure (exact): {} of {}\n", single_force_closure,
                      contacts.pairs.size());
-  out << fmt::format("Timing (one core, median of {}): contacts {:.2f} ms, feasibility {:.2f} us/grasp, quality {:.3f} us/pair (bound), exact Qhull {:.1f} us/dual pair, {:.1f} us/single grasp\n",
-                     std::max(1, options.repeats), contacts_ms, Percentile(feas_us, 0.5), Percentile(qual_us, 0.5),
-                     Percentile(exact_us, 0.5), single_exact_us);
+  out << fmt::format(
+      "Timing (one core, median of {}): contacts {:.2f} ms, feasibility {:.2f} us/grasp, quality "
+      "{:.3f} us/pair (bound), exact Qhull {:.1f} us/dual pair, {:.1f} us/single grasp\n",
+      std::max(1, options.repeats), contacts_ms, Percentile(feas_us, 0.5), Percentile(qual_us, 0.5),
+      Percentile(exact_us, 0.5), single_exact_us);
 
   std::string no_grasp_reason;
   if (plan.ranked.empty()) {
     no_grasp_reason = ExplainNoGrasp(plan, contacts, gripper, object.mesh_o, platform, query.dMo);
     out << "No feasible dual grasp: " << no_grasp_reason << "\n";
   } else {
-    out << fmt::format("\n{:>4} {:>6} {:>6} {:>9} {:>5} {:>6} {:>6} {:>7} {:>8} {:>8} {:>8}\n", "rank",
-                       "left", "right", "epsilon", "exact", "task", "L.share", "cost", "score",
-                       "L.width", "R.width");
+    out << fmt::format("\n{:>4} {:>6} {:>6} {:>9} {:>5} {:>6} {:>6} {:>7} {:>8} {:>8} {:>8}\n",
+                       "rank", "left", "right", "epsilon", "exact", "task", "L.share", "cost",
+                       "score", "L.width", "R.width");
     const int rows = std::min<int>(options.top, static_cast<int>(plan.ranked.size()));
     for (int i = 0; i < rows; ++i) {
       const DualGrasp& d = plan.ranked[i];
-      out << fmt::format("{:>4} {:>6} {:>6} {:>9.5f} {:>5} {:>6.3f} {:>6.2f} {:>7.3f} {:>8.5f} {:>8.3f} {:>8.3f}\n",
-                         i + 1, d.left.pair, d.right.pair, d.epsilon, d.epsilon_exact ? "yes" : "no",
-                         d.task, d.left_share, d.left.cost_rad + d.right.cost_rad, d.score,
-                         contacts.pairs[d.left.pair].width_m(), contacts.pairs[d.right.pair].width_m());
+      out << fmt::format(
+          "{:>4} {:>6} {:>6} {:>9.5f} {:>5} {:>6.3f} {:>6.2f} {:>7.3f} {:>8.5f} {:>8.3f} "
+          "{:>8.3f}\n",
+          i + 1, d.left.pair, d.right.pair, d.epsilon, d.epsilon_exact ? "yes" : "no", d.task,
+          d.left_share, d.left.cost_rad + d.right.cost_rad, d.score,
+          contacts.pairs[d.left.pair].width_m(), contacts.pairs[d.right.pair].width_m());
     }
   }
 
@@ -283,7 +301,8 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
   j["mesh"] = mesh_source;
   j["platform"] = options.config_path;
   j["dMo_xyz_m"] = {options.object_xyz_m.x(), options.object_xyz_m.y(), options.object_xyz_m.z()};
-  j["dMo_rpy_deg"] = {options.object_rpy_deg.x(), options.object_rpy_deg.y(), options.object_rpy_deg.z()};
+  j["dMo_rpy_deg"] = {options.object_rpy_deg.x(), options.object_rpy_deg.y(),
+                      options.object_rpy_deg.z()};
   j["resolution_m"] = contacts.resolution_m;
   j["friction"] = {{"mu", config.friction.mu},
                    {"cone_edges", config.friction.cone_edges},

@@ -1,9 +1,8 @@
 #include "app/platform_plot.h"
 
+#include <array>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-
-#include <array>
 #include <stdexcept>
 #include <vector>
 
@@ -21,10 +20,18 @@ constexpr double kCentreZ_m = 0.20;    // body z shown at the panel's centre (FR
 std::array<Eigen::Vector3d, 8> Corners(const CollisionShape& s, const Eigen::Isometry3d& dMseg) {
   Eigen::Vector3d half = Eigen::Vector3d::Zero();
   switch (s.type) {
-    case CollisionShape::Type::kBox: half = 0.5 * s.size; break;
-    case CollisionShape::Type::kCylinder: half = {s.size.x(), s.size.x(), 0.5 * s.size.y()}; break;
-    case CollisionShape::Type::kSphere: half = Eigen::Vector3d::Constant(s.size.x()); break;
-    case CollisionShape::Type::kMesh: half = Eigen::Vector3d::Constant(0.01); break;
+    case CollisionShape::Type::kBox:
+      half = 0.5 * s.size;
+      break;
+    case CollisionShape::Type::kCylinder:
+      half = {s.size.x(), s.size.x(), 0.5 * s.size.y()};
+      break;
+    case CollisionShape::Type::kSphere:
+      half = Eigen::Vector3d::Constant(s.size.x());
+      break;
+    case CollisionShape::Type::kMesh:
+      half = Eigen::Vector3d::Constant(0.01);
+      break;
   }
   std::array<Eigen::Vector3d, 8> corners;
   for (int i = 0; i < 8; ++i) {
@@ -60,7 +67,8 @@ void DrawArm(const Platform& platform, Side side, const Eigen::VectorXd& q, cons
   std::vector<Eigen::Isometry3d> bMs;
   arm.SegmentPoses(q, &bMs);
   // OpenCV colours are BGR: left blue, right green.
-  const cv::Scalar colour = side == Side::kLeft ? cv::Scalar(230, 140, 60) : cv::Scalar(80, 180, 80);
+  const cv::Scalar colour =
+      side == Side::kLeft ? cv::Scalar(230, 140, 60) : cv::Scalar(80, 180, 80);
   for (std::size_t i = 0; i < arm.segments().size(); ++i) {
     for (const CollisionShape& s : arm.segments()[i].collision) {
       DrawShape(view, Corners(s, platform.dMb(side) * bMs[i]), colour, true, image);
@@ -79,9 +87,9 @@ void DrawCamera(const Platform& platform, const View& view, cv::Mat* image) {
   const CameraIntrinsics& K = platform.camera();
   const double range_m = 0.6;
   const Eigen::Vector3d origin = platform.dMc().translation();
-  std::vector<Eigen::Vector3d> rays = {
-      K.Unproject(0, 0, range_m), K.Unproject(K.width, 0, range_m),
-      K.Unproject(0, K.height, range_m), K.Unproject(K.width, K.height, range_m)};
+  std::vector<Eigen::Vector3d> rays = {K.Unproject(0, 0, range_m), K.Unproject(K.width, 0, range_m),
+                                       K.Unproject(0, K.height, range_m),
+                                       K.Unproject(K.width, K.height, range_m)};
   for (const Eigen::Vector3d& r_c : rays) {
     cv::line(*image, view.ToPixel(origin), view.ToPixel(platform.dMc() * r_c),
              cv::Scalar(160, 120, 200), 1, cv::LINE_AA);
@@ -110,8 +118,8 @@ void DrawPanel(const Platform& platform, const Eigen::VectorXd& q_left,
   DrawCamera(platform, view, image);
   DrawArm(platform, Side::kLeft, q_left, view, image);
   DrawArm(platform, Side::kRight, q_right, view, image);
-  cv::putText(*image, title, {10, 24}, cv::FONT_HERSHEY_SIMPLEX, 0.55,
-              cv::Scalar(20, 20, 20), 1, cv::LINE_AA);
+  cv::putText(*image, title, {10, 24}, cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(20, 20, 20), 1,
+              cv::LINE_AA);
 }
 
 }  // namespace

@@ -9,18 +9,18 @@
 namespace aerograsp {
 
 struct PoseTrace {
-  std::string name;                 ///< legend text
+  std::string name;  ///< legend text
   std::vector<double> stamp_s;
-  std::vector<double> x_m, y_m, z_m;  ///< NaN where there is no value
+  std::vector<double> x_m, y_m, z_m;       ///< NaN where there is no value
   std::vector<double> rotation_error_deg;  ///< NaN where there is no truth or no estimate
-  std::vector<int> found;           ///< 1 found, 0 lost (optional: may be empty)
+  std::vector<int> found;                  ///< 1 found, 0 lost (optional: may be empty)
 };
 
 /// `truth` (the reference, drawn black and named by its `name`: the ground
 /// truth, or the tags on a bench) has positions only; every trace shares its time axis.
 /// `position_label` names the plotted position in the panel titles, with its frames.
 /// @throws std::runtime_error when the file cannot be written.
-void WritePosePlot(const PoseTrace& truth, const std::vector<PoseTrace>& estimates, const std::string& path,
-                   const std::string& position_label = "cMo position");
+void WritePosePlot(const PoseTrace& truth, const std::vector<PoseTrace>& estimates,
+                   const std::string& path, const std::string& position_label = "cMo position");
 
 }  // namespace aerograsp

@@ -12,7 +12,8 @@ Progress::Progress(std::ostream& out, std::string label, std::int64_t total, std
       label_(std::move(label)),
       unit_(std::move(unit)),
       total_(total),
-      terminal_(&out == &std::cerr ? isatty(STDERR_FILENO) : (&out == &std::cout && isatty(STDOUT_FILENO))),
+      terminal_(&out == &std::cerr ? isatty(STDERR_FILENO)
+                                   : (&out == &std::cout && isatty(STDOUT_FILENO))),
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_) {}
 
@@ -29,9 +30,9 @@ void Progress::Update(std::int64_t done) {
     const int filled = static_cast<int>(fraction * kWidth);
     std::string bar(static_cast<std::size_t>(filled), '#');
     bar.resize(kWidth, ' ');
-    std::snprintf(line, sizeof(line), "\r%s [%s] %lld/%lld %s  %.1f %s/s ", label_.c_str(), bar.c_str(),
-                  static_cast<long long>(done), static_cast<long long>(total_), unit_.c_str(), rate,
-                  unit_.c_str());
+    std::snprintf(line, sizeof(line), "\r%s [%s] %lld/%lld %s  %.1f %s/s ", label_.c_str(),
+                  bar.c_str(), static_cast<long long>(done), static_cast<long long>(total_),
+                  unit_.c_str(), rate, unit_.c_str());
     out_ << line << std::flush;
     return;
   }
@@ -39,8 +40,8 @@ void Progress::Update(std::int64_t done) {
   if (decile == last_decile_) return;
   last_decile_ = decile;
   std::snprintf(line, sizeof(line), "%s: %lld/%lld %s (%d %%), %.1f %s/s\n", label_.c_str(),
-                static_cast<long long>(done), static_cast<long long>(total_), unit_.c_str(), decile * 10, rate,
-                unit_.c_str());
+                static_cast<long long>(done), static_cast<long long>(total_), unit_.c_str(),
+                decile * 10, rate, unit_.c_str());
   out_ << line << std::flush;
 }
 

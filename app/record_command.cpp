@@ -20,8 +20,10 @@ namespace fs = std::filesystem;
 namespace {
 
 /// Colour image and depth coloured by range (turbo map, black = no data).
-void WritePreviews(const RgbdFrame& frame, double depth_scale_m, double max_range_m, const std::string& folder) {
-  const cv::Mat rgb(frame.color.height, frame.color.width, CV_8UC3, const_cast<std::uint8_t*>(frame.color.data.data()));
+void WritePreviews(const RgbdFrame& frame, double depth_scale_m, double max_range_m,
+                   const std::string& folder) {
+  const cv::Mat rgb(frame.color.height, frame.color.width, CV_8UC3,
+                    const_cast<std::uint8_t*>(frame.color.data.data()));
   cv::Mat bgr;
   cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
   const std::string color_path = (fs::path(folder) / "preview_color.png").string();
@@ -40,7 +42,8 @@ void WritePreviews(const RgbdFrame& frame, double depth_scale_m, double max_rang
 
 }  // namespace
 
-void RunRecordCommand(const RecordCommandOptions& options, std::ostream& out, std::ostream& progress) {
+void RunRecordCommand(const RecordCommandOptions& options, std::ostream& out,
+                      std::ostream& progress) {
   const std::string world_path =
       options.world_config.empty() ? DataPath("config/world_default.yaml") : options.world_config;
   WorldConfig config = WorldConfig::Load(world_path);
@@ -62,8 +65,9 @@ void RunRecordCommand(const RecordCommandOptions& options, std::ostream& out, st
   info.depth_scale_m = camera.depth_scale_m();
   info.object = world.object().name;
   info.frame_rate_hz = config.camera.frame_rate_hz;
-  info.description = fmt::format("aerograsp simulator, world {}, seed {}, object {} ({})", world_path,
-                                 options.seed, world.object().name, config.object.motion);
+  info.description =
+      fmt::format("aerograsp simulator, world {}, seed {}, object {} ({})", world_path,
+                  options.seed, world.object().name, config.object.motion);
   SequenceWriter writer(options.out_dir, info, options.overwrite);
 
   Progress bar(progress, "record", options.frames, "frames");
@@ -82,7 +86,8 @@ void RunRecordCommand(const RecordCommandOptions& options, std::ostream& out, st
     extras.q_left_rad = world.arm(Side::kLeft).q_measured_rad();
     extras.q_right_rad = world.arm(Side::kRight).q_measured_rad();
     writer.Write(frame, extras);
-    if (i == 0) WritePreviews(frame, info.depth_scale_m, config.camera.d435.max_range_m, options.out_dir);
+    if (i == 0)
+      WritePreviews(frame, info.depth_scale_m, config.camera.d435.max_range_m, options.out_dir);
     valid_depth += std::count_if(frame.depth.data.begin(), frame.depth.data.end(),
                                  [](std::uint16_t d) { return d != 0; }) /
                    static_cast<double>(frame.depth.data.size());
@@ -96,12 +101,14 @@ void RunRecordCommand(const RecordCommandOptions& options, std::ostream& out, st
   out << fmt::format(
       "sequence: {}\n"
       "  {} frames at {} Hz ({:.2f} s simulated), object {} ({}), seed {}\n"
-      "  camera frame: {:.1f} ms (ray casting {:.1f} ms, D435 model {:.1f} ms); depth valid on {:.1f} % of pixels; "
+      "  camera frame: {:.1f} ms (ray casting {:.1f} ms, D435 model {:.1f} ms); depth valid on "
+      "{:.1f} % of pixels; "
       "object on {:.0f} pixels per frame on average\n"
       "  previews: {}/preview_color.png, preview_depth.png\n",
       options.out_dir, n, config.camera.frame_rate_hz, (n - 1) / config.camera.frame_rate_hz,
-      world.object().name, config.object.motion, options.seed, 1e3 * render_s / n, 1e3 * raycast_s / n, 1e3 * model_s / n, 100.0 * valid_depth / n,
-      object_pixels / n, options.out_dir);
+      world.object().name, config.object.motion, options.seed, 1e3 * render_s / n,
+      1e3 * raycast_s / n, 1e3 * model_s / n, 100.0 * valid_depth / n, object_pixels / n,
+      options.out_dir);
 }
 
 }  // namespace aerograsp

@@ -16,9 +16,7 @@
 #include "hardware/sim/world.h"
 
 namespace aerograsp {
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 void RunRenderBenchmark(const RenderBenchmarkOptions& options, std::ostream& out) {
   const std::string world_path =
@@ -28,7 +26,8 @@ void RunRenderBenchmark(const RenderBenchmarkOptions& options, std::ostream& out
   World world(config, options.seed);
   // SimCamera's scene without the arms (out of view while hovering), timed stage by stage.
   RgbdRenderer renderer;
-  for (const RenderMesh& mesh : world.static_scene()) renderer.AddMesh(mesh, RgbdRenderer::Motion::kStatic);
+  for (const RenderMesh& mesh : world.static_scene())
+    renderer.AddMesh(mesh, RgbdRenderer::Motion::kStatic);
   const int object_id = renderer.AddMesh(world.object_render_mesh());
   const CameraIntrinsics& K = world.platform().camera();
   FastRandom rng(options.seed);
@@ -44,21 +43,24 @@ void RunRenderBenchmark(const RenderBenchmarkOptions& options, std::ostream& out
     const double t1 = ThreadCpuMs();
     SimulateD435(config.camera.d435, K, truth, &rng, &frame);
     const double t2 = ThreadCpuMs();
-    wall_ms.push_back(1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
+    wall_ms.push_back(
+        1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
     raycast_ms.push_back(t1 - t0);
     model_ms.push_back(t2 - t1);
     total_ms.push_back(t2 - t0);
   }
   const double budget_ms = 20.0;
-  out << fmt::format("render benchmark: {} frames {}x{}, world {}, seed {} (CPU time of one thread)\n",
-                     options.frames, K.width, K.height, world_path, options.seed);
+  out << fmt::format(
+      "render benchmark: {} frames {}x{}, world {}, seed {} (CPU time of one thread)\n",
+      options.frames, K.width, K.height, world_path, options.seed);
   out << fmt::format("  {:<22} {:>9} {:>9}\n", "stage", "median", "p90");
-  out << fmt::format("  {:<22} {:>6.2f} ms {:>6.2f} ms\n", "ray casting + shading", Percentile(raycast_ms, 0.5),
-                     Percentile(raycast_ms, 0.9));
+  out << fmt::format("  {:<22} {:>6.2f} ms {:>6.2f} ms\n", "ray casting + shading",
+                     Percentile(raycast_ms, 0.5), Percentile(raycast_ms, 0.9));
   out << fmt::format("  {:<22} {:>6.2f} ms {:>6.2f} ms\n", "D435 model", Percentile(model_ms, 0.5),
                      Percentile(model_ms, 0.9));
-  out << fmt::format("  {:<22} {:>6.2f} ms {:>6.2f} ms   (budget {:.0f} ms)\n", "colour + depth frame",
-                     Percentile(total_ms, 0.5), Percentile(total_ms, 0.9), budget_ms);
+  out << fmt::format("  {:<22} {:>6.2f} ms {:>6.2f} ms   (budget {:.0f} ms)\n",
+                     "colour + depth frame", Percentile(total_ms, 0.5), Percentile(total_ms, 0.9),
+                     budget_ms);
   out << fmt::format("  {:<22} {:>6.2f} ms {:>6.2f} ms\n", "wall time", Percentile(wall_ms, 0.5),
                      Percentile(wall_ms, 0.9));
   if (!options.out_dir.empty()) {

@@ -9,10 +9,10 @@
 namespace aerograsp {
 
 struct RenderBenchmarkOptions {
-  std::string out_dir;        ///< summary.json goes here (created); empty: print only
-  int frames = 100;           ///< frames rendered, [1, 100000]
+  std::string out_dir;  ///< summary.json goes here (created); empty: print only
+  int frames = 100;     ///< frames rendered, [1, 100000]
   std::uint64_t seed = 1;
-  std::string world_config;   ///< default data/config/world_default.yaml
+  std::string world_config;  ///< default data/config/world_default.yaml
 };
 
 /// Renders `frames` frames of a hovering vehicle with a crawling object and

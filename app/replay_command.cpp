@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <numeric>
 #include <nlohmann/json.hpp>
+#include <numeric>
 #include <sstream>
 #include <stdexcept>
 
@@ -34,7 +34,8 @@ constexpr double kWorldWeakDirectionStdM = 0.02;
 
 /// ADD-S (m): mean over model points of the distance from the estimate's point
 /// to the nearest point of the model at the truth, capped at the grid margin.
-double AddS(const ModelCloud& model, const Eigen::Isometry3d& cMo_est, const Eigen::Isometry3d& cMo_true) {
+double AddS(const ModelCloud& model, const Eigen::Isometry3d& cMo_est,
+            const Eigen::Isometry3d& cMo_true) {
   const Eigen::Isometry3f oMo = (cMo_true.inverse() * cMo_est).cast<float>();
   const std::size_t step = std::max<std::size_t>(1, model.points_o.size() / 500);
   double sum = 0.0;
@@ -42,7 +43,8 @@ double AddS(const ModelCloud& model, const Eigen::Isometry3d& cMo_est, const Eig
   for (std::size_t i = 0; i < model.points_o.size(); i += step, ++n) {
     const Eigen::Vector3f p = oMo * model.points_o[i];
     const int j = model.Nearest(p);
-    sum += j < 0 ? model.margin_m : std::min<double>(model.margin_m, (p - model.points_o[j]).norm());
+    sum +=
+        j < 0 ? model.margin_m : std::min<double>(model.margin_m, (p - model.points_o[j]).norm());
   }
   return n ? sum / n : std::numeric_limits<double>::quiet_NaN();
 }
@@ -84,7 +86,8 @@ nlohmann::json AccuracyJson(const Accuracy& a, double diameter_m) {
 class AccuracyCounter {
  public:
   explicit AccuracyCounter(const ModelCloud& model) : model_(model) {}
-  void Add(bool visible, const std::optional<Eigen::Isometry3d>& truth, bool found, const Eigen::Isometry3d& cMo) {
+  void Add(bool visible, const std::optional<Eigen::Isometry3d>& truth, bool found,
+           const Eigen::Isometry3d& cMo) {
     if (visible) {
       ++a_.visible;
       if (found) ++a_.found_visible;
@@ -104,10 +107,12 @@ class AccuracyCounter {
     if (truth && found) {
       const PoseError e = ComparePoses(*truth, cMo);
       a_.t_err_m.push_back(e.translation_m);
-      a_.r_err_deg.push_back(SymmetricRotationError(cMo.linear(), truth->linear(), model_.symmetry) * 180.0 / M_PI);
+      a_.r_err_deg.push_back(
+          SymmetricRotationError(cMo.linear(), truth->linear(), model_.symmetry) * 180.0 / M_PI);
     }
     if (truth && visible) {
-      const double add_s = found ? AddS(model_, cMo, *truth) : std::numeric_limits<double>::infinity();
+      const double add_s =
+          found ? AddS(model_, cMo, *truth) : std::numeric_limits<double>::infinity();
       if (found) a_.add_s_m.push_back(add_s);
       if (add_s < 0.1 * model_.diameter_m) ++a_.add_s_ok;
     }
@@ -147,7 +152,8 @@ Eigen::Isometry3d ParsePose(const std::string& text) {
     } catch (const std::exception&) {
       throw std::invalid_argument("--init-pose: '" + token + "' is not a number");
     }
-    if (used != token.size() || !std::isfinite(x)) throw std::invalid_argument("--init-pose: '" + token + "' is not a number");
+    if (used != token.size() || !std::isfinite(x))
+      throw std::invalid_argument("--init-pose: '" + token + "' is not a number");
     v.push_back(x);
   }
   return PoseFromValues(v);
@@ -157,17 +163,21 @@ Eigen::Isometry3d PoseFromValues(const std::vector<double>& v, const std::string
   for (double x : v) {
     if (!std::isfinite(x)) throw std::invalid_argument(option + ": values must be finite");
   }
-  if (v.size() != 7) throw std::invalid_argument(fmt::format("{}: expected 7 numbers (x y z qw qx qy qz), got {}", option, v.size()));
+  if (v.size() != 7)
+    throw std::invalid_argument(
+        fmt::format("{}: expected 7 numbers (x y z qw qx qy qz), got {}", option, v.size()));
   const Eigen::Vector4d q(v[3], v[4], v[5], v[6]);
   if (q.norm() < 1e-9) throw std::invalid_argument(option + ": the quaternion is zero");
   return MakeTransformWxyz(Eigen::Vector3d(v[0], v[1], v[2]), q);
 }
 
-void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, std::ostream& progress) {
+void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
+                      std::ostream& progress) {
   // The filter in the world gets noise along ICP's weak direction, unless the file says otherwise.
   PerceptionOptions perception;
   if (options.filter_frame == "world") perception.weak_direction_std_m = kWorldWeakDirectionStdM;
-  if (!options.perception_config.empty()) perception = LoadPerceptionOptions(options.perception_config, perception);
+  if (!options.perception_config.empty())
+    perception = LoadPerceptionOptions(options.perception_config, perception);
 
   ReplayCamera camera(options.sequence);
   const SequenceInfo& info = camera.info();
@@ -189,34 +199,44 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
   std::optional<Eigen::Isometry3d> dMc;  // the camera mount, for a filter in the world
   if (options.filter_frame == "world") {
     if (info.frame_count > 0 && !camera.extras(0).vehicle) {
-      throw std::invalid_argument(options.sequence + ": --filter-frame world needs the vehicle states (vehicle.csv)");
+      throw std::invalid_argument(options.sequence +
+                                  ": --filter-frame world needs the vehicle states (vehicle.csv)");
     }
-    dMc = Platform::Load(options.platform.empty() ? DataPath("config/platform_4dof.yaml") : options.platform).dMc();
+    dMc = Platform::Load(options.platform.empty() ? DataPath("config/platform_4dof.yaml")
+                                                  : options.platform)
+              .dMc();
   } else if (options.filter_frame != "camera") {
-    throw std::invalid_argument("--filter-frame: '" + options.filter_frame + "' is not one of camera, world");
+    throw std::invalid_argument("--filter-frame: '" + options.filter_frame +
+                                "' is not one of camera, world");
   }
   ObjectTracker tracker(object, perception, std::move(detector));
   const ModelCloud& model = tracker.model();
 
   std::optional<Eigen::Isometry3d> init = options.init_cMo;
   if (options.init_from_truth) {
-    if (!camera.has_groundtruth()) throw std::invalid_argument(options.sequence + ": --init-from-truth needs groundtruth.csv");
+    if (!camera.has_groundtruth())
+      throw std::invalid_argument(options.sequence + ": --init-from-truth needs groundtruth.csv");
     init = camera.extras(0).cMo;
   }
   if (init) tracker.SetInitialPose(*init);
   std::unique_ptr<VispPeerTracker> peer;
-  if (options.run_peer) peer = std::make_unique<VispPeerTracker>(object, info.intrinsics, options.out_dir);
+  if (options.run_peer)
+    peer = std::make_unique<VispPeerTracker>(object, info.intrinsics, options.out_dir);
 
   fs::create_directories(options.out_dir);
   const std::string poses_path = (fs::path(options.out_dir) / "poses.csv").string();
   std::ofstream poses(poses_path);
   if (!poses) throw std::runtime_error(poses_path + ": cannot be written");
-  poses << "frame,stamp_s,tx_m,ty_m,tz_m,qw,qx,qy,qz,confidence,state,measured,global_init,gated,detection_score,"
-           "cloud_points,icp_inliers,icp_rmse_mm,rejected_distance,rejected_normal,rejected_color,support_ratio,"
-           "support_coverage,nis,frame_ms,peer_tx_m,peer_ty_m,peer_tz_m,peer_qw,peer_qx,peer_qy,peer_qz,peer_state\n";
+  poses << "frame,stamp_s,tx_m,ty_m,tz_m,qw,qx,qy,qz,confidence,state,measured,global_init,gated,"
+           "detection_score,"
+           "cloud_points,icp_inliers,icp_rmse_mm,rejected_distance,rejected_normal,rejected_color,"
+           "support_ratio,"
+           "support_coverage,nis,frame_ms,peer_tx_m,peer_ty_m,peer_tz_m,peer_qw,peer_qx,peer_qy,"
+           "peer_qz,peer_state\n";
 
-  const std::int64_t total =
-      options.max_frames > 0 ? std::min<std::int64_t>(options.max_frames, info.frame_count) : info.frame_count;
+  const std::int64_t total = options.max_frames > 0
+                                 ? std::min<std::int64_t>(options.max_frames, info.frame_count)
+                                 : info.frame_count;
   Progress bar(progress, "replay", total, "frames");
   AccuracyCounter ours(model), theirs(model);
   std::vector<double> frame_ms, detect_ms, cloud_ms, icp_ms, global_ms, filter_ms, peer_ms;
@@ -242,14 +262,15 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
     if (dMc) {
       const std::optional<VehicleState>& vehicle = camera.extras(i).vehicle;
       if (!vehicle) {
-        stop_reason = fmt::format("{}: frame {} has no vehicle state (needed by --filter-frame world)",
-                                  options.sequence, i);
+        stop_reason =
+            fmt::format("{}: frame {} has no vehicle state (needed by --filter-frame world)",
+                        options.sequence, i);
         break;
       }
       wMc = vehicle->wMd * *dMc;
     }
-    const FrameReport r =
-        tracker.Process(frame.color, frame.depth, frame.stamp_s, info.intrinsics, info.depth_scale_m, wMc);
+    const FrameReport r = tracker.Process(frame.color, frame.depth, frame.stamp_s, info.intrinsics,
+                                          info.depth_scale_m, wMc);
     const ObjectEstimate& e = r.estimate;
     const bool found = e.valid && e.state == TrackState::kFound;
     frame_ms.push_back(r.times.total_ms);
@@ -266,15 +287,18 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
     if (peer) {
       if (!peer->initialized()) {
         // Initialised the same way as ours: the given first pose, else our first found pose.
-        if (init && i == 0) peer->Initialize(*init);
-        else if (found) peer->Initialize(e.cMo);
+        if (init && i == 0)
+          peer->Initialize(*init);
+        else if (found)
+          peer->Initialize(e.cMo);
       }
       if (peer->initialized()) {
         peer_result = peer->Track(frame.color, frame.depth, info.depth_scale_m);
         peer_ms.push_back(peer_result->ms);
         if (!peer_result->error.empty()) {
           ++peer_failures;
-          if (peer_first_error.empty()) peer_first_error = fmt::format("frame {}: {}", i, peer_result->error);
+          if (peer_first_error.empty())
+            peer_first_error = fmt::format("frame {}: {}", i, peer_result->error);
         }
       }
     }
@@ -283,7 +307,8 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
     bool visible = false;
     if (truth) {
       // Visibility of the truth: depth only (no colour image, no colour check).
-      const PoseSupport s = ScorePoseSupport(model, *truth, {}, frame.depth, info.depth_scale_m, info.intrinsics);
+      const PoseSupport s =
+          ScorePoseSupport(model, *truth, {}, frame.depth, info.depth_scale_m, info.intrinsics);
       visible = s.projected >= 20 && s.coverage() >= 0.3;
       if (visible) {
         ++box_visible;
@@ -292,7 +317,9 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
         box_hits += iou >= 0.5;
       }
       ours.Add(visible, truth, found, e.cMo);
-      if (peer) theirs.Add(visible, truth, peer_result && peer_result->ok, peer_result ? peer_result->cMo : e.cMo);
+      if (peer)
+        theirs.Add(visible, truth, peer_result && peer_result->ok,
+                   peer_result ? peer_result->cMo : e.cMo);
       truth_trace.stamp_s.push_back(frame.stamp_s);
       truth_trace.x_m.push_back(truth->translation().x());
       truth_trace.y_m.push_back(truth->translation().y());
@@ -305,26 +332,32 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
       t->y_m.push_back(ok ? cMo.translation().y() : nan);
       t->z_m.push_back(ok ? cMo.translation().z() : nan);
       t->rotation_error_deg.push_back(
-          ok && truth ? SymmetricRotationError(cMo.linear(), truth->linear(), model.symmetry) * 180.0 / M_PI : nan);
+          ok && truth
+              ? SymmetricRotationError(cMo.linear(), truth->linear(), model.symmetry) * 180.0 / M_PI
+              : nan);
       t->found.push_back(ok ? 1 : 0);
     };
     trace(&our_trace, found, e.cMo);
-    if (peer) trace(&peer_trace, peer_result && peer_result->ok, peer_result ? peer_result->cMo : e.cMo);
+    if (peer)
+      trace(&peer_trace, peer_result && peer_result->ok, peer_result ? peer_result->cMo : e.cMo);
 
     const Eigen::Vector4d q = QuaternionWxyz(e.cMo);
-    poses << fmt::format("{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.3f},{},{},{},{},{:.3f}", i,
-                         frame.stamp_s, e.cMo.translation().x(), e.cMo.translation().y(), e.cMo.translation().z(),
-                         q[0], q[1], q[2], q[3], e.confidence, e.valid ? ToString(e.state) : "none",
-                         int(r.measured), int(r.global_init), int(r.gated),
-                         r.detection ? r.detection->score : 0.0f);
-    poses << fmt::format(",{},{},{:.2f},{},{},{},{:.3f},{:.3f},{:.2f},{:.2f}", r.cloud_points, r.icp.inliers,
-                         1e3 * r.icp.rmse_m, r.icp.rejected_distance + r.icp.rejected_no_model, r.icp.rejected_normal,
-                         r.icp.rejected_color, r.support.ratio(), r.support.coverage(), r.nis, r.times.total_ms);
+    poses << fmt::format(
+        "{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.3f},{},{},{},{},{:.3f}", i,
+        frame.stamp_s, e.cMo.translation().x(), e.cMo.translation().y(), e.cMo.translation().z(),
+        q[0], q[1], q[2], q[3], e.confidence, e.valid ? ToString(e.state) : "none", int(r.measured),
+        int(r.global_init), int(r.gated), r.detection ? r.detection->score : 0.0f);
+    poses << fmt::format(",{},{},{:.2f},{},{},{},{:.3f},{:.3f},{:.2f},{:.2f}", r.cloud_points,
+                         r.icp.inliers, 1e3 * r.icp.rmse_m,
+                         r.icp.rejected_distance + r.icp.rejected_no_model, r.icp.rejected_normal,
+                         r.icp.rejected_color, r.support.ratio(), r.support.coverage(), r.nis,
+                         r.times.total_ms);
     if (peer_result) {
       const Eigen::Vector4d pq = QuaternionWxyz(peer_result->cMo);
-      poses << fmt::format(",{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{}", peer_result->cMo.translation().x(),
-                           peer_result->cMo.translation().y(), peer_result->cMo.translation().z(), pq[0], pq[1], pq[2],
-                           pq[3], peer_result->ok ? "found" : "lost");
+      poses << fmt::format(",{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{}",
+                           peer_result->cMo.translation().x(), peer_result->cMo.translation().y(),
+                           peer_result->cMo.translation().z(), pq[0], pq[1], pq[2], pq[3],
+                           peer_result->ok ? "found" : "lost");
     } else {
       poses << ",,,,,,,,none";
     }
@@ -339,9 +372,11 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
   summary["object"] = object.name;
   summary["frames"] = frames;
   summary["filter_frame"] = options.filter_frame;
-  summary["perception"] = options.perception_config.empty() ? "code defaults" : options.perception_config;
+  summary["perception"] =
+      options.perception_config.empty() ? "code defaults" : options.perception_config;
   if (!stop_reason.empty()) summary["stopped_early"] = stop_reason;
-  summary["detector"] = tracker.has_detector() ? detector_path : "none (global registration on the whole frame)";
+  summary["detector"] =
+      tracker.has_detector() ? detector_path : "none (global registration on the whole frame)";
   summary["symmetry"] = {{"discrete_rotations", model.symmetry.rotations.size()},
                          {"continuous_axis", model.symmetry.continuous_axis_o.has_value()}};
   summary["frames_found"] = found_frames;
@@ -350,22 +385,27 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
   summary["gated_measurements"] = gated;
   summary["frame_ms_median"] = Percentile(frame_ms, 0.5, kNaN);
   summary["frame_ms_p95"] = Percentile(frame_ms, 0.95, kNaN);
-  summary["stage_ms"] = {{"detect", TimesJson(detect_ms)}, {"crop_cloud_normals", TimesJson(cloud_ms)},
-                         {"icp_tracking", TimesJson(icp_ms)}, {"global_init", TimesJson(global_ms)},
+  summary["stage_ms"] = {{"detect", TimesJson(detect_ms)},
+                         {"crop_cloud_normals", TimesJson(cloud_ms)},
+                         {"icp_tracking", TimesJson(icp_ms)},
+                         {"global_init", TimesJson(global_ms)},
                          {"filter", TimesJson(filter_ms)}};
   summary["timing"] = "thread CPU time, one core";
   if (camera.has_groundtruth()) {
     const nlohmann::json acc = AccuracyJson(ours.Finish(), model.diameter_m);
     for (auto& [key, value] : acc.items()) summary[key] = value;
     summary["rotation_error"] =
-        "angle of R_true^-1 R_est minimised over the object's rotational symmetries; for an axis of continuous "
+        "angle of R_true^-1 R_est minimised over the object's rotational symmetries; for an axis "
+        "of continuous "
         "symmetry, the angle between the axes";
     summary["detection_recall_definition"] =
-        "frames where the tracker reports the object found / frames where the object is visible in the truth";
+        "frames where the tracker reports the object found / frames where the object is visible in "
+        "the truth";
     if (tracker.has_detector()) {
       summary["detector_box_recall"] = box_visible ? double(box_hits) / box_visible : 0.0;
       summary["detector_box_iou_mean"] =
-          box_iou.empty() ? 0.0 : std::accumulate(box_iou.begin(), box_iou.end(), 0.0) / box_iou.size();
+          box_iou.empty() ? 0.0
+                          : std::accumulate(box_iou.begin(), box_iou.end(), 0.0) / box_iou.size();
     }
   }
   if (peer) {
@@ -391,26 +431,34 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, st
   if (!file) throw std::runtime_error(summary_path + ": cannot be written");
   std::vector<PoseTrace> traces{our_trace};
   if (peer) traces.push_back(peer_trace);
-  if (camera.has_groundtruth()) WritePosePlot(truth_trace, traces, (fs::path(options.out_dir) / "pose_vs_truth.png").string());
+  if (camera.has_groundtruth())
+    WritePosePlot(truth_trace, traces, (fs::path(options.out_dir) / "pose_vs_truth.png").string());
 
   auto num = [&](const char* key, double scale) {
-    return summary.contains(key) && summary[key].is_number() ? fmt::format("{:.2f}", scale * summary[key].get<double>())
-                                                             : std::string("-");
+    return summary.contains(key) && summary[key].is_number()
+               ? fmt::format("{:.2f}", scale * summary[key].get<double>())
+               : std::string("-");
   };
-  out << fmt::format("replay: {} frames of {}, object {}, detector {}\n", frames, options.sequence, object.name,
+  out << fmt::format("replay: {} frames of {}, object {}, detector {}\n", frames, options.sequence,
+                     object.name,
                      tracker.has_detector() ? "yes" : "no (whole-frame global registration)");
   if (!stop_reason.empty()) out << "  stopped early: " << stop_reason << "\n";
-  out << fmt::format("  found {} frames, {} global inits, {} gated; frame {} ms median, {} ms p95\n", found_frames,
-                     global_runs, gated, num("frame_ms_median", 1), num("frame_ms_p95", 1));
+  out << fmt::format(
+      "  found {} frames, {} global inits, {} gated; frame {} ms median, {} ms p95\n", found_frames,
+      global_runs, gated, num("frame_ms_median", 1), num("frame_ms_p95", 1));
   if (camera.has_groundtruth()) {
-    out << fmt::format("  translation RMSE {} mm, rotation RMSE {} deg, detection recall {} %, ADD-S recall {} %\n",
-                       num("translation_rmse_m", 1e3), num("rotation_rmse_deg", 1), num("detection_recall", 100),
-                       num("add_s_recall", 100));
+    out << fmt::format(
+        "  translation RMSE {} mm, rotation RMSE {} deg, detection recall {} %, ADD-S recall {} "
+        "%\n",
+        num("translation_rmse_m", 1e3), num("rotation_rmse_deg", 1), num("detection_recall", 100),
+        num("add_s_recall", 100));
     const nlohmann::json& acc = summary;
     if (acc.value("reacquisitions", 0) + acc.value("never_reacquired", 0) > 0) {
-      out << fmt::format("  fully hidden and seen again {} times: found again within {} frames at most, {} never\n",
-                         acc.value("reacquisitions", 0) + acc.value("never_reacquired", 0),
-                         acc.value("reacquire_max_frames", 0), acc.value("never_reacquired", 0));
+      out << fmt::format(
+          "  fully hidden and seen again {} times: found again within {} frames at most, {} "
+          "never\n",
+          acc.value("reacquisitions", 0) + acc.value("never_reacquired", 0),
+          acc.value("reacquire_max_frames", 0), acc.value("never_reacquired", 0));
     }
   }
   out << "  wrote " << summary_path << "\n";

@@ -17,11 +17,11 @@
 namespace aerograsp {
 
 struct ReplayCommandOptions {
-  std::string sequence;          ///< sequence folder
-  std::string out_dir;           ///< created; poses.csv, summary.json, pose_vs_truth.png
-  std::string object;            ///< overrides the sequence's object (shipped name or model path)
-  std::string detector;          ///< ONNX path; "" = data/objects/NAME/detector.onnx when it exists
-  bool use_detector = true;      ///< false: whole-frame global registration, no CNN
+  std::string sequence;      ///< sequence folder
+  std::string out_dir;       ///< created; poses.csv, summary.json, pose_vs_truth.png
+  std::string object;        ///< overrides the sequence's object (shipped name or model path)
+  std::string detector;      ///< ONNX path; "" = data/objects/NAME/detector.onnx when it exists
+  bool use_detector = true;  ///< false: whole-frame global registration, no CNN
   std::optional<Eigen::Isometry3d> init_cMo;  ///< known first pose
   bool init_from_truth = false;  ///< take the first frame's ground truth as the known first pose
   bool run_peer = true;          ///< also run ViSP's vpMbGenericTracker (dense depth)
@@ -30,7 +30,7 @@ struct ReplayCommandOptions {
   /// nothing else); "world": in the world, with each frame's camera pose from
   /// the recorded vehicle state (vehicle.csv) and the camera mount of `platform`.
   std::string filter_frame = "camera";
-  std::string platform;          ///< platform YAML for the camera mount; "" = config/platform_4dof.yaml
+  std::string platform;  ///< platform YAML for the camera mount; "" = config/platform_4dof.yaml
   /// Perception YAML (detection/perception_config.h); "" = the code's defaults.
   /// With filter_frame "world", weak_direction_std_m is 0.02 m unless the file sets it.
   std::string perception_config;
@@ -40,12 +40,14 @@ struct ReplayCommandOptions {
 /// @throws std::invalid_argument for a wrong count, non-numbers or a zero quaternion.
 Eigen::Isometry3d ParsePose(const std::string& text);
 /// The same from the seven numbers; messages name `option`.
-Eigen::Isometry3d PoseFromValues(const std::vector<double>& xyz_qwxyz, const std::string& option = "--init-pose");
+Eigen::Isometry3d PoseFromValues(const std::vector<double>& xyz_qwxyz,
+                                 const std::string& option = "--init-pose");
 
 /// @throws HardwareError / ConfigError / MeshError naming the file (missing or
 /// truncated sequence, unknown object, corrupt detector model, bad perception
 /// YAML: checked first), std::runtime_error
 /// when DIR cannot be written.
-void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out, std::ostream& progress);
+void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
+                      std::ostream& progress);
 
 }  // namespace aerograsp

@@ -43,8 +43,8 @@ std::string EscapeHtml(const std::string& text) {
   return out;
 }
 
-void WriteHtmlTable(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
-                    std::ostream& html) {
+void WriteHtmlTable(const std::vector<std::string>& header,
+                    const std::vector<std::vector<std::string>>& rows, std::ostream& html) {
   html << "<table>\n<tr>";
   for (const std::string& cell : header) html << "<th>" << EscapeHtml(cell) << "</th>";
   html << "</tr>\n";
@@ -56,8 +56,8 @@ void WriteHtmlTable(const std::vector<std::string>& header, const std::vector<st
   html << "</table>\n";
 }
 
-void WriteHtmlFigure(bool written, const std::string& image, const std::string& caption, const std::string& missing,
-                     std::ostream& html) {
+void WriteHtmlFigure(bool written, const std::string& image, const std::string& caption,
+                     const std::string& missing, std::ostream& html) {
   if (!written) {
     html << "<p class=\"missing\">" << EscapeHtml(missing) << "</p>\n";
     return;
@@ -68,8 +68,9 @@ void WriteHtmlFigure(bool written, const std::string& image, const std::string& 
 
 void BeginHtmlPage(const std::string& title, std::ostream& html) {
   const std::string escaped = EscapeHtml(title);
-  html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" << escaped
-       << "</title>\n<style>" << kStyle << "</style>\n</head>\n<body>\n<h1>" << escaped << "</h1>\n";
+  html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>"
+       << escaped << "</title>\n<style>" << kStyle << "</style>\n</head>\n<body>\n<h1>" << escaped
+       << "</h1>\n";
 }
 
 void WriteHtmlPage(const std::string& page, const std::string& out_dir) {

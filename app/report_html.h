@@ -12,12 +12,12 @@ namespace aerograsp {
 std::string EscapeHtml(const std::string& text);
 
 /// A table with the given header cells; every cell is escaped.
-void WriteHtmlTable(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
-                    std::ostream& html);
+void WriteHtmlTable(const std::vector<std::string>& header,
+                    const std::vector<std::vector<std::string>>& rows, std::ostream& html);
 
 /// The figure of `image` (relative path) when it was written, `missing` (a sentence) otherwise.
-void WriteHtmlFigure(bool written, const std::string& image, const std::string& caption, const std::string& missing,
-                     std::ostream& html);
+void WriteHtmlFigure(bool written, const std::string& image, const std::string& caption,
+                     const std::string& missing, std::ostream& html);
 
 /// <!DOCTYPE html> ... <body><h1>title</h1> with the reports' style sheet.
 void BeginHtmlPage(const std::string& title, std::ostream& html);

@@ -77,16 +77,14 @@ void PrintArm(const Platform& platform, Side side, const RobotCommandOptions& op
   arm.SegmentPoses(zero, &bMs);
   const Eigen::Matrix<double, 6, Eigen::Dynamic> J0 = arm.Jacobian(zero);
   fmt::print(out, "  {:<5} {:<10} {:<27} {:<27} {:>9} {:>9} {:>11}\n", "joint", "type",
-             "origin in base at q=0 (m)", "axis in base at q=0", "min deg", "max deg",
-             "max deg/s");
+             "origin in base at q=0 (m)", "axis in base at q=0", "min deg", "max deg", "max deg/s");
   for (int i = 0; i < arm.dof(); ++i) {
     const bool revolute = arm.joint_type(i) == ArmModel::JointType::kRevolute;
     const double scale = revolute ? kDeg : 1.0;
     const Eigen::Vector3d axis = revolute ? J0.block<3, 1>(3, i) : J0.block<3, 1>(0, i);
-    fmt::print(out, "  {:<5} {:<10} {:<27} {:<27} {:9.1f} {:9.1f} {:11.0f}\n",
-               arm.joint_names()[i], revolute ? "revolute" : "prismatic",
-               FormatVector(bMs[i + 1].translation(), ""), FormatVector(axis, ""),
-               arm.lower_limits()[i] * scale, arm.upper_limits()[i] * scale,
+    fmt::print(out, "  {:<5} {:<10} {:<27} {:<27} {:9.1f} {:9.1f} {:11.0f}\n", arm.joint_names()[i],
+               revolute ? "revolute" : "prismatic", FormatVector(bMs[i + 1].translation(), ""),
+               FormatVector(axis, ""), arm.lower_limits()[i] * scale, arm.upper_limits()[i] * scale,
                arm.velocity_limits()[i] * scale);
   }
 
@@ -98,8 +96,8 @@ void PrintArm(const Platform& platform, Side side, const RobotCommandOptions& op
   Eigen::VectorXd q(arm.dof());
   for (int s = 0; s < options.reach_samples; ++s) {
     for (int i = 0; i < arm.dof(); ++i) {
-      q[i] = std::uniform_real_distribution<double>(arm.lower_limits()[i],
-                                                    arm.upper_limits()[i])(rng);
+      q[i] =
+          std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(rng);
     }
     const Eigen::Vector3d p_b = arm.ForwardKinematics(q).translation();
     max_reach = std::max(max_reach, (p_b - shoulder).norm());
@@ -109,15 +107,17 @@ void PrintArm(const Platform& platform, Side side, const RobotCommandOptions& op
   }
   fmt::print(out, "  shoulder at {} in base; stretched reach {:.3f} m\n",
              FormatVector(shoulder, "m"), arm.StretchedReach());
-  fmt::print(out,
-             "  sampled workspace ({} configurations, seed {}): reach {:.3f} m from the "
-             "shoulder; tool in d within x [{:.3f}, {:.3f}] y [{:.3f}, {:.3f}] z [{:.3f}, {:.3f}] m\n",
-             options.reach_samples, options.seed, max_reach, lo.x(), hi.x(), lo.y(), hi.y(),
-             lo.z(), hi.z());
+  fmt::print(
+      out,
+      "  sampled workspace ({} configurations, seed {}): reach {:.3f} m from the "
+      "shoulder; tool in d within x [{:.3f}, {:.3f}] y [{:.3f}, {:.3f}] z [{:.3f}, {:.3f}] m\n",
+      options.reach_samples, options.seed, max_reach, lo.x(), hi.x(), lo.y(), hi.y(), lo.z(),
+      hi.z());
 
   const Eigen::VectorXd& home = platform.home(side);
   std::string home_deg;
-  for (int i = 0; i < home.size(); ++i) home_deg += fmt::format("{}{:.1f}", i ? ", " : "", home[i] * kDeg);
+  for (int i = 0; i < home.size(); ++i)
+    home_deg += fmt::format("{}{:.1f}", i ? ", " : "", home[i] * kDeg);
   fmt::print(out, "  home [{}] deg: d M {} {}\n", home_deg, tool_frame,
              FormatPose(platform.dMb(side) * arm.ForwardKinematics(home)));
 
@@ -127,8 +127,8 @@ void PrintArm(const Platform& platform, Side side, const RobotCommandOptions& op
     mass += seg.mass_kg;
     shapes += seg.collision.size();
   }
-  fmt::print(out, "  mass {:.3f} kg (estimate), {} collision shapes on {} segments\n", mass,
-             shapes, arm.segments().size());
+  fmt::print(out, "  mass {:.3f} kg (estimate), {} collision shapes on {} segments\n", mass, shapes,
+             arm.segments().size());
 }
 
 }  // namespace
@@ -160,7 +160,9 @@ void RunRobotCommand(const RobotCommandOptions& options, std::ostream& out) {
   for (const CollisionShape& s : platform.safe_volume_d()) {
     fmt::print(out, "  {} at {}\n", DescribeShape(s), FormatPose(s.segMs));
   }
-  fmt::print(out, "\nGripper: max aperture {:.3f} m, clearance {:.3f} m per side, pads {:.3f} x {:.3f} m, closes in {:.2f} s\n",
+  fmt::print(out,
+             "\nGripper: max aperture {:.3f} m, clearance {:.3f} m per side, pads {:.3f} x {:.3f} "
+             "m, closes in {:.2f} s\n",
              c.gripper.max_aperture_m, c.gripper.finger_clearance_m, c.gripper.finger_width_m,
              c.gripper.finger_length_m, c.gripper.close_time_s);
 

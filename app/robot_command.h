@@ -9,10 +9,10 @@
 namespace aerograsp {
 
 struct RobotCommandOptions {
-  std::string config_path;         ///< platform YAML
-  int reach_samples = 20000;       ///< random configurations for the workspace figures
-  std::uint32_t seed = 1;          ///< seed of those samples
-  std::string plot_path;           ///< when set, a PNG of the platform with the arms at home
+  std::string config_path;    ///< platform YAML
+  int reach_samples = 20000;  ///< random configurations for the workspace figures
+  std::uint32_t seed = 1;     ///< seed of those samples
+  std::string plot_path;      ///< when set, a PNG of the platform with the arms at home
 };
 
 /// Loads the platform and prints its transform tree, camera, safe volume, and

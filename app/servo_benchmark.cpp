@@ -1,21 +1,21 @@
 #include "app/servo_benchmark.h"
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <fmt/ostream.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <kdl/chain.hpp>
 #include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/chainiksolverpos_nr_jl.hpp>
 #include <kdl/chainiksolvervel_pinv.hpp>
 #include <kdl/chainiksolvervel_wdls.hpp>
-#include <nlohmann/json.hpp>
-
-#include <algorithm>
-#include <chrono>
-#include <filesystem>
-#include <fstream>
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <stdexcept>
 
@@ -68,10 +68,10 @@ KDL::Chain ToKdlChain(const ArmModel& arm) {
                                            ? KDL::Joint::RotAxis
                                            : KDL::Joint::TransAxis;
     const Eigen::Isometry3d& next = i + 1 < arm.dof() ? arm.joint_origin(i + 1) : arm.tip_offset();
-    chain.addSegment(KDL::Segment(
-        arm.joint_names()[i],
-        KDL::Joint(arm.joint_names()[i], KDL::Vector::Zero(), KDL::Vector(a.x(), a.y(), a.z()), type),
-        ToKdl(next)));
+    chain.addSegment(KDL::Segment(arm.joint_names()[i],
+                                  KDL::Joint(arm.joint_names()[i], KDL::Vector::Zero(),
+                                             KDL::Vector(a.x(), a.y(), a.z()), type),
+                                  ToKdl(next)));
   }
   return chain;
 }
@@ -165,8 +165,9 @@ void CheckKdlChain(const ArmModel& arm, KdlArm* kdl, std::mt19937* rng) {
     kdl->fk->JntToCart(ToJnt(q), f);
     const PoseError d = ComparePoses(FromKdl(f), arm.ForwardKinematics(q));
     if (d.translation_m > 1e-9 || d.rotation_rad > 1e-9) {
-      throw std::logic_error(arm.source() + ": the KDL chain's forward kinematics differs from the model's by " +
-                             std::to_string(d.translation_m) + " m, " + std::to_string(d.rotation_rad) + " rad");
+      throw std::logic_error(
+          arm.source() + ": the KDL chain's forward kinematics differs from the model's by " +
+          std::to_string(d.translation_m) + " m, " + std::to_string(d.rotation_rad) + " rad");
     }
   }
 }
@@ -177,9 +178,11 @@ void CheckKdlChain(const ArmModel& arm, KdlArm* kdl, std::mt19937* rng) {
 /// and whether the other arm reached its own target.
 std::string ClassifyFailure(const PlatformCollision& collision, int a, ServoStatus status,
                             const ServoCommand& cmd, int still_steps, const Eigen::VectorXd (&q)[2],
-                            const Eigen::VectorXd& q_goal_sampled, bool other_done, double margin_m) {
+                            const Eigen::VectorXd& q_goal_sampled, bool other_done,
+                            double margin_m) {
   const auto collide = [&](const Eigen::VectorXd& q_a, const Eigen::VectorXd& q_b) {
-    return a == 0 ? collision.ArmsCollide(q_a, q_b, margin_m) : collision.ArmsCollide(q_b, q_a, margin_m);
+    return a == 0 ? collision.ArmsCollide(q_a, q_b, margin_m)
+                  : collision.ArmsCollide(q_b, q_a, margin_m);
   };
   std::string why = ServoStatusName(status);
   if (status == ServoStatus::kMoving) why = still_steps > 50 ? "stalled" : "still moving";
@@ -259,7 +262,8 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
       }
       step_us.push_back(MicrosecondsSince(t0));
       for (int a = 0; a < 2; ++a) {
-        if (done_at[a] < 0 && last_status[a] == ServoStatus::kMoving && tolerance.Met(cmd[a].error)) {
+        if (done_at[a] < 0 && last_status[a] == ServoStatus::kMoving &&
+            tolerance.Met(cmd[a].error)) {
           done_at[a] = k;
           roll_met[a] = with_roll.Met(cmd[a].error);
         }
@@ -278,7 +282,8 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
       } else {
         ++failures[ServoStatusName(last_status[a])];
         ++failure_classes[ClassifyFailure(collision, a, last_status[a], last_cmd[a], still_steps[a],
-                                          dual.q, goal.q[a], done_at[1 - a] >= 0, options.margin_m)];
+                                          dual.q, goal.q[a], done_at[1 - a] >= 0,
+                                          options.margin_m)];
       }
       // The same target by KDL from the same start.
       KdlArm& solver = kdl[a];
@@ -317,7 +322,8 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
   result["p95_iterations"] = Percentile(iterations, 0.95);
   result["step_us_both_arms"] = Percentile(step_us, 0.5);
   result["step_us_both_arms_p99"] = Percentile(step_us, 0.99);
-  result["step_us_both_arms_max"] = step_us.empty() ? 0.0 : *std::max_element(step_us.begin(), step_us.end());
+  result["step_us_both_arms_max"] =
+      step_us.empty() ? 0.0 : *std::max_element(step_us.begin(), step_us.end());
   result["safe_volume_entries"] = entries.safe_volume;
   result["arm_collision_entries"] = entries.arms;
   result["commands"] = entries.commands;
@@ -331,21 +337,26 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
                          {"approach_rad", tolerance.approach_rad},
                          {"roll_rad", tolerance.roll_rad}};
 
-  fmt::print(out, "[{}] convergence {:.2f} % of {} targets (from home {:.2f} %, from random {:.2f} %; "
+  fmt::print(out,
+             "[{}] convergence {:.2f} % of {} targets (from home {:.2f} %, from random {:.2f} %; "
              "with roll {:.2f} %), median {} iterations (p95 {})\n",
              name, 100.0 * result["convergence_rate"].get<double>(), targets,
              100.0 * result["convergence_rate_from_home"].get<double>(),
              100.0 * result["convergence_rate_from_random"].get<double>(),
              100.0 * result["convergence_rate_with_roll"].get<double>(),
              result["median_iterations"].get<double>(), result["p95_iterations"].get<double>());
-  for (const auto& [status, count] : failures) fmt::print(out, "[{}]   not converged, last status '{}': {}\n", name, status, count);
-  for (const auto& [why, count] : failure_classes) fmt::print(out, "[{}]     {}: {}\n", name, why, count);
+  for (const auto& [status, count] : failures)
+    fmt::print(out, "[{}]   not converged, last status '{}': {}\n", name, status, count);
+  for (const auto& [why, count] : failure_classes)
+    fmt::print(out, "[{}]     {}: {}\n", name, why, count);
   fmt::print(out, "[{}] step both arms: median {:.1f} us, p99 {:.1f} us, max {:.1f} us\n", name,
-             result["step_us_both_arms"].get<double>(), result["step_us_both_arms_p99"].get<double>(),
+             result["step_us_both_arms"].get<double>(),
+             result["step_us_both_arms_p99"].get<double>(),
              result["step_us_both_arms_max"].get<double>());
   fmt::print(out, "[{}] safe-volume entries {} and arm contacts {} in {} commands\n", name,
              entries.safe_volume, entries.arms, entries.commands);
-  fmt::print(out, "[{}] KDL NR_JL + {}: convergence {:.2f} %, solve median {:.1f} us per arm, "
+  fmt::print(out,
+             "[{}] KDL NR_JL + {}: convergence {:.2f} %, solve median {:.1f} us per arm, "
              "one Newton step both arms {:.1f} us\n",
              name, kdl[0].velocity_solver, 100.0 * result["kdl_convergence_rate"].get<double>(),
              result["kdl_solve_us"].get<double>(), result["kdl_step_us"].get<double>());
@@ -356,7 +367,8 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
     Entries safety;
     std::map<std::string, long> statuses;
     const int safety_steps = static_cast<int>(std::ceil(options.safety_trial_s / options.dt_s));
-    fmt::print(out, "[{}] {} safety trials of {} s\n", name, options.safety_trials, options.safety_trial_s);
+    fmt::print(out, "[{}] {} safety trials of {} s\n", name, options.safety_trials,
+               options.safety_trial_s);
     for (int trial = 0; trial < options.safety_trials; ++trial) {
       if (options.safety_trials >= 10 && trial % (options.safety_trials / 10) == 0 && trial > 0) {
         fmt::print(out, "[{}]   {}/{} safety trials, {} entries so far\n", name, trial,
@@ -368,7 +380,8 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
       dual.Restart(platform, collision, options.margin_m, start.q);
       for (int a = 0; a < 2; ++a) {
         for (int h = 0; h < 2; ++h) {
-          bMg[h][a] = platform.arm(kSides[a]).ForwardKinematics(DrawJointsWithinLimits(platform.arm(kSides[a]), &rng));
+          bMg[h][a] = platform.arm(kSides[a]).ForwardKinematics(
+              DrawJointsWithinLimits(platform.arm(kSides[a]), &rng));
         }
       }
       for (int k = 0; k < safety_steps; ++k) {
@@ -409,7 +422,8 @@ void AddServoBenchmarkOptions(CLI::App* cmd, ServoBenchmarkOptions* options) {
       ->capture_default_str()
       ->check(CLI::Range(0, 10000000));
   cmd->add_option("--seed", options->seed, "Seed of targets and starts")->capture_default_str();
-  cmd->add_option("--margin", options->margin_m, "Clearance kept from the safe volume and the other arm (m)")
+  cmd->add_option("--margin", options->margin_m,
+                  "Clearance kept from the safe volume and the other arm (m)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 0.2));
 }

@@ -16,15 +16,15 @@ class App;
 namespace aerograsp {
 
 struct ServoBenchmarkOptions {
-  std::string out_dir;                 ///< summary.json goes here (created)
-  std::vector<std::string> configs;    ///< platform YAMLs; empty: the 4-DoF and 6-DoF ones
-  int trials{1000};                    ///< dual-arm trials per config: 2 targets each
-  int safety_trials{10000};            ///< random trials counting safe-volume entries; 0 skips
-  std::uint32_t seed{1};               ///< of targets and starts
-  double dt_s{0.01};                   ///< servo period, s
-  double trial_timeout_s{8.0};         ///< per convergence trial, s
-  double safety_trial_s{3.0};          ///< per safety trial, s (a target switch at half time)
-  double margin_m{0.005};              ///< clearance the servo keeps from the safe volume and the other arm, m
+  std::string out_dir;               ///< summary.json goes here (created)
+  std::vector<std::string> configs;  ///< platform YAMLs; empty: the 4-DoF and 6-DoF ones
+  int trials{1000};                  ///< dual-arm trials per config: 2 targets each
+  int safety_trials{10000};          ///< random trials counting safe-volume entries; 0 skips
+  std::uint32_t seed{1};             ///< of targets and starts
+  double dt_s{0.01};                 ///< servo period, s
+  double trial_timeout_s{8.0};       ///< per convergence trial, s
+  double safety_trial_s{3.0};        ///< per safety trial, s (a target switch at half time)
+  double margin_m{0.005};  ///< clearance the servo keeps from the safe volume and the other arm, m
 };
 
 /// Adds `benchmark servo` options to `servo_cmd` (a CLI11 subcommand).

@@ -57,22 +57,27 @@ void RunServoBusBenchmark(const ServoBusBenchmarkOptions& options, std::ostream&
   }
   const int servo_count = static_cast<int>(driver.servo_statuses().size());
   // What the wire alone allows: every byte at 10 us, every reply after the return delay.
-  std::vector<scs::SyncEntry> entries(static_cast<std::size_t>(servo_count), {0, std::vector<std::uint8_t>(6)});
+  std::vector<scs::SyncEntry> entries(static_cast<std::size_t>(servo_count),
+                                      {0, std::vector<std::uint8_t>(6)});
   const std::size_t sync_bytes = scs::EncodeSyncWrite(scs::reg::kGoalPosition, 6, entries).size();
   const std::size_t read_bytes = 8 + 8, status_bytes = 8 + 10;
   const std::size_t bytes = sync_bytes + servo_count * read_bytes + status_bytes;
-  const double wire_s = bytes * bus_config.byte_time_s + (servo_count + 1) * bus_config.return_delay_s;
+  const double wire_s =
+      bytes * bus_config.byte_time_s + (servo_count + 1) * bus_config.return_delay_s;
   const double cycle_hz = options.cycles / busy_s;
 
-  out << fmt::format("servo-bus benchmark: {} cycles, {} servos, simulated SCS bus on {} (1 Mbaud wire timing)\n",
-                     options.cycles, servo_count, bus.port_path());
-  out << fmt::format("  cycle: SYNC_WRITE {} B + {} position READs + 1 status READ = {} B on the wire\n", sync_bytes,
-                     servo_count, bytes);
+  out << fmt::format(
+      "servo-bus benchmark: {} cycles, {} servos, simulated SCS bus on {} (1 Mbaud wire timing)\n",
+      options.cycles, servo_count, bus.port_path());
+  out << fmt::format(
+      "  cycle: SYNC_WRITE {} B + {} position READs + 1 status READ = {} B on the wire\n",
+      sync_bytes, servo_count, bytes);
   out << fmt::format("  cycle_hz {:.1f} (goal >= 100, original controller 30)\n", cycle_hz);
-  out << fmt::format("  cycle time median {:.3f} ms, p90 {:.3f} ms, max {:.3f} ms\n", Quantile(cycle_ms, 0.5),
-                     Quantile(cycle_ms, 0.9), *std::max_element(cycle_ms.begin(), cycle_ms.end()));
-  out << fmt::format("  wire alone: {:.3f} ms ({:.0f} Hz); failed reads {}\n", 1e3 * wire_s, 1.0 / wire_s,
-                     failed_reads);
+  out << fmt::format("  cycle time median {:.3f} ms, p90 {:.3f} ms, max {:.3f} ms\n",
+                     Quantile(cycle_ms, 0.5), Quantile(cycle_ms, 0.9),
+                     *std::max_element(cycle_ms.begin(), cycle_ms.end()));
+  out << fmt::format("  wire alone: {:.3f} ms ({:.0f} Hz); failed reads {}\n", 1e3 * wire_s,
+                     1.0 / wire_s, failed_reads);
   if (!options.out_dir.empty()) {
     const BusCounters counters = driver.counters();
     const nlohmann::json summary = {

@@ -11,9 +11,9 @@
 namespace aerograsp {
 
 struct ServoBusBenchmarkOptions {
-  std::string out_dir;        ///< summary.json goes here (created); empty: print only
-  int cycles = 2000;          ///< bus cycles timed, [10, 1000000]
-  std::string world_config;   ///< default data/config/world_default.yaml
+  std::string out_dir;       ///< summary.json goes here (created); empty: print only
+  int cycles = 2000;         ///< bus cycles timed, [10, 1000000]
+  std::string world_config;  ///< default data/config/world_default.yaml
 };
 
 /// Runs the loop as fast as the bus allows and reports cycle_hz (cycles per

@@ -1,15 +1,16 @@
 #include "app/visp_peer.h"
 
-#include <filesystem>
-#include <fstream>
-#include <map>
-#include <stdexcept>
 #include <visp3/core/vpCameraParameters.h>
 #include <visp3/core/vpColVector.h>
 #include <visp3/core/vpException.h>
 #include <visp3/core/vpHomogeneousMatrix.h>
 #include <visp3/core/vpImage.h>
 #include <visp3/mbt/vpMbGenericTracker.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <stdexcept>
 
 #include "core/conversions.h"
 #include "core/stdout_capture.h"
@@ -20,9 +21,12 @@ namespace aerograsp {
 void WriteCaoModel(const TriangleMesh& mesh, const std::string& path) {
   std::ofstream out(path);
   out << "V1\n# 3D Points\n" << mesh.vertices.size() << "\n";
-  for (const Eigen::Vector3d& v : mesh.vertices) out << v.x() << " " << v.y() << " " << v.z() << "\n";
-  out << "# 3D Lines\n0\n# Faces from 3D lines\n0\n# Faces from 3D points\n" << mesh.triangles.size() << "\n";
-  for (const Eigen::Vector3i& t : mesh.triangles) out << "3 " << t[0] << " " << t[1] << " " << t[2] << "\n";
+  for (const Eigen::Vector3d& v : mesh.vertices)
+    out << v.x() << " " << v.y() << " " << v.z() << "\n";
+  out << "# 3D Lines\n0\n# Faces from 3D lines\n0\n# Faces from 3D points\n"
+      << mesh.triangles.size() << "\n";
+  for (const Eigen::Vector3i& t : mesh.triangles)
+    out << "3 " << t[0] << " " << t[1] << " " << t[2] << "\n";
   out << "# 3D cylinders\n0\n# 3D circles\n0\n";
   if (!out) throw std::runtime_error(path + ": cannot be written");
 }
@@ -35,7 +39,8 @@ struct VispPeerTracker::Impl {
   CameraIntrinsics K;
 };
 
-VispPeerTracker::VispPeerTracker(const ObjectModel& object, const CameraIntrinsics& K, const std::string& work_dir)
+VispPeerTracker::VispPeerTracker(const ObjectModel& object, const CameraIntrinsics& K,
+                                 const std::string& work_dir)
     : impl_(new Impl) {
   std::filesystem::create_directories(work_dir);
   const std::string cao = (std::filesystem::path(work_dir) / "peer_model.cao").string();
@@ -70,7 +75,8 @@ void VispPeerTracker::Initialize(const Eigen::Isometry3d& cMo) {
   }
 }
 
-PeerResult VispPeerTracker::Track(const ColorImage& color, const DepthImage& depth, double depth_scale_m) {
+PeerResult VispPeerTracker::Track(const ColorImage& color, const DepthImage& depth,
+                                  double depth_scale_m) {
   PeerResult result;
   const CameraIntrinsics& K = impl_->K;
   if (!initialized_ || depth.width != K.width || depth.height != K.height) return result;

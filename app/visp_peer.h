@@ -17,15 +17,16 @@ namespace aerograsp {
 
 struct PeerResult {
   Eigen::Isometry3d cMo = Eigen::Isometry3d::Identity();
-  bool ok = false;   ///< tracking did not throw and the pose is finite
-  double ms = 0.0;   ///< thread CPU time of track()
-  std::string error; ///< ViSP's message when tracking failed
+  bool ok = false;    ///< tracking did not throw and the pose is finite
+  double ms = 0.0;    ///< thread CPU time of track()
+  std::string error;  ///< ViSP's message when tracking failed
 };
 
 class VispPeerTracker {
  public:
   /// @throws std::runtime_error when the model file cannot be written or ViSP rejects it.
-  VispPeerTracker(const ObjectModel& object, const CameraIntrinsics& K, const std::string& work_dir);
+  VispPeerTracker(const ObjectModel& object, const CameraIntrinsics& K,
+                  const std::string& work_dir);
   ~VispPeerTracker();
   VispPeerTracker(const VispPeerTracker&) = delete;
   VispPeerTracker& operator=(const VispPeerTracker&) = delete;

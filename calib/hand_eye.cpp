@@ -17,7 +17,8 @@ namespace {
 constexpr double kRadToDeg = 180.0 / M_PI;
 
 /// eMt from X = cMb: the chordal mean over samples of (cMb bMe_i)^-1 cMt_i.
-Eigen::Isometry3d MeanBoardOnGripper(const std::vector<HandEyeSample>& samples, const Eigen::Isometry3d& cMb) {
+Eigen::Isometry3d MeanBoardOnGripper(const std::vector<HandEyeSample>& samples,
+                                     const Eigen::Isometry3d& cMb) {
   Eigen::Matrix3d sum_R = Eigen::Matrix3d::Zero();
   Eigen::Vector3d sum_t = Eigen::Vector3d::Zero();
   for (const HandEyeSample& s : samples) {
@@ -39,7 +40,8 @@ Eigen::Isometry3d MeanBoardOnGripper(const std::vector<HandEyeSample>& samples, 
 }
 
 /// Fills the per-sample residuals and the reprojection error of a solution.
-void Evaluate(const std::vector<HandEyeSample>& samples, const CameraIntrinsics& K, HandEyeResult* r) {
+void Evaluate(const std::vector<HandEyeSample>& samples, const CameraIntrinsics& K,
+              HandEyeResult* r) {
   r->residual_mm.clear();
   r->residual_deg.clear();
   double sq_mm = 0.0, sq_deg = 0.0, sq_px = 0.0;
@@ -85,9 +87,11 @@ PoseSetDiversity MeasureDiversity(const std::vector<HandEyeSample>& samples) {
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
   for (std::size_t i = 0; i < samples.size(); ++i) {
     for (std::size_t j = i + 1; j < samples.size(); ++j) {
-      const Eigen::AngleAxisd relative(samples[i].bMe.linear().transpose() * samples[j].bMe.linear());
+      const Eigen::AngleAxisd relative(samples[i].bMe.linear().transpose() *
+                                       samples[j].bMe.linear());
       d.max_rotation_deg = std::max(d.max_rotation_deg, kRadToDeg * relative.angle());
-      if (relative.angle() > 2.0 * M_PI / 180.0) scatter += relative.axis() * relative.axis().transpose();
+      if (relative.angle() > 2.0 * M_PI / 180.0)
+        scatter += relative.axis() * relative.axis().transpose();
     }
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);
@@ -96,7 +100,8 @@ PoseSetDiversity MeasureDiversity(const std::vector<HandEyeSample>& samples) {
   return d;
 }
 
-HandEyeResult SolveEyeToHandVisp(const std::vector<HandEyeSample>& samples, const CameraIntrinsics& K) {
+HandEyeResult SolveEyeToHandVisp(const std::vector<HandEyeSample>& samples,
+                                 const CameraIntrinsics& K) {
   if (samples.size() < 3) return Failed("visp", "needs at least 3 samples");
   std::vector<vpHomogeneousMatrix> cMo, rMe;
   for (const HandEyeSample& s : samples) {
@@ -111,11 +116,13 @@ HandEyeResult SolveEyeToHandVisp(const std::vector<HandEyeSample>& samples, cons
   } catch (const vpException& e) {
     return Failed("visp", std::string("vpHandEyeCalibration: ") + e.what());
   }
-  if (status != 0) return Failed("visp", "vpHandEyeCalibration did not converge (singular pose set?)");
+  if (status != 0)
+    return Failed("visp", "vpHandEyeCalibration did not converge (singular pose set?)");
   HandEyeResult r;
   r.method = "visp";
   r.cMb = FromVisp(bMc).inverse();
-  if (!IsValidTransform(r.cMb)) return Failed("visp", "vpHandEyeCalibration returned an invalid transform");
+  if (!IsValidTransform(r.cMb))
+    return Failed("visp", "vpHandEyeCalibration returned an invalid transform");
   r.eMt = MeanBoardOnGripper(samples, r.cMb);
   r.ok = true;
   Evaluate(samples, K, &r);
@@ -152,7 +159,8 @@ std::vector<HandEyeResult> SolveEyeToHandOpenCv(const std::vector<HandEyeSample>
     }
     cv::Mat R, t;
     try {
-      cv::calibrateHandEye(R_gripper2base, t_gripper2base, R_target2cam, t_target2cam, R, t, method);
+      cv::calibrateHandEye(R_gripper2base, t_gripper2base, R_target2cam, t_target2cam, R, t,
+                           method);
     } catch (const cv::Exception& e) {
       results.push_back(Failed(name, e.what()));
       continue;
@@ -199,7 +207,8 @@ HandEyeResult RefineEyeToHand(const std::vector<HandEyeSample>& samples, const C
     }
     return r;
   };
-  auto apply = [](const Eigen::Matrix<double, 12, 1>& delta, Eigen::Isometry3d* cMb, Eigen::Isometry3d* eMt) {
+  auto apply = [](const Eigen::Matrix<double, 12, 1>& delta, Eigen::Isometry3d* cMb,
+                  Eigen::Isometry3d* eMt) {
     *cMb = Exp(delta.segment<3>(0), delta.segment<3>(3)) * *cMb;
     *eMt = *eMt * Exp(delta.segment<3>(6), delta.segment<3>(9));
   };

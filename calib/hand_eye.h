@@ -48,7 +48,8 @@ struct PoseSetDiversity {
 PoseSetDiversity MeasureDiversity(const std::vector<HandEyeSample>& samples);
 
 /// ViSP's vpHandEyeCalibration (Tsai/Procrustes then virtual visual servoing).
-HandEyeResult SolveEyeToHandVisp(const std::vector<HandEyeSample>& samples, const CameraIntrinsics& K);
+HandEyeResult SolveEyeToHandVisp(const std::vector<HandEyeSample>& samples,
+                                 const CameraIntrinsics& K);
 
 /// OpenCV's calibrateHandEye with each of its five methods.
 std::vector<HandEyeResult> SolveEyeToHandOpenCv(const std::vector<HandEyeSample>& samples,

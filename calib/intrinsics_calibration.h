@@ -24,7 +24,7 @@ struct IntrinsicsResult {
   CameraIntrinsics K;   ///< fx, fy, cx, cy in pixels; width and height as given
   /// OpenCV's order: k1, k2, p1, p2, k3 (k3 is held at 0: see CalibrateIntrinsics).
   std::array<double, 5> distortion{};
-  double rms_px = 0.0;                 ///< over every corner of every view
+  double rms_px = 0.0;                  ///< over every corner of every view
   std::vector<double> per_view_rms_px;  ///< one per view, in the order given
 };
 
@@ -35,7 +35,7 @@ struct IntrinsicsResult {
 /// tilts (parallel boards leave the focal length undetermined).
 /// Not ok (with the reason) for fewer than `min_views` views, a non-planar
 /// board, or a solve that OpenCV rejects.
-IntrinsicsResult CalibrateIntrinsics(const std::vector<IntrinsicsView>& views, int width, int height,
-                                     int min_views = 4);
+IntrinsicsResult CalibrateIntrinsics(const std::vector<IntrinsicsView>& views, int width,
+                                     int height, int min_views = 4);
 
 }  // namespace aerograsp

@@ -2,12 +2,11 @@
 
 #include <apriltag/apriltag.h>
 #include <apriltag/tag36h11.h>
-
-#include <cstdlib>
 #include <visp3/core/vpPoint.h>
 #include <visp3/vision/vpPose.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <stdexcept>
@@ -17,7 +16,8 @@
 namespace aerograsp {
 
 TagBoardConfig TagBoardConfig::FromNode(const ConfigNode& node) {
-  node.RequireOnlyKeys({"family", "rows", "cols", "tag_size_m", "spacing_m", "margin_m", "first_id"});
+  node.RequireOnlyKeys(
+      {"family", "rows", "cols", "tag_size_m", "spacing_m", "margin_m", "first_id"});
   TagBoardConfig c;
   c.family = node.GetString("family", c.family);
   c.rows = node.GetInt("rows", c.rows);
@@ -72,7 +72,8 @@ std::vector<std::vector<bool>> TagCells(int id, int* black_width) {
   image_u8_t* image = apriltag_to_image(family, id);
   const int border = (family->total_width - family->width_at_border) / 2;
   *black_width = family->width_at_border;
-  std::vector<std::vector<bool>> cells(family->width_at_border, std::vector<bool>(family->width_at_border));
+  std::vector<std::vector<bool>> cells(family->width_at_border,
+                                       std::vector<bool>(family->width_at_border));
   for (int y = 0; y < family->width_at_border; ++y) {
     for (int x = 0; x < family->width_at_border; ++x) {
       cells[y][x] = image->buf[(y + border) * image->stride + x + border] < 128;
@@ -99,10 +100,14 @@ ColorImage RenderBoardImage(const TagBoardConfig& board, double px_per_m) {
     const double x0 = (tag.corners_t[0].x() + 0.5 * size.x()) * px_per_m;
     const double y0 = (tag.corners_t[0].y() + 0.5 * size.y()) * px_per_m;
     const double cell_px = board.tag_size_m * px_per_m / cells_across;
-    for (int v = std::max(0, int(y0)); v < std::min(height, int(std::ceil(y0 + cells_across * cell_px))); ++v) {
-      for (int u = std::max(0, int(x0)); u < std::min(width, int(std::ceil(x0 + cells_across * cell_px))); ++u) {
-        const int cx = static_cast<int>((u + 0.5 - x0) / cell_px), cy = static_cast<int>((v + 0.5 - y0) / cell_px);
-        if (cx < 0 || cy < 0 || cx >= cells_across || cy >= cells_across || !cells[cy][cx]) continue;
+    for (int v = std::max(0, int(y0));
+         v < std::min(height, int(std::ceil(y0 + cells_across * cell_px))); ++v) {
+      for (int u = std::max(0, int(x0));
+           u < std::min(width, int(std::ceil(x0 + cells_across * cell_px))); ++u) {
+        const int cx = static_cast<int>((u + 0.5 - x0) / cell_px),
+                  cy = static_cast<int>((v + 0.5 - y0) / cell_px);
+        if (cx < 0 || cy < 0 || cx >= cells_across || cy >= cells_across || !cells[cy][cx])
+          continue;
         for (int c = 0; c < 3; ++c) image.at(u, v, c) = 0;
       }
     }
@@ -114,22 +119,24 @@ void WriteBoardSvg(const TagBoardConfig& board, const std::string& path) {
   const Eigen::Vector2d size_mm = 1e3 * board.Size();
   std::ofstream out(path);
   out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-      << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << size_mm.x() << "mm\" height=\"" << size_mm.y()
-      << "mm\" viewBox=\"0 0 " << size_mm.x() << " " << size_mm.y() << "\">\n"
-      << "<!-- aerograsp tag board: " << board.family << ", " << board.rows << " x " << board.cols << " tags of "
-      << 1e3 * board.tag_size_m << " mm, ids from " << board.first_id << ". Print at 100 % scale. -->\n"
+      << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << size_mm.x() << "mm\" height=\""
+      << size_mm.y() << "mm\" viewBox=\"0 0 " << size_mm.x() << " " << size_mm.y() << "\">\n"
+      << "<!-- aerograsp tag board: " << board.family << ", " << board.rows << " x " << board.cols
+      << " tags of " << 1e3 * board.tag_size_m << " mm, ids from " << board.first_id
+      << ". Print at 100 % scale. -->\n"
       << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   const Eigen::Vector2d half = 0.5 * board.Size();
   for (const BoardTag& tag : BoardTags(board)) {
     int cells_across = 0;
     const auto cells = TagCells(tag.id, &cells_across);
     const double cell_mm = 1e3 * board.tag_size_m / cells_across;
-    const double x0 = 1e3 * (tag.corners_t[0].x() + half.x()), y0 = 1e3 * (tag.corners_t[0].y() + half.y());
+    const double x0 = 1e3 * (tag.corners_t[0].x() + half.x()),
+                 y0 = 1e3 * (tag.corners_t[0].y() + half.y());
     for (int cy = 0; cy < cells_across; ++cy) {
       for (int cx = 0; cx < cells_across; ++cx) {
         if (!cells[cy][cx]) continue;
-        out << "<rect x=\"" << x0 + cx * cell_mm << "\" y=\"" << y0 + cy * cell_mm << "\" width=\"" << cell_mm
-            << "\" height=\"" << cell_mm << "\" fill=\"black\"/>\n";
+        out << "<rect x=\"" << x0 + cx * cell_mm << "\" y=\"" << y0 + cy * cell_mm << "\" width=\""
+            << cell_mm << "\" height=\"" << cell_mm << "\" fill=\"black\"/>\n";
       }
     }
   }
@@ -143,7 +150,8 @@ struct TagDetector::Impl {
 };
 
 TagDetector::TagDetector(const std::string& family) : impl_(std::make_unique<Impl>()) {
-  if (family != "tag36h11") throw std::invalid_argument("tag family '" + family + "' is not supported (tag36h11)");
+  if (family != "tag36h11")
+    throw std::invalid_argument("tag family '" + family + "' is not supported (tag36h11)");
   impl_->family = tag36h11_create();
   impl_->detector = apriltag_detector_create();
   apriltag_detector_add_family(impl_->detector, impl_->family);
@@ -177,15 +185,16 @@ std::vector<TagDetection> TagDetector::Detect(const ColorImage& image) {
     // top-left (ideal corners (-1, 1), (1, 1), (1, -1), (-1, -1), y down);
     // ours start at the top left.
     const int order[4] = {3, 2, 1, 0};
-    for (int k = 0; k < 4; ++k) d.corners_px[k] = Eigen::Vector2d(det->p[order[k]][0], det->p[order[k]][1]);
+    for (int k = 0; k < 4; ++k)
+      d.corners_px[k] = Eigen::Vector2d(det->p[order[k]][0], det->p[order[k]][1]);
     detections.push_back(d);
   }
   apriltag_detections_destroy(found);
   return detections;
 }
 
-std::vector<BoardCorner> MatchBoardCorners(const std::vector<TagDetection>& detections, const TagBoardConfig& board,
-                                           int* tags_used) {
+std::vector<BoardCorner> MatchBoardCorners(const std::vector<TagDetection>& detections,
+                                           const TagBoardConfig& board, int* tags_used) {
   std::map<int, const BoardTag*> by_id;
   const std::vector<BoardTag> tags = BoardTags(board);
   for (const BoardTag& t : tags) by_id[t.id] = &t;
@@ -201,8 +210,8 @@ std::vector<BoardCorner> MatchBoardCorners(const std::vector<TagDetection>& dete
   return matches;
 }
 
-BoardPose EstimateBoardPose(const std::vector<TagDetection>& detections, const TagBoardConfig& board,
-                            const CameraIntrinsics& K) {
+BoardPose EstimateBoardPose(const std::vector<TagDetection>& detections,
+                            const TagBoardConfig& board, const CameraIntrinsics& K) {
   BoardPose result;
   const std::vector<BoardCorner> matches = MatchBoardCorners(detections, board, &result.tags_used);
   if (matches.size() < 4) return result;

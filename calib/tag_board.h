@@ -82,8 +82,8 @@ using BoardCorner = std::pair<Eigen::Vector3d, Eigen::Vector2d>;
 /// The corners of the detections that belong to the board (others ignored),
 /// each with its place on the board; `tags_used`, when given, receives how many
 /// detections belonged to the board.
-std::vector<BoardCorner> MatchBoardCorners(const std::vector<TagDetection>& detections, const TagBoardConfig& board,
-                                           int* tags_used = nullptr);
+std::vector<BoardCorner> MatchBoardCorners(const std::vector<TagDetection>& detections,
+                                           const TagBoardConfig& board, int* tags_used = nullptr);
 
 struct BoardPose {
   bool valid = false;
@@ -96,7 +96,7 @@ struct BoardPose {
 /// by ViSP's vpPose (Lagrange, which handles planar targets, then virtual
 /// visual servoing).
 /// Invalid when no tag of the board is seen.
-BoardPose EstimateBoardPose(const std::vector<TagDetection>& detections, const TagBoardConfig& board,
-                            const CameraIntrinsics& K);
+BoardPose EstimateBoardPose(const std::vector<TagDetection>& detections,
+                            const TagBoardConfig& board, const CameraIntrinsics& K);
 
 }  // namespace aerograsp

@@ -93,7 +93,8 @@ bool ArmIk::CheckPosition(const Eigen::VectorXd& q, const Eigen::Vector3d& p_b) 
   return (model_.ForwardKinematics(q).translation() - p_b).norm() <= options_.position_tolerance_m;
 }
 
-void ArmIk::SortBySeed(const Eigen::VectorXd& q_seed, std::vector<Eigen::VectorXd>* solutions) const {
+void ArmIk::SortBySeed(const Eigen::VectorXd& q_seed,
+                       std::vector<Eigen::VectorXd>* solutions) const {
   std::stable_sort(solutions->begin(), solutions->end(),
                    [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
                      return (a - q_seed).squaredNorm() < (b - q_seed).squaredNorm();
@@ -230,8 +231,8 @@ int ArmIk::SolveGraspAxis(const Eigen::Vector3d& c_b, const Eigen::Vector3d& x_b
     // depths that put the elbow at l1 from the shoulder: |v + k a| = l1 with
     // k = depth - approach_sign * l2 (the elbow is at c_b + k a).
     const Eigen::Vector3d v = c_b - o1_;
-    const Eigen::Vector3d m = w_[0].cross(v);  // normal of the yaw plane through c_b
-    if (m.norm() < kGeomTol) return 0;         // contact centre on the yaw axis
+    const Eigen::Vector3d m = w_[0].cross(v);                 // normal of the yaw plane through c_b
+    if (m.norm() < kGeomTol) return 0;                        // contact centre on the yaw axis
     std::vector<std::pair<Eigen::Vector3d, double>> targets;  // (approach, depth)
     const Eigen::Vector3d xm = x.cross(m);
     if (xm.norm() > 1e-6 * m.norm()) {

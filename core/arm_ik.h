@@ -25,18 +25,19 @@ namespace aerograsp {
 /// Settings of the numeric solver (chains without a closed form) and the
 /// acceptance tolerances of every solution.
 struct IkOptions {
-  double position_tolerance_m{1e-5};     ///< FK check of each solution, (0, 0.01] m
+  double position_tolerance_m{1e-5};       ///< FK check of each solution, (0, 0.01] m
   double orientation_tolerance_rad{1e-4};  ///< FK check of each solution, (0, 0.1] rad
-  int max_iterations{60};                ///< numeric solver iterations per seed, [1, 1000]
-  double damping{0.005};                  ///< numeric solver damping lambda, [0, 1]
-  int approach_samples{8};               ///< numeric SolveGraspAxis: approach angles about the closing axis, [1, 64]
+  int max_iterations{60};                  ///< numeric solver iterations per seed, [1, 1000]
+  double damping{0.005};                   ///< numeric solver damping lambda, [0, 1]
+  int approach_samples{
+      8};  ///< numeric SolveGraspAxis: approach angles about the closing axis, [1, 64]
 };
 
 /// One grasp-axis solution: joints, the tool pose, and where the contacts sit.
 struct GraspAxisSolution {
-  Eigen::VectorXd q;               ///< joint positions (rad), within limits
-  Eigen::Isometry3d bMe;           ///< tool pose they give (FK)
-  double depth_m = 0.0;            ///< tool point beyond the contact centre along the approach (m)
+  Eigen::VectorXd q;      ///< joint positions (rad), within limits
+  Eigen::Isometry3d bMe;  ///< tool pose they give (FK)
+  double depth_m = 0.0;   ///< tool point beyond the contact centre along the approach (m)
 };
 
 class ArmIk {
@@ -94,14 +95,14 @@ class ArmIk {
   IkOptions options_;
   bool analytic_ = false;
   // Closed-form chain description, base frame, at q = 0.
-  Eigen::Vector3d w_[4];   // joint axes (unit)
-  Eigen::Vector3d o1_;     // shoulder pitch origin (on the yaw axis)
-  Eigen::Vector3d h0_;     // in-plane horizontal direction at q = 0: unit(w1 x w0)
-  Eigen::Vector3d u0_;     // upper arm direction at q = 0: unit(o2 - o1)
-  Eigen::Vector3d f0_;     // forearm direction at q = 0: unit(tool - o2)
-  Eigen::Vector3d xe0_;    // tool x axis at q = 0
-  double l1_ = 0.0;        // |o2 - o1|
-  double l2_ = 0.0;        // |tool - o2|
+  Eigen::Vector3d w_[4];        // joint axes (unit)
+  Eigen::Vector3d o1_;          // shoulder pitch origin (on the yaw axis)
+  Eigen::Vector3d h0_;          // in-plane horizontal direction at q = 0: unit(w1 x w0)
+  Eigen::Vector3d u0_;          // upper arm direction at q = 0: unit(o2 - o1)
+  Eigen::Vector3d f0_;          // forearm direction at q = 0: unit(tool - o2)
+  Eigen::Vector3d xe0_;         // tool x axis at q = 0
+  double l1_ = 0.0;             // |o2 - o1|
+  double l2_ = 0.0;             // |tool - o2|
   double approach_sign_ = 1.0;  // z_e = approach_sign_ * forearm direction
 };
 

@@ -18,7 +18,8 @@ namespace {
 class CollectingHandler : public console_bridge::OutputHandler {
  public:
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
-    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) messages += (messages.empty() ? "" : "; ") + text;
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN)
+      messages += (messages.empty() ? "" : "; ") + text;
   }
   std::string messages;
 };
@@ -138,8 +139,7 @@ void AddStaticSubtree(const urdf::Link& link, const std::string& source,
 }
 
 // Adds `link` and every link hanging below it through fixed joints only.
-void AddFixedSubtree(const urdf::Link& link, const Eigen::Isometry3d& segMl,
-                     ArmSegment* segment) {
+void AddFixedSubtree(const urdf::Link& link, const Eigen::Isometry3d& segMl, ArmSegment* segment) {
   AddLink(link, segMl, segment);
   for (const urdf::LinkSharedPtr& child : link.child_links) {
     const urdf::JointSharedPtr& j = child->parent_joint;
@@ -160,11 +160,13 @@ ArmModel ArmModel::FromUrdfString(const std::string& urdf_xml, const std::string
   const urdf::ModelInterfaceSharedPtr model = ParseUrdf(urdf_xml, source);
   const urdf::LinkConstSharedPtr base = model->getLink(base_link);
   if (!base) {
-    throw UrdfError(source + ": no link named '" + base_link + "' (links: " + ListLinks(*model) + ")");
+    throw UrdfError(source + ": no link named '" + base_link + "' (links: " + ListLinks(*model) +
+                    ")");
   }
   const urdf::LinkConstSharedPtr tip = model->getLink(tip_link);
   if (!tip) {
-    throw UrdfError(source + ": no link named '" + tip_link + "' (links: " + ListLinks(*model) + ")");
+    throw UrdfError(source + ": no link named '" + tip_link + "' (links: " + ListLinks(*model) +
+                    ")");
   }
 
   // Walk from the tip up to the base; the joints come out tip first.
@@ -198,9 +200,10 @@ ArmModel ArmModel::FromUrdfString(const std::string& urdf_xml, const std::string
       case urdf::Joint::FLOATING:
       case urdf::Joint::PLANAR:
       case urdf::Joint::UNKNOWN:
-        throw UrdfError(where + " is floating or planar: a serial arm needs revolute, "
-                        "continuous, prismatic or fixed joints between '" + base_link +
-                        "' and '" + tip_link + "'");
+        throw UrdfError(where +
+                        " is floating or planar: a serial arm needs revolute, "
+                        "continuous, prismatic or fixed joints between '" +
+                        base_link + "' and '" + tip_link + "'");
       default:
         break;
     }
@@ -235,7 +238,8 @@ ArmModel ArmModel::FromUrdfString(const std::string& urdf_xml, const std::string
     velocity.push_back(vel);
   }
   if (arm.joints_.empty()) {
-    throw UrdfError(source + ": no moving joint between '" + base_link + "' and '" + tip_link + "'");
+    throw UrdfError(source + ": no moving joint between '" + base_link + "' and '" + tip_link +
+                    "'");
   }
   arm.lastMtip_ = pending;
   arm.lower_ = Eigen::Map<Eigen::VectorXd>(lower.data(), lower.size());

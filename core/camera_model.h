@@ -8,12 +8,12 @@
 namespace aerograsp {
 
 struct CameraIntrinsics {
-  int width = 640;     ///< pixels
-  int height = 480;    ///< pixels
-  double fx = 615.0;   ///< focal length along u, pixels
-  double fy = 615.0;   ///< focal length along v, pixels
-  double cx = 320.0;   ///< principal point u, pixels
-  double cy = 240.0;   ///< principal point v, pixels
+  int width = 640;    ///< pixels
+  int height = 480;   ///< pixels
+  double fx = 615.0;  ///< focal length along u, pixels
+  double fy = 615.0;  ///< focal length along v, pixels
+  double cx = 320.0;  ///< principal point u, pixels
+  double cy = 240.0;  ///< principal point v, pixels
 
   /// Pixel (u, v) of a point in the camera frame (z > 0 is a precondition).
   Eigen::Vector2d Project(const Eigen::Vector3d& p_c) const {

@@ -23,11 +23,16 @@ std::string WithUnit(double v, const std::string& unit) {
 
 std::string TypeName(const YAML::Node& n) {
   switch (n.Type()) {
-    case YAML::NodeType::Null: return "empty";
-    case YAML::NodeType::Scalar: return "a scalar";
-    case YAML::NodeType::Sequence: return "a list";
-    case YAML::NodeType::Map: return "a map";
-    default: return "undefined";
+    case YAML::NodeType::Null:
+      return "empty";
+    case YAML::NodeType::Scalar:
+      return "a scalar";
+    case YAML::NodeType::Sequence:
+      return "a list";
+    case YAML::NodeType::Map:
+      return "a map";
+    default:
+      return "undefined";
   }
 }
 
@@ -39,7 +44,8 @@ std::string TypeName(const YAML::Node& n) {
 template <typename T>
 T Convert(const YAML::Node& n, const std::string& source, const std::string& key,
           const char* expected) {
-  if (!n.IsScalar()) Throw(source, key, std::string("expected ") + expected + ", got " + TypeName(n));
+  if (!n.IsScalar())
+    Throw(source, key, std::string("expected ") + expected + ", got " + TypeName(n));
   try {
     return n.as<T>();
   } catch (const YAML::Exception&) {
@@ -91,7 +97,8 @@ ConfigNode ConfigNode::Parse(const std::string& yaml_text, const std::string& so
           "not valid YAML at line " + std::to_string(e.mark.line + 1) + ", column " +
               std::to_string(e.mark.column + 1) + ": " + e.msg);
   }
-  if (!root.IsMap()) Throw(source, "", "expected a map of keys at the top level, got " + TypeName(root));
+  if (!root.IsMap())
+    Throw(source, "", "expected a map of keys at the top level, got " + TypeName(root));
   return ConfigNode(source, "", std::make_unique<YAML::Node>(root));
 }
 
@@ -153,10 +160,12 @@ std::string ConfigNode::GetString(const std::string& key) const {
 std::vector<double> ConfigNode::GetDoubles(const std::string& key,
                                            std::size_t expected_size) const {
   const YAML::Node n = Required(key);
-  if (!n.IsSequence()) Throw(source_, KeyPath(key), "expected a list of numbers, got " + TypeName(n));
+  if (!n.IsSequence())
+    Throw(source_, KeyPath(key), "expected a list of numbers, got " + TypeName(n));
   if (expected_size != 0 && n.size() != expected_size) {
-    Throw(source_, KeyPath(key),
-          "expected " + std::to_string(expected_size) + " numbers, got " + std::to_string(n.size()));
+    Throw(
+        source_, KeyPath(key),
+        "expected " + std::to_string(expected_size) + " numbers, got " + std::to_string(n.size()));
   }
   std::vector<double> values;
   for (std::size_t i = 0; i < n.size(); ++i) {
@@ -197,9 +206,10 @@ void ConfigNode::Fail(const std::string& key, const std::string& message) const 
   Throw(source_, KeyPath(key), message);
 }
 
-void CheckRange(const std::string& source, const std::string& key, const Eigen::Vector3d& v, double min,
-                double max, const std::string& unit) {
-  for (int i = 0; i < 3; ++i) CheckRange(source, key + "[" + std::to_string(i) + "]", v[i], min, max, unit);
+void CheckRange(const std::string& source, const std::string& key, const Eigen::Vector3d& v,
+                double min, double max, const std::string& unit) {
+  for (int i = 0; i < 3; ++i)
+    CheckRange(source, key + "[" + std::to_string(i) + "]", v[i], min, max, unit);
 }
 
 void CheckRange(const std::string& source, const std::string& key, double value, double min,
@@ -231,7 +241,8 @@ void CheckOneOf(const std::string& source, const std::string& key, const std::st
 }
 
 void CheckFileExists(const std::string& source, const std::string& key, const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) Throw(source, key, "file '" + path + "' does not exist");
+  if (!std::filesystem::is_regular_file(path))
+    Throw(source, key, "file '" + path + "' does not exist");
 }
 
 }  // namespace aerograsp

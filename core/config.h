@@ -88,8 +88,8 @@ class ConfigNode {
 void CheckRange(const std::string& source, const std::string& key, double value, double min,
                 double max, const std::string& unit);
 /// Each component of `v` in [min, max], named "<key>[i]" when it is not.
-void CheckRange(const std::string& source, const std::string& key, const Eigen::Vector3d& v, double min,
-                double max, const std::string& unit);
+void CheckRange(const std::string& source, const std::string& key, const Eigen::Vector3d& v,
+                double min, double max, const std::string& unit);
 /// @throws ConfigError unless value > 0 (and finite).
 void CheckPositive(const std::string& source, const std::string& key, double value,
                    const std::string& unit);

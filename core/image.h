@@ -28,7 +28,7 @@ struct Image {
   }
 };
 
-using ColorImage = Image<std::uint8_t, 3>;  ///< RGB, 8 bits per channel
+using ColorImage = Image<std::uint8_t, 3>;   ///< RGB, 8 bits per channel
 using DepthImage = Image<std::uint16_t, 1>;  ///< depth in units of a depth scale; 0 = no data
 using FloatImage = Image<float, 1>;
 

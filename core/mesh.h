@@ -20,8 +20,8 @@ class MeshError : public std::runtime_error {
 /// An indexed triangle mesh. Triangles are counter-clockwise seen from outside
 /// (their normal (b-a)x(c-a) points out of a closed mesh).
 struct TriangleMesh {
-  std::vector<Eigen::Vector3d> vertices;        ///< metres
-  std::vector<Eigen::Vector3i> triangles;       ///< indices into vertices
+  std::vector<Eigen::Vector3d> vertices;            ///< metres
+  std::vector<Eigen::Vector3i> triangles;           ///< indices into vertices
   std::vector<std::array<std::uint8_t, 3>> colors;  ///< RGB per vertex; empty if none
 
   /// Axis-aligned bounds; both zero for an empty mesh.

@@ -29,8 +29,8 @@ ObjectModel ObjectModel::Load(const std::string& what) {
     if (!fs::exists(path)) {
       std::string names;
       for (const auto& n : ShippedObjectNames()) names += (names.empty() ? "" : ", ") + n;
-      throw ConfigError(what + ": no such file and no shipped object of that name (shipped: " +
-                        names + ")");
+      throw ConfigError(
+          what + ": no such file and no shipped object of that name (shipped: " + names + ")");
     }
   }
   if (fs::is_directory(path)) path /= "object.yaml";

@@ -12,7 +12,7 @@ namespace aerograsp {
 
 struct ObjectModel {
   std::string name;
-  std::string source;  ///< the object.yaml or mesh file it was read from
+  std::string source;   ///< the object.yaml or mesh file it was read from
   TriangleMesh mesh_o;  ///< closed, in frame o (metres)
   double mass_kg = 0.0;
   bool mass_estimated = false;  ///< true when the mass came from the volume at kDefaultDensity

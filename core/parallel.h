@@ -17,7 +17,8 @@ namespace aerograsp {
 /// thrown by a call is rethrown here once all threads have stopped.
 template <typename Fn>
 void ParallelFor(std::size_t n, Fn&& fn) {
-  const std::size_t threads = std::min<std::size_t>(n, std::max(1u, std::thread::hardware_concurrency()));
+  const std::size_t threads =
+      std::min<std::size_t>(n, std::max(1u, std::thread::hardware_concurrency()));
   if (threads <= 1) {
     for (std::size_t i = 0; i < n; ++i) fn(i);
     return;

@@ -1,8 +1,7 @@
 #include "core/platform.h"
 
-#include "core/transforms.h"
-
 #include "core/config.h"
+#include "core/transforms.h"
 
 namespace aerograsp {
 namespace {
@@ -49,8 +48,8 @@ PlatformConfig PlatformConfig::Load(const std::string& path) {
 
   if (root.Has("gripper")) {
     const ConfigNode g = root.Child("gripper");
-    g.RequireOnlyKeys({"max_aperture_m", "finger_clearance_m", "finger_width_m",
-                       "finger_length_m", "close_time_s"});
+    g.RequireOnlyKeys({"max_aperture_m", "finger_clearance_m", "finger_width_m", "finger_length_m",
+                       "close_time_s"});
     c.gripper.max_aperture_m = g.GetDouble("max_aperture_m", c.gripper.max_aperture_m);
     c.gripper.finger_clearance_m = g.GetDouble("finger_clearance_m", c.gripper.finger_clearance_m);
     c.gripper.finger_width_m = g.GetDouble("finger_width_m", c.gripper.finger_width_m);
@@ -100,7 +99,8 @@ auto ForKey(const PlatformConfig& config, const std::string& key, Load load) -> 
 
 Platform Platform::WithArmBase(Side side, const Eigen::Isometry3d& dMb) const {
   if (!IsValidTransform(dMb, 1e-5)) {
-    throw std::invalid_argument(std::string("the ") + SideName(side) + " arm's base dMb is not a rigid transform");
+    throw std::invalid_argument(std::string("the ") + SideName(side) +
+                                " arm's base dMb is not a rigid transform");
   }
   Platform copy = *this;
   copy.dMb_[static_cast<int>(side)] = dMb;
@@ -114,7 +114,8 @@ Platform Platform::FromConfig(const PlatformConfig& config) {
   p.vehicle_ = ForKey(config, "vehicle.urdf",
                       [&] { return StaticFrameTree::FromUrdfFile(config.vehicle_urdf); });
   const auto link = [&](const std::string& key, const std::string& name) -> const auto& {
-    return ForKey(config, key, [&]() -> const StaticFrameTree::Link& { return p.vehicle_.Get(name); });
+    return ForKey(config, key,
+                  [&]() -> const StaticFrameTree::Link& { return p.vehicle_.Get(name); });
   };
   const Eigen::Isometry3d dMroot = link("vehicle.body_link", config.body_link).rootMlink.inverse();
   p.dMc_ = dMroot * link("vehicle.camera_link", config.camera_link).rootMlink;

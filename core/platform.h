@@ -14,35 +14,36 @@ namespace aerograsp {
 
 /// One arm's mount on the vehicle.
 struct ArmMountConfig {
-  std::string urdf;                  ///< arm URDF, resolved against the config's folder
-  std::string mount_link;            ///< vehicle link the arm base is bolted to (= bl or br)
+  std::string urdf;                    ///< arm URDF, resolved against the config's folder
+  std::string mount_link;              ///< vehicle link the arm base is bolted to (= bl or br)
   std::string base_link{"base_link"};  ///< chain start in the arm URDF
   std::string tip_link{"tool"};        ///< chain end: the tool point e
-  std::vector<double> home_rad;      ///< home joint positions (rad), one per joint, within limits
+  std::vector<double> home_rad;        ///< home joint positions (rad), one per joint, within limits
 };
 
 /// The two-finger gripper (FACTS.md: aperture not published; 0.10-0.15 m).
 struct GripperConfig {
-  double max_aperture_m{0.12};      ///< opening between the finger pads when open, (0, 0.3] m
-  double finger_clearance_m{0.01};  ///< free space each side of the object when closing, [0, 0.05] m
-  double finger_width_m{0.03};      ///< pad width across the closing direction, (0, 0.1] m
-  double finger_length_m{0.12};     ///< pad length along the approach axis, (0, 0.3] m
-  double close_time_s{0.8};         ///< full open to closed, (0, 10] s
+  double max_aperture_m{0.12};  ///< opening between the finger pads when open, (0, 0.3] m
+  double finger_clearance_m{
+      0.01};                     ///< free space each side of the object when closing, [0, 0.05] m
+  double finger_width_m{0.03};   ///< pad width across the closing direction, (0, 0.1] m
+  double finger_length_m{0.12};  ///< pad length along the approach axis, (0, 0.3] m
+  double close_time_s{0.8};      ///< full open to closed, (0, 10] s
 };
 
 /// What a gripper is told: the servo layer decides it, the arms driver carries it out.
 enum class GripperCommand { kOpen, kClose };
 
 struct PlatformConfig {
-  std::string source;                      ///< the file it was read from (for messages)
-  std::string arm_type{"4dof"};            ///< "4dof" or "6dof"
-  std::string vehicle_urdf;                ///< static frame tree of the body (all fixed joints)
-  std::string body_link{"body"};           ///< frame d
+  std::string source;                         ///< the file it was read from (for messages)
+  std::string arm_type{"4dof"};               ///< "4dof" or "6dof"
+  std::string vehicle_urdf;                   ///< static frame tree of the body (all fixed joints)
+  std::string body_link{"body"};              ///< frame d
   std::string camera_link{"camera_optical"};  ///< frame c
   std::string safe_volume_link{"safe_volume"};  ///< link whose collision shapes the arms must avoid
-  std::string camera_xml;                  ///< ViSP camera XML of the colour stream
-  std::string camera_name{"d435_color"};   ///< camera name inside camera_xml
-  double vehicle_mass_kg{3.75};            ///< with arms, (0, 50] kg
+  std::string camera_xml;                       ///< ViSP camera XML of the colour stream
+  std::string camera_name{"d435_color"};        ///< camera name inside camera_xml
+  double vehicle_mass_kg{3.75};                 ///< with arms, (0, 50] kg
   ArmMountConfig left, right;
   GripperConfig gripper;
 

@@ -21,7 +21,9 @@ const std::vector<float>& NormalTable() {
   static const std::vector<float> table = [] {
     // Box-Muller on splitmix64 uniforms in (0, 1].
     std::uint64_t state = 0x5EEDull;
-    auto uniform = [&state] { return (static_cast<double>(SplitMix64(&state) >> 11) + 1.0) * 0x1.0p-53; };
+    auto uniform = [&state] {
+      return (static_cast<double>(SplitMix64(&state) >> 11) + 1.0) * 0x1.0p-53;
+    };
     std::vector<double> values(1u << kTableBits);
     double sum = 0.0;
     for (std::size_t i = 0; i < values.size(); i += 2) {

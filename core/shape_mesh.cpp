@@ -94,7 +94,8 @@ TriangleMesh MeshFromShape(const CollisionShape& shape) {
 }
 
 void AppendMesh(const TriangleMesh& part, const Eigen::Isometry3d& aMpart, TriangleMesh* mesh) {
-  const bool keep_colors = !part.colors.empty() && (mesh->vertices.empty() || !mesh->colors.empty());
+  const bool keep_colors =
+      !part.colors.empty() && (mesh->vertices.empty() || !mesh->colors.empty());
   if (!keep_colors) mesh->colors.clear();
   const int offset = static_cast<int>(mesh->vertices.size());
   for (const auto& v : part.vertices) mesh->vertices.push_back(aMpart * v);

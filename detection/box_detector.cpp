@@ -16,11 +16,13 @@ std::vector<Detection> DecodeCenterNet(const CenterNetMaps& maps, int image_widt
                                        float min_score, int max_detections) {
   std::vector<Detection> out;
   const std::size_t n = std::size_t(std::max(0, maps.width)) * std::max(0, maps.height);
-  if (n == 0 || maps.heat_logit.size() != n || maps.offset_x.size() != n || maps.offset_y.size() != n ||
-      maps.log_width.size() != n || maps.log_height.size() != n || image_width <= 0 || image_height <= 0) {
+  if (n == 0 || maps.heat_logit.size() != n || maps.offset_x.size() != n ||
+      maps.offset_y.size() != n || maps.log_width.size() != n || maps.log_height.size() != n ||
+      image_width <= 0 || image_height <= 0) {
     return out;
   }
-  const double cell_x = double(image_width) / maps.width, cell_y = double(image_height) / maps.height;
+  const double cell_x = double(image_width) / maps.width,
+               cell_y = double(image_height) / maps.height;
   const float min_logit = std::log(min_score / std::max(1e-6f, 1.0f - min_score));
   for (int y = 0; y < maps.height; ++y) {
     for (int x = 0; x < maps.width; ++x) {
@@ -30,7 +32,8 @@ std::vector<Detection> DecodeCenterNet(const CenterNetMaps& maps, int image_widt
       for (int dy = -1; dy <= 1 && peak; ++dy) {
         for (int dx = -1; dx <= 1; ++dx) {
           const int xx = x + dx, yy = y + dy;
-          if ((dx == 0 && dy == 0) || xx < 0 || yy < 0 || xx >= maps.width || yy >= maps.height) continue;
+          if ((dx == 0 && dy == 0) || xx < 0 || yy < 0 || xx >= maps.width || yy >= maps.height)
+            continue;
           const float w = maps.heat_logit[std::size_t(yy) * maps.width + xx];
           // Ties go to the first in raster order.
           if (w > v || (w == v && (yy < y || (yy == y && xx < x)))) {
@@ -41,19 +44,24 @@ std::vector<Detection> DecodeCenterNet(const CenterNetMaps& maps, int image_widt
       }
       if (!peak) continue;
       const std::size_t i = std::size_t(y) * maps.width + x;
-      const float ox = maps.offset_x[i], oy = maps.offset_y[i], lw = maps.log_width[i], lh = maps.log_height[i];
-      if (!std::isfinite(ox) || !std::isfinite(oy) || !std::isfinite(lw) || !std::isfinite(lh)) continue;
-      const double cx = (x + std::clamp(ox, 0.0f, 1.0f)) * cell_x, cy = (y + std::clamp(oy, 0.0f, 1.0f)) * cell_y;
-      const double w = std::exp(std::clamp(lw, -3.0f, 4.0f)) * cell_x, h = std::exp(std::clamp(lh, -3.0f, 4.0f)) * cell_y;
+      const float ox = maps.offset_x[i], oy = maps.offset_y[i], lw = maps.log_width[i],
+                  lh = maps.log_height[i];
+      if (!std::isfinite(ox) || !std::isfinite(oy) || !std::isfinite(lw) || !std::isfinite(lh))
+        continue;
+      const double cx = (x + std::clamp(ox, 0.0f, 1.0f)) * cell_x,
+                   cy = (y + std::clamp(oy, 0.0f, 1.0f)) * cell_y;
+      const double w = std::exp(std::clamp(lw, -3.0f, 4.0f)) * cell_x,
+                   h = std::exp(std::clamp(lh, -3.0f, 4.0f)) * cell_y;
       Detection d;
       d.score = 1.0f / (1.0f + std::exp(-v));
-      d.box = PixelBox{int(std::lround(cx - w / 2)), int(std::lround(cy - h / 2)), int(std::lround(cx + w / 2)),
-                       int(std::lround(cy + h / 2))}
+      d.box = PixelBox{int(std::lround(cx - w / 2)), int(std::lround(cy - h / 2)),
+                       int(std::lround(cx + w / 2)), int(std::lround(cy + h / 2))}
                   .Clipped(image_width, image_height);
       if (!d.box.empty()) out.push_back(d);
     }
   }
-  std::sort(out.begin(), out.end(), [](const Detection& a, const Detection& b) { return a.score > b.score; });
+  std::sort(out.begin(), out.end(),
+            [](const Detection& a, const Detection& b) { return a.score > b.score; });
   if (int(out.size()) > max_detections) out.resize(std::max(0, max_detections));
   return out;
 }
@@ -61,7 +69,8 @@ std::vector<Detection> DecodeCenterNet(const CenterNetMaps& maps, int image_widt
 ColorImage DetectorInput(const ColorImage& image) {
   ColorImage small(kDetectorInputWidth, kDetectorInputHeight);
   if (image.empty()) return small;
-  const cv::Mat src(image.height, image.width, CV_8UC3, const_cast<std::uint8_t*>(image.data.data()));
+  const cv::Mat src(image.height, image.width, CV_8UC3,
+                    const_cast<std::uint8_t*>(image.data.data()));
   cv::Mat dst(small.height, small.width, CV_8UC3, small.data.data());
   cv::resize(src, dst, dst.size(), 0, 0, cv::INTER_AREA);
   return small;
@@ -91,15 +100,22 @@ bool LooksLikeOnnx(const std::string& path) {
     std::uint64_t key = 0, value = 0;
     if (!varint(&key) || (key >> 3) == 0) return false;
     switch (key & 7) {
-      case 0: if (!varint(&value)) return false; break;
-      case 1: pos += 8; break;
+      case 0:
+        if (!varint(&value)) return false;
+        break;
+      case 1:
+        pos += 8;
+        break;
       case 2:
         if (!varint(&value) || value > bytes.size() - pos) return false;
         pos += value;
         has_graph = has_graph || (key >> 3) == 7;
         break;
-      case 5: pos += 4; break;
-      default: return false;
+      case 5:
+        pos += 4;
+        break;
+      default:
+        return false;
     }
     if (pos > bytes.size()) return false;
   }
@@ -113,9 +129,11 @@ struct BoxDetector::Impl {
 };
 
 BoxDetector::BoxDetector(const std::string& onnx_path) : impl_(new Impl), path_(onnx_path) {
-  if (!std::filesystem::is_regular_file(onnx_path)) throw std::runtime_error(onnx_path + ": no such detector model");
+  if (!std::filesystem::is_regular_file(onnx_path))
+    throw std::runtime_error(onnx_path + ": no such detector model");
   if (!LooksLikeOnnx(onnx_path)) {
-    throw std::runtime_error(onnx_path + ": cannot load the detector model: not an ONNX file (corrupt or truncated)");
+    throw std::runtime_error(
+        onnx_path + ": cannot load the detector model: not an ONNX file (corrupt or truncated)");
   }
   try {
     impl_->net = cv::dnn::readNetFromONNX(onnx_path);
@@ -126,7 +144,8 @@ BoxDetector::BoxDetector(const std::string& onnx_path) : impl_(new Impl), path_(
     cv::Mat blob(4, shape, CV_32F, cv::Scalar(0));
     impl_->net.setInput(blob);
     const cv::Mat out = impl_->net.forward();
-    if (out.dims != 4 || out.size[1] != 5 || out.size[2] != kDetectorInputHeight / kDetectorStride ||
+    if (out.dims != 4 || out.size[1] != 5 ||
+        out.size[2] != kDetectorInputHeight / kDetectorStride ||
         out.size[3] != kDetectorInputWidth / kDetectorStride) {
       throw std::runtime_error(onnx_path + ": detector output must be 1x5x30x40");
     }
@@ -140,8 +159,10 @@ BoxDetector::~BoxDetector() = default;
 std::vector<Detection> BoxDetector::Detect(const ColorImage& image, float min_score) {
   if (image.empty()) return {};
   const ColorImage small = DetectorInput(image);
-  const cv::Mat rgb(small.height, small.width, CV_8UC3, const_cast<std::uint8_t*>(small.data.data()));
-  const cv::Mat blob = cv::dnn::blobFromImage(rgb, 1.0 / 255.0, cv::Size(), cv::Scalar(), false, false, CV_32F);
+  const cv::Mat rgb(small.height, small.width, CV_8UC3,
+                    const_cast<std::uint8_t*>(small.data.data()));
+  const cv::Mat blob =
+      cv::dnn::blobFromImage(rgb, 1.0 / 255.0, cv::Size(), cv::Scalar(), false, false, CV_32F);
   impl_->net.setInput(blob);
   const cv::Mat out = impl_->net.forward();
   CenterNetMaps maps;
@@ -149,8 +170,8 @@ std::vector<Detection> BoxDetector::Detect(const ColorImage& image, float min_sc
   maps.height = out.size[2];
   const std::size_t n = std::size_t(maps.width) * maps.height;
   const float* data = out.ptr<float>();
-  std::vector<float>* channels[5] = {&maps.heat_logit, &maps.offset_x, &maps.offset_y, &maps.log_width,
-                                     &maps.log_height};
+  std::vector<float>* channels[5] = {&maps.heat_logit, &maps.offset_x, &maps.offset_y,
+                                     &maps.log_width, &maps.log_height};
   for (int c = 0; c < 5; ++c) channels[c]->assign(data + c * n, data + (c + 1) * n);
   return DecodeCenterNet(maps, image.width, image.height, min_score);
 }

@@ -31,7 +31,7 @@ struct CenterNetMaps {
   std::vector<float> heat_logit;  ///< centre heatmap before the sigmoid
   std::vector<float> offset_x;    ///< centre offset within its cell, cells
   std::vector<float> offset_y;
-  std::vector<float> log_width;   ///< log of the box width in cells
+  std::vector<float> log_width;  ///< log of the box width in cells
   std::vector<float> log_height;
 };
 

@@ -24,14 +24,15 @@ using Cloud = pcl::PointCloud<PointT>;
 using Features = pcl::PointCloud<pcl::FPFHSignature33>;
 
 /// One point per occupied voxel (the first seen), skipping zero normals.
-Cloud::Ptr Downsample(const std::vector<Eigen::Vector3f>& points, const std::vector<Eigen::Vector3f>& normals,
-                      double voxel_m) {
+Cloud::Ptr Downsample(const std::vector<Eigen::Vector3f>& points,
+                      const std::vector<Eigen::Vector3f>& normals, double voxel_m) {
   Cloud::Ptr cloud(new Cloud);
   std::unordered_set<std::int64_t> seen;
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (normals[i].isZero()) continue;
     const Eigen::Vector3i key = (points[i] / voxel_m).array().floor().cast<int>();
-    const std::int64_t hash = (std::int64_t(key.x()) * 73856093) ^ (std::int64_t(key.y()) * 19349663) ^
+    const std::int64_t hash = (std::int64_t(key.x()) * 73856093) ^
+                              (std::int64_t(key.y()) * 19349663) ^
                               (std::int64_t(key.z()) * 83492791);
     if (!seen.insert(hash).second) continue;
     PointT p;
@@ -42,7 +43,8 @@ Cloud::Ptr Downsample(const std::vector<Eigen::Vector3f>& points, const std::vec
   return cloud;
 }
 
-Cloud::Ptr ToCloud(const std::vector<Eigen::Vector3f>& points, const std::vector<Eigen::Vector3f>& normals) {
+Cloud::Ptr ToCloud(const std::vector<Eigen::Vector3f>& points,
+                   const std::vector<Eigen::Vector3f>& normals) {
   Cloud::Ptr cloud(new Cloud);
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (normals[i].isZero()) continue;
@@ -57,7 +59,8 @@ Cloud::Ptr ToCloud(const std::vector<Eigen::Vector3f>& points, const std::vector
 /// FPFH of the keypoints over the surface, on all cores (each point's
 /// histogram is computed alone: the same values as on one).
 Features::Ptr ComputeFpfh(const Cloud::Ptr& keypoints, const Cloud::Ptr& surface, double radius_m) {
-  pcl::FPFHEstimationOMP<PointT, PointT, pcl::FPFHSignature33> fpfh(std::max(1u, std::thread::hardware_concurrency()));
+  pcl::FPFHEstimationOMP<PointT, PointT, pcl::FPFHSignature33> fpfh(
+      std::max(1u, std::thread::hardware_concurrency()));
   fpfh.setInputCloud(keypoints);
   fpfh.setSearchSurface(surface);
   fpfh.setInputNormals(surface);
@@ -78,24 +81,28 @@ struct GlobalRegistration::Impl {
   std::vector<Eigen::Matrix3d> orientations;  // fixed, uniformly random cRo hypotheses
 };
 
-GlobalRegistration::GlobalRegistration(const ModelCloud& model, const GlobalRegistrationOptions& options)
+GlobalRegistration::GlobalRegistration(const ModelCloud& model,
+                                       const GlobalRegistrationOptions& options)
     : impl_(new Impl) {
   impl_->model = &model;
   impl_->options = options;
   impl_->model_keypoints = Downsample(model.points_o, model.normals_o, options.voxel_m);
-  impl_->model_features =
-      ComputeFpfh(impl_->model_keypoints, ToCloud(model.points_o, model.normals_o), options.feature_radius_m);
+  impl_->model_features = ComputeFpfh(
+      impl_->model_keypoints, ToCloud(model.points_o, model.normals_o), options.feature_radius_m);
   FastRandom rng(options.seed);
   for (int i = 0; i < options.orientations; ++i) {
     impl_->orientations.push_back(
-        Eigen::Quaterniond(rng.Normal(), rng.Normal(), rng.Normal(), rng.Normal()).normalized().toRotationMatrix());
+        Eigen::Quaterniond(rng.Normal(), rng.Normal(), rng.Normal(), rng.Normal())
+            .normalized()
+            .toRotationMatrix());
   }
 }
 
 GlobalRegistration::~GlobalRegistration() = default;
 
-std::vector<IcpResult> GlobalRegistration::Candidates(const SceneCloud& scene, const IcpOptions& icp,
-                                                      const std::vector<Eigen::Vector3d>& centres_c) const {
+std::vector<IcpResult> GlobalRegistration::Candidates(
+    const SceneCloud& scene, const IcpOptions& icp,
+    const std::vector<Eigen::Vector3d>& centres_c) const {
   std::vector<IcpResult> out;
   const GlobalRegistrationOptions& options = impl_->options;
   if (!centres_c.empty() && !impl_->orientations.empty() && scene.points_c.size() >= 30) {
@@ -111,8 +118,9 @@ std::vector<IcpResult> GlobalRegistration::Candidates(const SceneCloud& scene, c
     quick.start_distance_m = std::max(icp.start_distance_m, 0.04);
     quick.end_distance_m = std::max(icp.end_distance_m, 0.01);
     quick.min_inliers = 10;
-    const std::size_t per_centre =
-        centres_c.size() == 1 ? impl_->orientations.size() : std::max<std::size_t>(1, impl_->orientations.size() / 4);
+    const std::size_t per_centre = centres_c.size() == 1
+                                       ? impl_->orientations.size()
+                                       : std::max<std::size_t>(1, impl_->orientations.size() / 4);
     // Hypothesis h: centre h / per_centre, orientation h % per_centre (each
     // ICP alone, kept in this order whatever thread ran it).
     std::vector<IcpResult> tried(centres_c.size() * per_centre);
@@ -128,7 +136,8 @@ std::vector<IcpResult> GlobalRegistration::Candidates(const SceneCloud& scene, c
     }
     std::sort(coarse_results.begin(), coarse_results.end(),
               [](const IcpResult& a, const IcpResult& b) { return a.inliers > b.inliers; });
-    coarse_results.resize(std::min<std::size_t>(coarse_results.size(), std::max(0, options.refined_orientations)));
+    coarse_results.resize(
+        std::min<std::size_t>(coarse_results.size(), std::max(0, options.refined_orientations)));
     ParallelFor(coarse_results.size(), [&](std::size_t k) {
       coarse_results[k] = RefinePoseIcp(*impl_->model, scene, coarse_results[k].cMo, icp);
     });
@@ -139,7 +148,8 @@ std::vector<IcpResult> GlobalRegistration::Candidates(const SceneCloud& scene, c
   Cloud::Ptr surface = ToCloud(scene.points_c, scene.normals_c);
   Cloud::Ptr keypoints = Downsample(scene.points_c, scene.normals_c, options.voxel_m);
   auto best_first = [&out] {
-    std::sort(out.begin(), out.end(), [](const IcpResult& a, const IcpResult& b) { return a.inliers > b.inliers; });
+    std::sort(out.begin(), out.end(),
+              [](const IcpResult& a, const IcpResult& b) { return a.inliers > b.inliers; });
     return out;
   };
   if (keypoints->size() < 10 || impl_->model_keypoints->size() < 10) return best_first();

@@ -1,11 +1,11 @@
 #include "detection/icp.h"
 
-#include "core/transforms.h"
-
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+
+#include "core/transforms.h"
 
 namespace aerograsp {
 
@@ -15,26 +15,31 @@ float ColorDistance(const Eigen::Vector3f& rgb_a, const Eigen::Vector3f& rgb_b) 
   return (a - b).cwiseAbs().sum();
 }
 
-Rejection ClassifyPair(const Eigen::Vector3f& p, const Eigen::Vector3f& n_p, const Eigen::Vector3f& rgb_p,
-                       const Eigen::Vector3f& q, const Eigen::Vector3f& n_q, const Eigen::Vector3f& rgb_q,
+Rejection ClassifyPair(const Eigen::Vector3f& p, const Eigen::Vector3f& n_p,
+                       const Eigen::Vector3f& rgb_p, const Eigen::Vector3f& q,
+                       const Eigen::Vector3f& n_q, const Eigen::Vector3f& rgb_q,
                        const RejectorThresholds& thresholds) {
   // Eq. 1: Euclidean distance, or across and along the pixel's ray.
   const Eigen::Vector3f e = p - q;
   if (thresholds.ray.isZero()) {
-    if (e.squaredNorm() > thresholds.max_distance_m * thresholds.max_distance_m) return Rejection::kDistance;
+    if (e.squaredNorm() > thresholds.max_distance_m * thresholds.max_distance_m)
+      return Rejection::kDistance;
   } else {
     const float along = e.dot(thresholds.ray);
     if (std::abs(along) > thresholds.max_along_ray_m ||
-        (e - along * thresholds.ray).squaredNorm() > thresholds.max_distance_m * thresholds.max_distance_m) {
+        (e - along * thresholds.ray).squaredNorm() >
+            thresholds.max_distance_m * thresholds.max_distance_m) {
       return Rejection::kDistance;
     }
   }
   // Eq. 2: cosine of the angle between the normals (a zero normal could not be fitted).
-  if (thresholds.min_normal_cos > -1.0 && !n_p.isZero() && n_p.dot(n_q) < thresholds.min_normal_cos) {
+  if (thresholds.min_normal_cos > -1.0 && !n_p.isZero() &&
+      n_p.dot(n_q) < thresholds.min_normal_cos) {
     return Rejection::kNormal;
   }
   // Eq. 3: L1 colour distance.
-  if (thresholds.max_color_distance < 768.0 && ColorDistance(rgb_p, rgb_q) > thresholds.max_color_distance) {
+  if (thresholds.max_color_distance < 768.0 &&
+      ColorDistance(rgb_p, rgb_q) > thresholds.max_color_distance) {
     return Rejection::kColor;
   }
   return Rejection::kNone;
@@ -46,8 +51,8 @@ namespace {
 /// the model's surface near p: from the nearest point j, a few steps to the
 /// plane of the current point along the ray, at most `limit_m` from p. Returns
 /// j unchanged where the ray grazes the surface.
-int FollowRayToSurface(const ModelCloud& model, const Eigen::Vector3f& p, const Eigen::Vector3f& d, float limit_m,
-                       int j) {
+int FollowRayToSurface(const ModelCloud& model, const Eigen::Vector3f& p, const Eigen::Vector3f& d,
+                       float limit_m, int j) {
   float t = 0.0f;
   for (int step = 0; step < 3; ++step) {
     const Eigen::Vector3f& n = model.normals_o[j];
@@ -72,15 +77,16 @@ int FollowRayToSurface(const ModelCloud& model, const Eigen::Vector3f& p, const 
 /// at most `limit_m` back (the noise's reach; farther, the pose is wrong, as
 /// where a wrong orientation puts the model's back faces on the scene's
 /// surface); j when there is none.
-int FrontFacingAlongRay(const ModelCloud& model, const Eigen::Vector3f& p, const Eigen::Vector3f& d, float limit_m,
-                        int j) {
+int FrontFacingAlongRay(const ModelCloud& model, const Eigen::Vector3f& p, const Eigen::Vector3f& d,
+                        float limit_m, int j) {
   if (model.normals_o[j].dot(d) <= 0.0f) return j;
   for (float t = model.cell_m; t <= limit_m; t += model.cell_m) {
     const Eigen::Vector3f on_ray = p - t * d;
     const int k = model.Nearest(on_ray);
     // On the ray: a point beside it (the ray passing an edge, the background
     // beyond the object) is not the surface that returned the depth.
-    if (k >= 0 && model.normals_o[k].dot(d) < 0.0f && (model.points_o[k] - on_ray).norm() <= 2.0f * model.cell_m) {
+    if (k >= 0 && model.normals_o[k].dot(d) < 0.0f &&
+        (model.points_o[k] - on_ray).norm() <= 2.0f * model.cell_m) {
       return k;
     }
   }
@@ -102,8 +108,8 @@ struct PassStats {
 /// One association pass at oMc: classifies every scene point and, when H and g
 /// are given, accumulates the point-to-plane normal equations in frame o.
 PassStats Associate(const ModelCloud& model, const SceneCloud& scene, const Eigen::Isometry3f& oMc,
-                    double max_distance_m, const IcpOptions& options, Eigen::Matrix<double, 6, 6>* H,
-                    Eigen::Matrix<double, 6, 1>* g) {
+                    double max_distance_m, const IcpOptions& options,
+                    Eigen::Matrix<double, 6, 6>* H, Eigen::Matrix<double, 6, 1>* g) {
   PassStats stats;
   RejectorThresholds thresholds;
   thresholds.max_distance_m = max_distance_m;
@@ -133,12 +139,22 @@ PassStats Associate(const ModelCloud& model, const SceneCloud& scene, const Eige
     }
     const Eigen::Vector3f& q = model.points_o[j];
     const Eigen::Vector3f& n = model.normals_o[j];
-    switch (ClassifyPair(p, oRc * scene.normals_c[i], scene.colors[i], q, n, model.colors[j], thresholds)) {
-      case Rejection::kNone: break;
-      case Rejection::kNoModelPoint: ++stats.no_model; continue;
-      case Rejection::kDistance: ++stats.distance; continue;
-      case Rejection::kNormal: ++stats.normal; continue;
-      case Rejection::kColor: ++stats.color; continue;
+    switch (ClassifyPair(p, oRc * scene.normals_c[i], scene.colors[i], q, n, model.colors[j],
+                         thresholds)) {
+      case Rejection::kNone:
+        break;
+      case Rejection::kNoModelPoint:
+        ++stats.no_model;
+        continue;
+      case Rejection::kDistance:
+        ++stats.distance;
+        continue;
+      case Rejection::kNormal:
+        ++stats.normal;
+        continue;
+      case Rejection::kColor:
+        ++stats.color;
+        continue;
     }
     ++stats.inliers;
     const double r = (p - q).dot(n);
@@ -179,8 +195,8 @@ PassStats Associate(const ModelCloud& model, const SceneCloud& scene, const Eige
 
 }  // namespace
 
-IcpResult RefinePoseIcp(const ModelCloud& model, const SceneCloud& scene, const Eigen::Isometry3d& cMo_init,
-                        const IcpOptions& options) {
+IcpResult RefinePoseIcp(const ModelCloud& model, const SceneCloud& scene,
+                        const Eigen::Isometry3d& cMo_init, const IcpOptions& options) {
   IcpResult result;
   result.cMo = cMo_init;
   result.scene_points = static_cast<int>(scene.points_c.size());
@@ -189,7 +205,9 @@ IcpResult RefinePoseIcp(const ModelCloud& model, const SceneCloud& scene, const 
   Eigen::Isometry3d oMc = cMo_init.inverse();
   const int n_it = std::max(1, options.max_iterations);
   double distance_m = options.start_distance_m;
-  const double shrink = n_it > 1 ? std::pow(options.end_distance_m / options.start_distance_m, 1.0 / (n_it - 1)) : 1.0;
+  const double shrink =
+      n_it > 1 ? std::pow(options.end_distance_m / options.start_distance_m, 1.0 / (n_it - 1))
+               : 1.0;
   for (int it = 0; it < n_it; ++it, distance_m *= shrink) {
     Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
@@ -203,10 +221,13 @@ IcpResult RefinePoseIcp(const ModelCloud& model, const SceneCloud& scene, const 
     // oMc <- Exp(delta) * oMc (delta = rotation, translation in o).
     Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
     const double angle = delta.head<3>().norm();
-    if (angle > 1e-12) step.linear() = Eigen::AngleAxisd(angle, delta.head<3>() / angle).toRotationMatrix();
+    if (angle > 1e-12)
+      step.linear() = Eigen::AngleAxisd(angle, delta.head<3>() / angle).toRotationMatrix();
     step.translation() = delta.tail<3>();
     oMc = step * oMc;
-    if (delta.tail<3>().norm() + 0.1 * angle < options.converged_step_m && distance_m <= options.end_distance_m * 1.5) break;
+    if (delta.tail<3>().norm() + 0.1 * angle < options.converged_step_m &&
+        distance_m <= options.end_distance_m * 1.5)
+      break;
   }
   oMc.linear() = Eigen::Quaterniond(oMc.linear()).normalized().toRotationMatrix();
   const PassStats final_stats =
@@ -217,7 +238,8 @@ IcpResult RefinePoseIcp(const ModelCloud& model, const SceneCloud& scene, const 
   result.rejected_normal = final_stats.normal;
   result.rejected_color = final_stats.color;
   result.inlier_ratio = double(final_stats.inliers) / std::max(1, result.scene_points);
-  result.rmse_m = final_stats.inliers > 0 ? std::sqrt(final_stats.sum_r2 / final_stats.inliers) : 0.0;
+  result.rmse_m =
+      final_stats.inliers > 0 ? std::sqrt(final_stats.sum_r2 / final_stats.inliers) : 0.0;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(final_stats.normal_scatter);
   if (eig.info() == Eigen::Success && eig.eigenvalues()[2] > 0.0) {
     result.weak_direction_o = eig.eigenvectors().col(0);

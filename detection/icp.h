@@ -23,7 +23,7 @@ namespace aerograsp {
 float ColorDistance(const Eigen::Vector3f& rgb_a, const Eigen::Vector3f& rgb_b);
 
 struct RejectorThresholds {
-  double max_distance_m = 0.02;     ///< Eq. 1, m, > 0
+  double max_distance_m = 0.02;  ///< Eq. 1, m, > 0
   /// The scene point's pixel ray (unit, the pair's frame), or zero. When set,
   /// Eq. 1 measures across the ray against max_distance_m and along it against
   /// max_along_ray_m: a depth camera's noise lies along its rays.
@@ -37,8 +37,9 @@ enum class Rejection { kNone, kNoModelPoint, kDistance, kNormal, kColor };
 
 /// Applies Eq. 1, then Eq. 2 (skipped for a zero scene normal), then Eq. 3 to
 /// one pair; points, normals and the ray in the same frame.
-Rejection ClassifyPair(const Eigen::Vector3f& p, const Eigen::Vector3f& n_p, const Eigen::Vector3f& rgb_p,
-                       const Eigen::Vector3f& q, const Eigen::Vector3f& n_q, const Eigen::Vector3f& rgb_q,
+Rejection ClassifyPair(const Eigen::Vector3f& p, const Eigen::Vector3f& n_p,
+                       const Eigen::Vector3f& rgb_p, const Eigen::Vector3f& q,
+                       const Eigen::Vector3f& n_q, const Eigen::Vector3f& rgb_q,
                        const RejectorThresholds& thresholds);
 
 /// Where the depth noise's 3 sigma exceeds Eq. 1's final distance (beyond
@@ -50,31 +51,33 @@ Rejection ClassifyPair(const Eigen::Vector3f& p, const Eigen::Vector3f& n_p, con
 /// biased a noisy view's pose by degrees (4 deg of roll at 1.5 m on the
 /// crawler). Nearer, pairs are nearest points, with Eq. 1 in 3D.
 struct IcpOptions {
-  int max_iterations = 12;               ///< [1, 100]
-  double start_distance_m = 0.03;        ///< Eq. 1 threshold at the first iteration, m
-  double end_distance_m = 0.008;         ///< ... shrinking geometrically to this at the last, m
+  int max_iterations = 12;         ///< [1, 100]
+  double start_distance_m = 0.03;  ///< Eq. 1 threshold at the first iteration, m
+  double end_distance_m = 0.008;   ///< ... shrinking geometrically to this at the last, m
   /// Depth noise std = this * z^2 (D435: s / (f b)) in a 640-pixel-wide depth
   /// image; floors Eq. 1 along the ray at 3 sigma. The tracker scales it by
   /// 640 / width for other widths (f halves at 320x240: the noise doubles).
   double depth_noise_per_m2 = 0.0047;
-  double min_normal_cos = 0.5;           ///< Eq. 2
-  double max_color_distance = 100.0;     ///< Eq. 3
+  double min_normal_cos = 0.5;        ///< Eq. 2
+  double max_color_distance = 100.0;  ///< Eq. 3
   /// Weight of a point-to-point term beside point-to-plane: without it a box seen
   /// on two faces slides freely along their common edge. [0, 1]
   double point_to_point_weight = 0.1;
-  double damping = 1e-4;                 ///< Levenberg damping on the 6x6 normal equations (pins unobservable spins)
-  double converged_step_m = 2e-5;        ///< stop when the step is below this (translation + rotation * 0.1 m)
-  int min_inliers = 30;                  ///< fewer pairs than this: failure
+  double damping =
+      1e-4;  ///< Levenberg damping on the 6x6 normal equations (pins unobservable spins)
+  double converged_step_m =
+      2e-5;              ///< stop when the step is below this (translation + rotation * 0.1 m)
+  int min_inliers = 30;  ///< fewer pairs than this: failure
 };
 
 struct IcpResult {
   Eigen::Isometry3d cMo = Eigen::Isometry3d::Identity();
-  bool ok = false;               ///< enough inliers and a finite pose
+  bool ok = false;  ///< enough inliers and a finite pose
   int iterations = 0;
   int scene_points = 0;
-  int inliers = 0;               ///< pairs that passed all rejectors at the last iteration
-  double inlier_ratio = 0.0;     ///< inliers / scene points
-  double rmse_m = 0.0;           ///< point-to-plane RMS of the inliers at the last iteration
+  int inliers = 0;            ///< pairs that passed all rejectors at the last iteration
+  double inlier_ratio = 0.0;  ///< inliers / scene points
+  double rmse_m = 0.0;        ///< point-to-plane RMS of the inliers at the last iteration
   /// The translation the point-to-plane pairs constrain least (unit, frame o),
   /// and how weakly: smallest / largest eigenvalue of sum(n n^T) over the
   /// inliers. Near 0 when the object could slide (a box seen on two faces,
@@ -87,7 +90,7 @@ struct IcpResult {
 
 /// Refines cMo starting from cMo_init. Never throws; `ok` is false when too few
 /// pairs survive or the solution is not finite.
-IcpResult RefinePoseIcp(const ModelCloud& model, const SceneCloud& scene, const Eigen::Isometry3d& cMo_init,
-                        const IcpOptions& options = {});
+IcpResult RefinePoseIcp(const ModelCloud& model, const SceneCloud& scene,
+                        const Eigen::Isometry3d& cMo_init, const IcpOptions& options = {});
 
 }  // namespace aerograsp

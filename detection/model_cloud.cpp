@@ -33,7 +33,8 @@ bool IsSymmetry(const ModelCloud& model, const Eigen::Matrix3d& R, double tolera
     if (j < 0) continue;
     const float plane = std::abs((p - model.points_o[j]).dot(model.normals_o[j]));
     const float dist = (p - model.points_o[j]).norm();
-    if (plane < tolerance_m && dist < 3.0 * tolerance_m + model.cell_m && normal.dot(model.normals_o[j]) > 0.8f &&
+    if (plane < tolerance_m && dist < 3.0 * tolerance_m + model.cell_m &&
+        normal.dot(model.normals_o[j]) > 0.8f &&
         ColorDistance(model.colors[i], model.colors[j]) < 60.0f) {
       ++good;
     }
@@ -47,7 +48,8 @@ bool IsSymmetry(const ModelCloud& model, const Eigen::Matrix3d& R, double tolera
 
 ModelCloud BuildModelCloud(const TriangleMesh& mesh_o, const ModelCloudOptions& options) {
   if (!(options.spacing_m >= 0.001 && options.spacing_m <= 0.05) ||
-      !(options.cell_m >= 0.001 && options.cell_m <= 0.05) || !(options.margin_m > 0.0 && options.margin_m <= 0.5)) {
+      !(options.cell_m >= 0.001 && options.cell_m <= 0.05) ||
+      !(options.margin_m > 0.0 && options.margin_m <= 0.5)) {
     throw std::invalid_argument("BuildModelCloud: spacing_m, cell_m or margin_m out of range");
   }
   const std::size_t nt = mesh_o.triangles.size();
@@ -61,8 +63,8 @@ ModelCloud BuildModelCloud(const TriangleMesh& mesh_o, const ModelCloudOptions& 
     cumulative_area[i] = area;
   }
   if (!(area > 0.0)) throw std::invalid_argument("BuildModelCloud: the mesh has no area");
-  const std::size_t count =
-      std::min<std::size_t>(200000, static_cast<std::size_t>(area / (options.spacing_m * options.spacing_m)) + 1);
+  const std::size_t count = std::min<std::size_t>(
+      200000, static_cast<std::size_t>(area / (options.spacing_m * options.spacing_m)) + 1);
 
   ModelCloud model;
   FastRandom rng(options.seed);
@@ -70,7 +72,8 @@ ModelCloud BuildModelCloud(const TriangleMesh& mesh_o, const ModelCloudOptions& 
   for (std::size_t k = 0; k < count; ++k) {
     const double pick = rng.Uniform(0.0, area);
     const std::size_t i = std::min<std::size_t>(
-        nt - 1, std::lower_bound(cumulative_area.begin(), cumulative_area.end(), pick) - cumulative_area.begin());
+        nt - 1, std::lower_bound(cumulative_area.begin(), cumulative_area.end(), pick) -
+                    cumulative_area.begin());
     const Eigen::Vector3d normal = mesh_o.TriangleNormal(i);
     if (normal.isZero()) continue;
     double a = rng.Uniform(), b = rng.Uniform();
@@ -79,7 +82,8 @@ ModelCloud BuildModelCloud(const TriangleMesh& mesh_o, const ModelCloudOptions& 
       b = 1.0 - b;
     }
     const Eigen::Vector3i& t = mesh_o.triangles[i];
-    const Eigen::Vector3d p = (1.0 - a - b) * mesh_o.vertices[t[0]] + a * mesh_o.vertices[t[1]] + b * mesh_o.vertices[t[2]];
+    const Eigen::Vector3d p = (1.0 - a - b) * mesh_o.vertices[t[0]] + a * mesh_o.vertices[t[1]] +
+                              b * mesh_o.vertices[t[2]];
     Eigen::Vector3f color(180.0f, 180.0f, 180.0f);
     if (has_colors) {
       color.setZero();
@@ -98,7 +102,8 @@ ModelCloud BuildModelCloud(const TriangleMesh& mesh_o, const ModelCloudOptions& 
   const std::size_t step = std::max<std::size_t>(1, n / 1500);
   float d2 = 0.0f;
   for (std::size_t i = 0; i < n; i += step) {
-    for (std::size_t j = i + step; j < n; j += step) d2 = std::max(d2, (model.points_o[i] - model.points_o[j]).squaredNorm());
+    for (std::size_t j = i + step; j < n; j += step)
+      d2 = std::max(d2, (model.points_o[i] - model.points_o[j]).squaredNorm());
   }
   model.diameter_m = std::sqrt(d2);
 
@@ -126,8 +131,10 @@ ModelCloud BuildModelCloud(const TriangleMesh& mesh_o, const ModelCloudOptions& 
   for (int z = 0; z < model.grid_size.z(); ++z) {
     for (int y = 0; y < model.grid_size.y(); ++y) {
       for (int x = 0; x < model.grid_size.x(); ++x, ++cell) {
-        const Eigen::Vector3f c = model.grid_min_o + model.cell_m * Eigen::Vector3f(x + 0.5f, y + 0.5f, z + 0.5f);
-        if (tree.nearestKSearch(pcl::PointXYZ(c.x(), c.y(), c.z()), 1, index, dist2) == 1 && dist2[0] <= margin2) {
+        const Eigen::Vector3f c =
+            model.grid_min_o + model.cell_m * Eigen::Vector3f(x + 0.5f, y + 0.5f, z + 0.5f);
+        if (tree.nearestKSearch(pcl::PointXYZ(c.x(), c.y(), c.z()), 1, index, dist2) == 1 &&
+            dist2[0] <= margin2) {
           model.grid[cell] = index[0];
         }
       }
@@ -148,7 +155,9 @@ ObjectSymmetry FindSymmetries(const ModelCloud& model, double tolerance_m) {
     }
   }
   for (int axis = 0; axis < 3; ++axis) {
-    if (symmetry.continuous_axis_o && symmetry.continuous_axis_o->dot(Eigen::Vector3d::Unit(axis)) > 0.5) continue;
+    if (symmetry.continuous_axis_o &&
+        symmetry.continuous_axis_o->dot(Eigen::Vector3d::Unit(axis)) > 0.5)
+      continue;
     const bool quarter = IsSymmetry(model, AxisRotation(axis, M_PI / 2), tolerance_m);
     for (int k = 1; k < 4; ++k) {
       if (k != 2 && !quarter) continue;
@@ -163,7 +172,8 @@ ObjectSymmetry FindSymmetries(const ModelCloud& model, double tolerance_m) {
 namespace {
 
 /// cRo * Rot(a, phi) with phi maximising trace(cRo_ref^T * cRo * Rot(a, phi)).
-Eigen::Matrix3d SpinToMatch(const Eigen::Matrix3d& cRo, const Eigen::Matrix3d& cRo_ref, const Eigen::Vector3d& a) {
+Eigen::Matrix3d SpinToMatch(const Eigen::Matrix3d& cRo, const Eigen::Matrix3d& cRo_ref,
+                            const Eigen::Vector3d& a) {
   const Eigen::Matrix3d M = cRo_ref.transpose() * cRo;
   const double along = a.dot(M * a);
   const double c = M.trace() - along;
@@ -191,7 +201,8 @@ double SymmetricRotationError(const Eigen::Matrix3d& cRo_est, const Eigen::Matri
   return best;
 }
 
-Eigen::Matrix3d ClosestSymmetricRotation(const Eigen::Matrix3d& cRo_meas, const Eigen::Matrix3d& cRo_ref,
+Eigen::Matrix3d ClosestSymmetricRotation(const Eigen::Matrix3d& cRo_meas,
+                                         const Eigen::Matrix3d& cRo_ref,
                                          const ObjectSymmetry& symmetry) {
   Eigen::Matrix3d best = cRo_meas;
   double best_angle = 10.0;

@@ -26,7 +26,7 @@ struct ModelCloud {
   std::vector<Eigen::Vector3f> points_o;   ///< m, frame o
   std::vector<Eigen::Vector3f> normals_o;  ///< unit, outward
   std::vector<Eigen::Vector3f> colors;     ///< RGB, 0..255
-  double diameter_m = 0.0;                 ///< largest distance between two points (ADD-S threshold base)
+  double diameter_m = 0.0;  ///< largest distance between two points (ADD-S threshold base)
   ObjectSymmetry symmetry;
 
   /// Nearest-point grid over the model's bounds grown by `margin_m`: cells of
@@ -52,10 +52,11 @@ struct ModelCloud {
 };
 
 struct ModelCloudOptions {
-  double spacing_m = 0.004;     ///< mean distance between surface samples, [0.001, 0.05] m
-  double cell_m = 0.003;        ///< nearest-point grid cell, [0.001, 0.05] m
-  double margin_m = 0.05;       ///< grid reaches this far from the surface (>= ICP's largest distance), m
-  std::uint64_t seed = 1;       ///< surface sampling seed
+  double spacing_m = 0.004;  ///< mean distance between surface samples, [0.001, 0.05] m
+  double cell_m = 0.003;     ///< nearest-point grid cell, [0.001, 0.05] m
+  double margin_m =
+      0.05;  ///< grid reaches this far from the surface (>= ICP's largest distance), m
+  std::uint64_t seed = 1;  ///< surface sampling seed
 };
 
 /// Samples the mesh (area-weighted, colours interpolated like the renderer),
@@ -78,7 +79,8 @@ double SymmetricRotationError(const Eigen::Matrix3d& cRo_est, const Eigen::Matri
 
 /// The symmetric equivalent of cRo_meas closest to cRo_ref: cRo_meas * S for
 /// the best discrete S, then spun about the continuous axis (if any) to match.
-Eigen::Matrix3d ClosestSymmetricRotation(const Eigen::Matrix3d& cRo_meas, const Eigen::Matrix3d& cRo_ref,
+Eigen::Matrix3d ClosestSymmetricRotation(const Eigen::Matrix3d& cRo_meas,
+                                         const Eigen::Matrix3d& cRo_ref,
                                          const ObjectSymmetry& symmetry);
 
 }  // namespace aerograsp

@@ -22,69 +22,90 @@ void Require(bool ok, const char* field, const char* what) {
 
 void PerceptionOptions::Validate() const {
   track.Validate();
-  Require(min_detection_score > 0.0f && min_detection_score < 1.0f, "min_detection_score", "must be in (0, 1)");
+  Require(min_detection_score > 0.0f && min_detection_score < 1.0f, "min_detection_score",
+          "must be in (0, 1)");
   Require(box_margin >= 0.0 && box_margin <= 2.0, "box_margin", "must be in [0, 2]");
-  Require(min_support_ratio > 0.0 && min_support_ratio <= 1.0, "min_support_ratio", "must be in (0, 1]");
+  Require(min_support_ratio > 0.0 && min_support_ratio <= 1.0, "min_support_ratio",
+          "must be in (0, 1]");
   Require(min_coverage > 0.0 && min_coverage <= 1.0, "min_coverage", "must be in (0, 1]");
   Require(min_cloud_points >= 10, "min_cloud_points", "must be >= 10");
-  Require(min_global_range_m >= 0.0 && min_global_range_m < max_global_range_m, "min_global_range_m",
-          "must be in [0, max_global_range_m) m");
+  Require(min_global_range_m >= 0.0 && min_global_range_m < max_global_range_m,
+          "min_global_range_m", "must be in [0, max_global_range_m) m");
   Require(max_global_range_m <= 10.0, "max_global_range_m", "must be at most 10 m");
-  Require(reacquire_radius_m > 0.0 && reacquire_radius_m <= 10.0, "reacquire_radius_m", "must be in (0, 10] m");
-  Require(reacquire_speed_mps >= 0.0 && reacquire_speed_mps <= 10.0, "reacquire_speed_mps", "must be in [0, 10] m/s");
+  Require(reacquire_radius_m > 0.0 && reacquire_radius_m <= 10.0, "reacquire_radius_m",
+          "must be in (0, 10] m");
+  Require(reacquire_speed_mps >= 0.0 && reacquire_speed_mps <= 10.0, "reacquire_speed_mps",
+          "must be in [0, 10] m/s");
   Require(measurement_position_std_m > 0.0, "measurement_position_std_m", "must be > 0");
-  Require(weak_direction_std_m >= 0.0 && weak_direction_std_m <= 1.0, "weak_direction_std_m", "must be in [0, 1] m");
+  Require(weak_direction_std_m >= 0.0 && weak_direction_std_m <= 1.0, "weak_direction_std_m",
+          "must be in [0, 1] m");
   Require(measurement_rotation_std_rad > 0.0, "measurement_rotation_std_rad", "must be > 0");
-  Require(icp.max_iterations >= 1 && icp.max_iterations <= 100, "icp.max_iterations", "must be in [1, 100]");
-  Require(icp.start_distance_m >= icp.end_distance_m && icp.end_distance_m > 0.0, "icp.end_distance_m",
-          "must be in (0, start_distance_m]");
-  Require(icp.start_distance_m < model.margin_m, "icp.start_distance_m", "must be below model.margin_m");
-  Require(icp.min_normal_cos >= -1.0 && icp.min_normal_cos <= 1.0, "icp.min_normal_cos", "must be in [-1, 1]");
+  Require(icp.max_iterations >= 1 && icp.max_iterations <= 100, "icp.max_iterations",
+          "must be in [1, 100]");
+  Require(icp.start_distance_m >= icp.end_distance_m && icp.end_distance_m > 0.0,
+          "icp.end_distance_m", "must be in (0, start_distance_m]");
+  Require(icp.start_distance_m < model.margin_m, "icp.start_distance_m",
+          "must be below model.margin_m");
+  Require(icp.min_normal_cos >= -1.0 && icp.min_normal_cos <= 1.0, "icp.min_normal_cos",
+          "must be in [-1, 1]");
   Require(icp.max_color_distance > 0.0, "icp.max_color_distance", "must be > 0");
   Require(cloud.target_points >= 50, "cloud.target_points", "must be >= 50");
   Require(cloud.min_depth_m > 0.0 && cloud.max_depth_m > cloud.min_depth_m, "cloud.max_depth_m",
           "must be above cloud.min_depth_m > 0");
   Require(ekf.gate_nis > 0.0, "ekf.gate_nis", "must be > 0");
   Require(gated_frames_to_reset >= 1, "gated_frames_to_reset", "must be >= 1");
-  Require(detect_every_frames >= 1 && detect_every_frames <= 30, "detect_every_frames", "must be in [1, 30]");
-  Require(whole_frame_points >= 50 && whole_frame_points <= 100000, "whole_frame_points", "must be in [50, 100000]");
-  Require(weak_direction_ratio >= 0.0 && weak_direction_ratio <= 1.0, "weak_direction_ratio", "must be in [0, 1]");
+  Require(detect_every_frames >= 1 && detect_every_frames <= 30, "detect_every_frames",
+          "must be in [1, 30]");
+  Require(whole_frame_points >= 50 && whole_frame_points <= 100000, "whole_frame_points",
+          "must be in [50, 100000]");
+  Require(weak_direction_ratio >= 0.0 && weak_direction_ratio <= 1.0, "weak_direction_ratio",
+          "must be in [0, 1]");
   // The stages' own options (their headers document these bounds).
-  Require(model.spacing_m >= 0.001 && model.spacing_m <= 0.05, "model.spacing_m", "must be in [0.001, 0.05] m");
-  Require(model.cell_m >= 0.001 && model.cell_m <= 0.05, "model.cell_m", "must be in [0.001, 0.05] m");
+  Require(model.spacing_m >= 0.001 && model.spacing_m <= 0.05, "model.spacing_m",
+          "must be in [0.001, 0.05] m");
+  Require(model.cell_m >= 0.001 && model.cell_m <= 0.05, "model.cell_m",
+          "must be in [0.001, 0.05] m");
   Require(model.margin_m > 0.0 && model.margin_m <= 0.5, "model.margin_m", "must be in (0, 0.5] m");
   Require(cloud.target_points <= 100000, "cloud.target_points", "must be at most 100000");
   Require(cloud.normal_radius_m > 0.0, "cloud.normal_radius_m", "must be > 0 m");
   Require(cloud.max_normal_jump_m > 0.0, "cloud.max_normal_jump_m", "must be > 0 m");
   Require(icp.depth_noise_per_m2 >= 0.0, "icp.depth_noise_per_m2", "must be >= 0 (1/m)");
-  Require(icp.point_to_point_weight >= 0.0 && icp.point_to_point_weight <= 1.0, "icp.point_to_point_weight",
-          "must be in [0, 1]");
+  Require(icp.point_to_point_weight >= 0.0 && icp.point_to_point_weight <= 1.0,
+          "icp.point_to_point_weight", "must be in [0, 1]");
   Require(icp.damping >= 0.0, "icp.damping", "must be >= 0");
   Require(icp.converged_step_m >= 0.0, "icp.converged_step_m", "must be >= 0 m");
-  Require(icp.min_inliers >= 6, "icp.min_inliers", "must be >= 6 (a pose has 6 degrees of freedom)");
+  Require(icp.min_inliers >= 6, "icp.min_inliers",
+          "must be >= 6 (a pose has 6 degrees of freedom)");
   Require(global.voxel_m > 0.0, "global.voxel_m", "must be > 0 m");
   Require(global.feature_radius_m > 0.0, "global.feature_radius_m", "must be > 0 m");
   Require(global.max_iterations >= 1, "global.max_iterations", "must be >= 1");
   Require(global.attempts >= 0, "global.attempts", "must be >= 0 (0: no feature matching)");
   Require(global.orientations >= 0, "global.orientations", "must be >= 0 (0: off)");
   Require(global.refined_orientations >= 0, "global.refined_orientations", "must be >= 0");
-  Require(global.inlier_fraction >= 0.0 && global.inlier_fraction <= 1.0, "global.inlier_fraction", "must be in [0, 1]");
+  Require(global.inlier_fraction >= 0.0 && global.inlier_fraction <= 1.0, "global.inlier_fraction",
+          "must be in [0, 1]");
   Require(ekf.accel_noise_mps2 > 0.0, "ekf.accel_noise_mps2", "must be > 0 m/s^2");
-  Require(ekf.angular_accel_noise_radps2 > 0.0, "ekf.angular_accel_noise_radps2", "must be > 0 rad/s^2");
+  Require(ekf.angular_accel_noise_radps2 > 0.0, "ekf.angular_accel_noise_radps2",
+          "must be > 0 rad/s^2");
   Require(ekf.init_position_std_m > 0.0, "ekf.init_position_std_m", "must be > 0 m");
   Require(ekf.init_rotation_std_rad > 0.0, "ekf.init_rotation_std_rad", "must be > 0 rad");
   Require(ekf.init_velocity_std_mps > 0.0, "ekf.init_velocity_std_mps", "must be > 0 m/s");
-  Require(ekf.init_angular_velocity_std_radps > 0.0, "ekf.init_angular_velocity_std_radps", "must be > 0 rad/s");
+  Require(ekf.init_angular_velocity_std_radps > 0.0, "ekf.init_angular_velocity_std_radps",
+          "must be > 0 rad/s");
   Require(ekf.max_predict_dt_s > 0.0, "ekf.max_predict_dt_s", "must be > 0 s");
 }
 
 ObjectTracker::ObjectTracker(const ObjectModel& object, const PerceptionOptions& options,
                              std::unique_ptr<BoxDetector> detector)
-    : options_(options), detector_(std::move(detector)), ekf_(options.ekf), monitor_(options.track) {
+    : options_(options),
+      detector_(std::move(detector)),
+      ekf_(options.ekf),
+      monitor_(options.track) {
   options_.Validate();
   model_ = BuildModelCloud(object.mesh_o, options_.model);
   min_half_extent_m_ = 0.5 * object.dimensions_m.minCoeff();
-  if (!(min_half_extent_m_ > 0.0)) min_half_extent_m_ = 0.5 * (object.mesh_o.BoundsMax() - object.mesh_o.BoundsMin()).minCoeff();
+  if (!(min_half_extent_m_ > 0.0))
+    min_half_extent_m_ = 0.5 * (object.mesh_o.BoundsMax() - object.mesh_o.BoundsMin()).minCoeff();
   global_ = std::make_unique<GlobalRegistration>(model_, options_.global);
 }
 
@@ -95,8 +116,10 @@ void ObjectTracker::SetInitialPose(const Eigen::Isometry3d& cMo) {
   ekf_.Reset();
 }
 
-std::optional<Eigen::Vector3d> ObjectTracker::EstimateCentre(const PixelBox& box, const DepthImage& depth,
-                                                             double depth_scale_m, const CameraIntrinsics& K) const {
+std::optional<Eigen::Vector3d> ObjectTracker::EstimateCentre(const PixelBox& box,
+                                                             const DepthImage& depth,
+                                                             double depth_scale_m,
+                                                             const CameraIntrinsics& K) const {
   // The median depth of the box's inner half is on the object's near surface;
   // the centre lies about the smallest half-extent behind it.
   const PixelBox inner = box.Grown(-0.25).Clipped(depth.width, depth.height);
@@ -109,25 +132,27 @@ std::optional<Eigen::Vector3d> ObjectTracker::EstimateCentre(const PixelBox& box
   if (values.size() < 10) return std::nullopt;
   std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
   const double z = values[values.size() / 2] * depth_scale_m;
-  const Eigen::Vector3d ray = K.Unproject(0.5 * (box.x0 + box.x1), 0.5 * (box.y0 + box.y1), 1.0).normalized();
+  const Eigen::Vector3d ray =
+      K.Unproject(0.5 * (box.x0 + box.x1), 0.5 * (box.y0 + box.y1), 1.0).normalized();
   return ray * (z / ray.z() + min_half_extent_m_);
 }
 
-IcpResult ObjectTracker::Register(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth,
-                                  double depth_scale_m, const CameraIntrinsics& K, const Eigen::Isometry3d& cMo,
+IcpResult ObjectTracker::Register(const SceneCloud& cloud, const ColorImage& color,
+                                  const DepthImage& depth, double depth_scale_m,
+                                  const CameraIntrinsics& K, const Eigen::Isometry3d& cMo,
                                   double slide_range_m, int* outline_drop) const {
   IcpResult icp = RefinePoseIcp(model_, cloud, cMo, frame_icp_);
   *outline_drop = -1;
   if (icp.ok && icp.weak_ratio < options_.weak_direction_ratio) {
     // The pairs leave a sliding direction: let the outline in the depth image decide it.
-    SlideFit slid = SlideToBestSupport(model_, icp.cMo, icp.weak_direction_o, color, depth, depth_scale_m, K,
-                                       SupportOptions(), slide_range_m);
+    SlideFit slid = SlideToBestSupport(model_, icp.cMo, icp.weak_direction_o, color, depth,
+                                       depth_scale_m, K, SupportOptions(), slide_range_m);
     // A short (tracking) slide that the outline supports less than a probe
     // beyond it: the object lies farther along (a drift the filter's velocity
     // fed while its ends were hidden); the full range finds it.
     if (slid.drop < 0 && slide_range_m < kFullSlideM) {
-      slid = SlideToBestSupport(model_, slid.cMo, icp.weak_direction_o, color, depth, depth_scale_m, K,
-                                SupportOptions(), kFullSlideM);
+      slid = SlideToBestSupport(model_, slid.cMo, icp.weak_direction_o, color, depth, depth_scale_m,
+                                K, SupportOptions(), kFullSlideM);
     }
     *outline_drop = slid.drop;
     if (!slid.cMo.isApprox(icp.cMo)) {
@@ -145,21 +170,26 @@ PoseSupportOptions ObjectTracker::SupportOptions() const {
   return support;
 }
 
-bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth, double depth_scale_m,
+bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color,
+                            const DepthImage& depth, double depth_scale_m,
                             const CameraIntrinsics& K, const std::optional<Eigen::Isometry3d>& seed,
                             const std::vector<Eigen::Vector3d>& centres_c, bool allow_global,
                             FrameReport* report) {
   auto passes = [&](const PoseSupport& s) {
-    return s.projected >= 20 && s.ratio() >= options_.min_support_ratio && s.coverage() >= options_.min_coverage;
+    return s.projected >= 20 && s.ratio() >= options_.min_support_ratio &&
+           s.coverage() >= options_.min_coverage;
   };
   const double t0 = ThreadCpuMs();
   if (seed) {
     // Tracking: the prediction is close, a short slide search will do.
-    const double slide_m = ekf_.initialized() && monitor_.state() == TrackState::kFound ? 0.004 : kFullSlideM;
-    const IcpResult icp = Register(cloud, color, depth, depth_scale_m, K, *seed, slide_m, &report->outline_drop);
+    const double slide_m =
+        ekf_.initialized() && monitor_.state() == TrackState::kFound ? 0.004 : kFullSlideM;
+    const IcpResult icp =
+        Register(cloud, color, depth, depth_scale_m, K, *seed, slide_m, &report->outline_drop);
     report->icp = icp;
     if (icp.ok) {
-      report->support = ScorePoseSupport(model_, icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
+      report->support =
+          ScorePoseSupport(model_, icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
       if (passes(report->support)) {
         report->times.icp_ms = ThreadCpuMs() - t0;
         return true;
@@ -184,10 +214,14 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color, co
   std::vector<Registered> registered(coarse.size());
   ParallelFor(coarse.size(), [&](std::size_t k) {
     Registered& r = registered[k];
-    r.icp = Register(cloud, color, depth, depth_scale_m, K, coarse[k].cMo, kFullSlideM, &r.outline_drop);
-    r.usable = r.icp.ok && !(reacquire_zone_c_ && (r.icp.cMo.translation() - reacquire_zone_c_->first).norm() >
-                                                      reacquire_zone_c_->second);
-    if (r.usable) r.support = ScorePoseSupport(model_, r.icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
+    r.icp = Register(cloud, color, depth, depth_scale_m, K, coarse[k].cMo, kFullSlideM,
+                     &r.outline_drop);
+    r.usable = r.icp.ok &&
+               !(reacquire_zone_c_ && (r.icp.cMo.translation() - reacquire_zone_c_->first).norm() >
+                                          reacquire_zone_c_->second);
+    if (r.usable)
+      r.support =
+          ScorePoseSupport(model_, r.icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
   });
   for (const Registered& r : registered) {
     if (!r.usable) continue;
@@ -209,7 +243,8 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
                                    const std::optional<Eigen::Isometry3d>& wMc) {
   FrameReport report;
   // The filter frame f: the world when the camera's pose is given, else the camera.
-  const Eigen::Isometry3d fMc = wMc && wMc->matrix().allFinite() ? *wMc : Eigen::Isometry3d::Identity();
+  const Eigen::Isometry3d fMc =
+      wMc && wMc->matrix().allFinite() ? *wMc : Eigen::Isometry3d::Identity();
   const Eigen::Isometry3d cMf = fMc.inverse();
   const double t_start = ThreadCpuMs();
   // The stereo depth noise grows as the depth image's focal length in pixels
@@ -218,19 +253,22 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
   frame_icp_ = options_.icp;
   if (depth.width > 0) frame_icp_.depth_noise_per_m2 *= kNoiseReferenceWidthPx / depth.width;
   const bool input_ok = !color.empty() && !depth.empty() && color.width == depth.width &&
-                        color.height == depth.height && depth.width == K.width && depth.height == K.height &&
-                        depth_scale_m > 0.0 && std::isfinite(stamp_s);
+                        color.height == depth.height && depth.width == K.width &&
+                        depth.height == K.height && depth_scale_m > 0.0 && std::isfinite(stamp_s);
   if (ekf_.initialized()) ekf_.Predict(stamp_s);
 
   // Detection: every frame until the track is found, then every
   // detect_every_frames frames while it is measured (the prediction's outline
   // crops the frames between).
-  const bool tracked = ekf_.initialized() && monitor_.state() == TrackState::kFound && last_measured_;
+  const bool tracked =
+      ekf_.initialized() && monitor_.state() == TrackState::kFound && last_measured_;
   ++frames_since_detection_;
-  if (detector_ && input_ok && (!tracked || frames_since_detection_ >= options_.detect_every_frames)) {
+  if (detector_ && input_ok &&
+      (!tracked || frames_since_detection_ >= options_.detect_every_frames)) {
     const double t_detect = ThreadCpuMs();
     frames_since_detection_ = 0;
-    const std::vector<Detection> detections = detector_->Detect(color, options_.min_detection_score);
+    const std::vector<Detection> detections =
+        detector_->Detect(color, options_.min_detection_score);
     if (!detections.empty()) report.detection = detections.front();
     report.times.detect_ms = ThreadCpuMs() - t_detect;
   }
@@ -261,30 +299,36 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
     if (report.detection) {
       report.crop = report.detection->box.Grown(options_.box_margin);
     } else if (ekf_.initialized()) {
-      report.crop = ScorePoseSupport(model_, *prior, {}, depth, depth_scale_m, K).box.Grown(options_.box_margin);
+      report.crop = ScorePoseSupport(model_, *prior, {}, depth, depth_scale_m, K)
+                        .box.Grown(options_.box_margin);
     } else if (!detector_ || initial_cMo_) {
-      report.crop = initial_cMo_ ? ScorePoseSupport(model_, *initial_cMo_, {}, depth, depth_scale_m, K)
-                                       .box.Grown(options_.box_margin)
-                                 : PixelBox{0, 0, depth.width, depth.height};
+      report.crop = initial_cMo_
+                        ? ScorePoseSupport(model_, *initial_cMo_, {}, depth, depth_scale_m, K)
+                              .box.Grown(options_.box_margin)
+                        : PixelBox{0, 0, depth.width, depth.height};
     }
     report.crop = report.crop.Clipped(depth.width, depth.height);
     SceneCloudOptions cloud_options = options_.cloud;
     if (report.crop.width() == depth.width && report.crop.height() == depth.height) {
       // The whole frame (no detector, no prior): denser, the object is a small part of it.
-      cloud_options.target_points = std::max(cloud_options.target_points, options_.whole_frame_points);
+      cloud_options.target_points =
+          std::max(cloud_options.target_points, options_.whole_frame_points);
     }
-    if (!report.crop.empty()) cloud = BuildSceneCloud(color, depth, depth_scale_m, K, report.crop, cloud_options);
+    if (!report.crop.empty())
+      cloud = BuildSceneCloud(color, depth, depth_scale_m, K, report.crop, cloud_options);
   }
   report.cloud_points = static_cast<int>(cloud.points_c.size());
   report.times.cloud_ms = ThreadCpuMs() - t;
 
   // Pose measurement.
   if (report.cloud_points >= options_.min_cloud_points) {
-    bool allow_global = !initial_cMo_ && (!ekf_.initialized() || monitor_.state() == TrackState::kLost);
+    bool allow_global =
+        !initial_cMo_ && (!ekf_.initialized() || monitor_.state() == TrackState::kLost);
     // Where the object may be, for the global registration's orientation hypotheses.
     std::vector<Eigen::Vector3d> centres_c;
     if (report.detection) {
-      if (auto c = EstimateCentre(report.detection->box, depth, depth_scale_m, K)) centres_c.push_back(*c);
+      if (auto c = EstimateCentre(report.detection->box, depth, depth_scale_m, K))
+        centres_c.push_back(*c);
     } else if (prior) {
       centres_c.push_back(prior->translation());
     } else {
@@ -293,9 +337,10 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
       for (int j = 0; j < ny; ++j) {
         for (int i = 0; i < nx; ++i) {
           const int w = report.crop.width() / nx, h = report.crop.height() / ny;
-          const PixelBox cell{report.crop.x0 + i * w, report.crop.y0 + j * h, report.crop.x0 + (i + 1) * w,
-                              report.crop.y0 + (j + 1) * h};
-          if (auto c = EstimateCentre(cell.Grown(0.5), depth, depth_scale_m, K)) centres_c.push_back(*c);
+          const PixelBox cell{report.crop.x0 + i * w, report.crop.y0 + j * h,
+                              report.crop.x0 + (i + 1) * w, report.crop.y0 + (j + 1) * h};
+          if (auto c = EstimateCentre(cell.Grown(0.5), depth, depth_scale_m, K))
+            centres_c.push_back(*c);
         }
       }
     }
@@ -308,7 +353,8 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
                                    }),
                     centres_c.end());
     if (centres > 0 && centres_c.empty()) allow_global = false;
-    report.measured = Measure(cloud, color, depth, depth_scale_m, K, prior, centres_c, allow_global, &report);
+    report.measured =
+        Measure(cloud, color, depth, depth_scale_m, K, prior, centres_c, allow_global, &report);
   }
 
   // Filter.
@@ -320,9 +366,11 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
     const double sr = options_.measurement_rotation_std_rad * std::max(0.5, z);
     Eigen::Matrix<double, 6, 6> R = Eigen::Matrix<double, 6, 6>::Zero();
     R.diagonal() << sp * sp, sp * sp, sp * sp, sr * sr, sr * sr, sr * sr;
-    if (report.icp.weak_ratio < options_.weak_direction_ratio && options_.weak_direction_std_m > 0.0) {
+    if (report.icp.weak_ratio < options_.weak_direction_ratio &&
+        options_.weak_direction_std_m > 0.0) {
       const Eigen::Vector3d u_c = (meas.linear() * report.icp.weak_direction_o).normalized();
-      R.topLeftCorner<3, 3>() += options_.weak_direction_std_m * options_.weak_direction_std_m * u_c * u_c.transpose();
+      R.topLeftCorner<3, 3>() +=
+          options_.weak_direction_std_m * options_.weak_direction_std_m * u_c * u_c.transpose();
     }
     // Into the filter frame (positions and left rotation errors both turn with fRc).
     meas = fMc * meas;
@@ -355,10 +403,10 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
   // away from it (the mission then never found a lost object again).
   initial_cMo_.reset();
   last_measured_ = report.measured;
-  const double confidence =
-      report.measured ? std::min(1.0, report.support.ratio()) * std::min(1.0, report.support.coverage() / 0.5) *
-                            (report.gated ? 0.5 : 1.0)
-                      : 0.0;
+  const double confidence = report.measured ? std::min(1.0, report.support.ratio()) *
+                                                  std::min(1.0, report.support.coverage() / 0.5) *
+                                                  (report.gated ? 0.5 : 1.0)
+                                            : 0.0;
   const bool continues = was_found_ && own_prior && report.measured && !report.global_init;
   const TrackState state = monitor_.Update(confidence, continues);
   was_found_ = was_found_ || state == TrackState::kFound;

@@ -33,10 +33,12 @@ struct PerceptionOptions {
   TrackMonitorOptions track;
   float min_detection_score = 0.3f;  ///< detector peaks below this are ignored, (0, 1)
   double box_margin = 0.15;          ///< the crop is the box grown by this fraction per side
-  double min_support_ratio = 0.9;    ///< a pose must explain this fraction of the compared depth, (0, 1]
-  double min_coverage = 0.4;         ///< ... and this fraction of the visible model, (0, 1]
-  int min_cloud_points = 60;         ///< fewer points in the crop: no measurement, >= 10
-  int whole_frame_points = 8000;     ///< cloud size when the crop is the whole frame (no detector, no prior), [50, 100000]
+  double min_support_ratio =
+      0.9;                    ///< a pose must explain this fraction of the compared depth, (0, 1]
+  double min_coverage = 0.4;  ///< ... and this fraction of the visible model, (0, 1]
+  int min_cloud_points = 60;  ///< fewer points in the crop: no measurement, >= 10
+  int whole_frame_points =
+      8000;  ///< cloud size when the crop is the whole frame (no detector, no prior), [50, 100000]
   /// While the track is found and the last frame was measured, the detector
   /// runs on every this many frames, [1, 30]; on the frames between, the crop
   /// is the outline of the filter's prediction. 1: every frame (the paper's
@@ -59,8 +61,9 @@ struct PerceptionOptions {
   double reacquire_speed_mps = 0.2;
   double measurement_position_std_m = 0.002;   ///< ICP position noise at 1 m (grows with z^2), m
   double measurement_rotation_std_rad = 0.02;  ///< ICP rotation noise, rad
-  int gated_frames_to_reset = 3;      ///< consecutive gated but well-supported poses restart the filter
-  double weak_direction_ratio = 0.08;  ///< ICP's weak_ratio below this: slide along it to the best outline, [0, 1]
+  int gated_frames_to_reset = 3;  ///< consecutive gated but well-supported poses restart the filter
+  double weak_direction_ratio =
+      0.08;  ///< ICP's weak_ratio below this: slide along it to the best outline, [0, 1]
   /// Position noise added along ICP's weak direction when weak_ratio is below
   /// weak_direction_ratio (an extrusion seen without its ends), m, [0, 1]. Worth
   /// setting only with the camera's pose given to Process (a filter in the
@@ -82,10 +85,11 @@ struct ObjectEstimate {
   /// given the camera's pose wMc, else the camera (then fMo = cMo).
   Eigen::Isometry3d fMo = Eigen::Isometry3d::Identity();
   Eigen::Vector3d v_f = Eigen::Vector3d::Zero();  ///< m/s, in f
-  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();  ///< position m^2, rotation rad^2, in f
+  Eigen::Matrix<double, 6, 6> covariance =
+      Eigen::Matrix<double, 6, 6>::Zero();        ///< position m^2, rotation rad^2, in f
   Eigen::Vector3d v_c = Eigen::Vector3d::Zero();  ///< m/s in f, expressed in c
   Eigen::Vector3d w_c = Eigen::Vector3d::Zero();  ///< rad/s in f, expressed in c
-  double confidence = 0.0;  ///< [0, 1]
+  double confidence = 0.0;                        ///< [0, 1]
   TrackState state = TrackState::kLost;
 };
 
@@ -103,9 +107,9 @@ struct FrameReport {
   std::optional<Detection> detection;  ///< the best box, when the detector found one
   PixelBox crop;                       ///< the crop used (empty: no measurement attempted)
   int cloud_points = 0;
-  bool measured = false;               ///< a pose passed ICP and the support check
-  bool global_init = false;            ///< global registration ran this frame
-  bool gated = false;                  ///< the measurement was rejected by the EKF gate
+  bool measured = false;     ///< a pose passed ICP and the support check
+  bool global_init = false;  ///< global registration ran this frame
+  bool gated = false;        ///< the measurement was rejected by the EKF gate
   IcpResult icp;
   PoseSupport support;
   /// SlideFit::drop of the measured pose's slide along ICP's weak direction;
@@ -120,7 +124,8 @@ class ObjectTracker {
   /// `detector` may be null: then every crop is the whole frame (global
   /// registration on the whole frame when there is no prior).
   /// @throws std::invalid_argument for options out of range.
-  ObjectTracker(const ObjectModel& object, const PerceptionOptions& options, std::unique_ptr<BoxDetector> detector);
+  ObjectTracker(const ObjectModel& object, const PerceptionOptions& options,
+                std::unique_ptr<BoxDetector> detector);
   ~ObjectTracker();
   ObjectTracker(const ObjectTracker&) = delete;
   ObjectTracker& operator=(const ObjectTracker&) = delete;
@@ -134,19 +139,23 @@ class ObjectTracker {
   /// filter runs in the world, where a crawling object moves slowly, instead
   /// of in the camera, which sways with the vehicle. Give it for every frame
   /// of a track or for none.
-  FrameReport Process(const ColorImage& color, const DepthImage& depth, double stamp_s, const CameraIntrinsics& K,
-                      double depth_scale_m, const std::optional<Eigen::Isometry3d>& wMc = std::nullopt);
+  FrameReport Process(const ColorImage& color, const DepthImage& depth, double stamp_s,
+                      const CameraIntrinsics& K, double depth_scale_m,
+                      const std::optional<Eigen::Isometry3d>& wMc = std::nullopt);
 
   const ModelCloud& model() const { return model_; }
   bool has_detector() const { return detector_ != nullptr; }
 
  private:
   /// The best pose (ICP from `seed`, else global registration when allowed) for the crop.
-  bool Measure(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
-               const std::optional<Eigen::Isometry3d>& seed, const std::vector<Eigen::Vector3d>& centres_c,
-               bool allow_global, FrameReport* report);
+  bool Measure(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth,
+               double depth_scale_m, const CameraIntrinsics& K,
+               const std::optional<Eigen::Isometry3d>& seed,
+               const std::vector<Eigen::Vector3d>& centres_c, bool allow_global,
+               FrameReport* report);
   /// A rough object centre (m, in c) from a detector box and the depth inside it.
-  std::optional<Eigen::Vector3d> EstimateCentre(const PixelBox& box, const DepthImage& depth, double depth_scale_m,
+  std::optional<Eigen::Vector3d> EstimateCentre(const PixelBox& box, const DepthImage& depth,
+                                                double depth_scale_m,
                                                 const CameraIntrinsics& K) const;
 
   PoseSupportOptions SupportOptions() const;
@@ -154,9 +163,9 @@ class ObjectTracker {
   /// depth outline supports best (over the full range when the outline puts the
   /// object beyond slide_range_m) and ICP again. outline_drop: that slide's
   /// SlideFit::drop, -1 without a slide.
-  IcpResult Register(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth, double depth_scale_m,
-                     const CameraIntrinsics& K, const Eigen::Isometry3d& cMo, double slide_range_m,
-                     int* outline_drop) const;
+  IcpResult Register(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth,
+                     double depth_scale_m, const CameraIntrinsics& K, const Eigen::Isometry3d& cMo,
+                     double slide_range_m, int* outline_drop) const;
 
   PerceptionOptions options_;
   IcpOptions frame_icp_;  ///< options_.icp with the depth noise scaled to this frame's width
@@ -169,7 +178,8 @@ class ObjectTracker {
   double last_good_stamp_s_ = 0.0;
   /// This frame's limit on a re-found pose (centre m in c, radius m), if any.
   std::optional<std::pair<Eigen::Vector3d, double>> reacquire_zone_c_;
-  bool was_found_ = false;  // the track has been found: a pose tracked on from its own last pose continues it
+  bool was_found_ =
+      false;  // the track has been found: a pose tracked on from its own last pose continues it
   std::optional<Eigen::Isometry3d> initial_cMo_;
   int gated_in_a_row_ = 0;
   int frames_since_detection_ = 0;  // frames processed since the detector last ran

@@ -26,7 +26,8 @@ void ReadModel(const ConfigNode& n, ModelCloudOptions* m) {
 }
 
 void ReadCloud(const ConfigNode& n, SceneCloudOptions* c) {
-  n.RequireOnlyKeys({"target_points", "min_depth_m", "max_depth_m", "normal_radius_m", "max_normal_jump_m"});
+  n.RequireOnlyKeys(
+      {"target_points", "min_depth_m", "max_depth_m", "normal_radius_m", "max_normal_jump_m"});
   c->target_points = n.GetInt("target_points", c->target_points);
   c->min_depth_m = n.GetDouble("min_depth_m", c->min_depth_m);
   c->max_depth_m = n.GetDouble("max_depth_m", c->max_depth_m);
@@ -35,8 +36,9 @@ void ReadCloud(const ConfigNode& n, SceneCloudOptions* c) {
 }
 
 void ReadIcp(const ConfigNode& n, IcpOptions* i) {
-  n.RequireOnlyKeys({"max_iterations", "start_distance_m", "end_distance_m", "depth_noise_per_m2", "min_normal_cos",
-                     "max_color_distance", "point_to_point_weight", "damping", "converged_step_m", "min_inliers"});
+  n.RequireOnlyKeys({"max_iterations", "start_distance_m", "end_distance_m", "depth_noise_per_m2",
+                     "min_normal_cos", "max_color_distance", "point_to_point_weight", "damping",
+                     "converged_step_m", "min_inliers"});
   i->max_iterations = n.GetInt("max_iterations", i->max_iterations);
   i->start_distance_m = n.GetDouble("start_distance_m", i->start_distance_m);
   i->end_distance_m = n.GetDouble("end_distance_m", i->end_distance_m);
@@ -63,20 +65,24 @@ void ReadGlobal(const ConfigNode& n, GlobalRegistrationOptions* g) {
 }
 
 void ReadEkf(const ConfigNode& n, PoseEkfOptions* e) {
-  n.RequireOnlyKeys({"accel_noise_mps2", "angular_accel_noise_radps2", "init_position_std_m", "init_rotation_std_rad",
-                     "init_velocity_std_mps", "init_angular_velocity_std_radps", "gate_nis", "max_predict_dt_s"});
+  n.RequireOnlyKeys({"accel_noise_mps2", "angular_accel_noise_radps2", "init_position_std_m",
+                     "init_rotation_std_rad", "init_velocity_std_mps",
+                     "init_angular_velocity_std_radps", "gate_nis", "max_predict_dt_s"});
   e->accel_noise_mps2 = n.GetDouble("accel_noise_mps2", e->accel_noise_mps2);
-  e->angular_accel_noise_radps2 = n.GetDouble("angular_accel_noise_radps2", e->angular_accel_noise_radps2);
+  e->angular_accel_noise_radps2 =
+      n.GetDouble("angular_accel_noise_radps2", e->angular_accel_noise_radps2);
   e->init_position_std_m = n.GetDouble("init_position_std_m", e->init_position_std_m);
   e->init_rotation_std_rad = n.GetDouble("init_rotation_std_rad", e->init_rotation_std_rad);
   e->init_velocity_std_mps = n.GetDouble("init_velocity_std_mps", e->init_velocity_std_mps);
-  e->init_angular_velocity_std_radps = n.GetDouble("init_angular_velocity_std_radps", e->init_angular_velocity_std_radps);
+  e->init_angular_velocity_std_radps =
+      n.GetDouble("init_angular_velocity_std_radps", e->init_angular_velocity_std_radps);
   e->gate_nis = n.GetDouble("gate_nis", e->gate_nis);
   e->max_predict_dt_s = n.GetDouble("max_predict_dt_s", e->max_predict_dt_s);
 }
 
 void ReadTrack(const ConfigNode& n, TrackMonitorOptions* t) {
-  n.RequireOnlyKeys({"find_confidence", "keep_confidence", "frames_to_find", "frames_to_refind", "frames_to_lose"});
+  n.RequireOnlyKeys({"find_confidence", "keep_confidence", "frames_to_find", "frames_to_refind",
+                     "frames_to_lose"});
   t->find_confidence = n.GetDouble("find_confidence", t->find_confidence);
   t->keep_confidence = n.GetDouble("keep_confidence", t->keep_confidence);
   t->frames_to_find = n.GetInt("frames_to_find", t->frames_to_find);
@@ -86,13 +92,30 @@ void ReadTrack(const ConfigNode& n, TrackMonitorOptions* t) {
 
 }  // namespace
 
-PerceptionOptions LoadPerceptionOptions(const std::string& path, const PerceptionOptions& defaults) {
+PerceptionOptions LoadPerceptionOptions(const std::string& path,
+                                        const PerceptionOptions& defaults) {
   const ConfigNode root = ConfigNode::LoadFile(path);
-  root.RequireOnlyKeys({"model", "cloud", "icp", "global", "ekf", "track", "min_detection_score", "box_margin",
-                        "min_support_ratio", "min_coverage", "min_cloud_points", "whole_frame_points", "detect_every_frames",
-                        "min_global_range_m", "max_global_range_m", "reacquire_radius_m", "reacquire_speed_mps",
+  root.RequireOnlyKeys({"model",
+                        "cloud",
+                        "icp",
+                        "global",
+                        "ekf",
+                        "track",
+                        "min_detection_score",
+                        "box_margin",
+                        "min_support_ratio",
+                        "min_coverage",
+                        "min_cloud_points",
+                        "whole_frame_points",
+                        "detect_every_frames",
+                        "min_global_range_m",
+                        "max_global_range_m",
+                        "reacquire_radius_m",
+                        "reacquire_speed_mps",
                         "measurement_position_std_m",
-                        "measurement_rotation_std_rad", "gated_frames_to_reset", "weak_direction_ratio",
+                        "measurement_rotation_std_rad",
+                        "gated_frames_to_reset",
+                        "weak_direction_ratio",
                         "weak_direction_std_m"});
   PerceptionOptions o = defaults;
   if (root.Has("model")) ReadModel(root.Child("model"), &o.model);
@@ -101,7 +124,8 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path, const Perceptio
   if (root.Has("global")) ReadGlobal(root.Child("global"), &o.global);
   if (root.Has("ekf")) ReadEkf(root.Child("ekf"), &o.ekf);
   if (root.Has("track")) ReadTrack(root.Child("track"), &o.track);
-  o.min_detection_score = static_cast<float>(root.GetDouble("min_detection_score", o.min_detection_score));
+  o.min_detection_score =
+      static_cast<float>(root.GetDouble("min_detection_score", o.min_detection_score));
   o.box_margin = root.GetDouble("box_margin", o.box_margin);
   o.min_support_ratio = root.GetDouble("min_support_ratio", o.min_support_ratio);
   o.min_coverage = root.GetDouble("min_coverage", o.min_coverage);
@@ -112,8 +136,10 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path, const Perceptio
   o.max_global_range_m = root.GetDouble("max_global_range_m", o.max_global_range_m);
   o.reacquire_radius_m = root.GetDouble("reacquire_radius_m", o.reacquire_radius_m);
   o.reacquire_speed_mps = root.GetDouble("reacquire_speed_mps", o.reacquire_speed_mps);
-  o.measurement_position_std_m = root.GetDouble("measurement_position_std_m", o.measurement_position_std_m);
-  o.measurement_rotation_std_rad = root.GetDouble("measurement_rotation_std_rad", o.measurement_rotation_std_rad);
+  o.measurement_position_std_m =
+      root.GetDouble("measurement_position_std_m", o.measurement_position_std_m);
+  o.measurement_rotation_std_rad =
+      root.GetDouble("measurement_rotation_std_rad", o.measurement_rotation_std_rad);
   o.gated_frames_to_reset = root.GetInt("gated_frames_to_reset", o.gated_frames_to_reset);
   o.weak_direction_ratio = root.GetDouble("weak_direction_ratio", o.weak_direction_ratio);
   o.weak_direction_std_m = root.GetDouble("weak_direction_std_m", o.weak_direction_std_m);

@@ -17,6 +17,7 @@ namespace aerograsp {
 /// read as integers in [0, 2^31 - 1].
 /// @throws ConfigError "<file>: <key path>: ..." for a missing or malformed
 /// file, unknown keys, wrong types or values out of range.
-PerceptionOptions LoadPerceptionOptions(const std::string& path, const PerceptionOptions& defaults = {});
+PerceptionOptions LoadPerceptionOptions(const std::string& path,
+                                        const PerceptionOptions& defaults = {});
 
 }  // namespace aerograsp

@@ -24,10 +24,12 @@ void PoseEkf::Initialize(const Eigen::Isometry3d& cMo, double stamp_s) {
   w_.setZero();
   stamp_s_ = stamp_s;
   P_.setZero();
-  P_.diagonal() << Eigen::Vector3d::Constant(options_.init_position_std_m * options_.init_position_std_m),
+  P_.diagonal() << Eigen::Vector3d::Constant(options_.init_position_std_m *
+                                             options_.init_position_std_m),
       Eigen::Vector3d::Constant(options_.init_rotation_std_rad * options_.init_rotation_std_rad),
       Eigen::Vector3d::Constant(options_.init_velocity_std_mps * options_.init_velocity_std_mps),
-      Eigen::Vector3d::Constant(options_.init_angular_velocity_std_radps * options_.init_angular_velocity_std_radps);
+      Eigen::Vector3d::Constant(options_.init_angular_velocity_std_radps *
+                                options_.init_angular_velocity_std_radps);
   initialized_ = true;
 }
 
@@ -54,7 +56,8 @@ void PoseEkf::Predict(double stamp_s) {
   P_ = F * P_ * F.transpose() + Q;
 }
 
-EkfUpdate PoseEkf::Innovation(const Eigen::Isometry3d& cMo_meas, const Eigen::Matrix<double, 6, 6>& R) const {
+EkfUpdate PoseEkf::Innovation(const Eigen::Isometry3d& cMo_meas,
+                              const Eigen::Matrix<double, 6, 6>& R) const {
   EkfUpdate out;
   if (!initialized_ || !cMo_meas.matrix().allFinite()) return out;
   Eigen::Matrix<double, 6, 1> y;

@@ -1,12 +1,12 @@
 #include "detection/pose_support.h"
 
-#include "detection/icp.h"
-
 #include <algorithm>
 #include <climits>
 #include <cmath>
 #include <utility>
 #include <vector>
+
+#include "detection/icp.h"
 
 namespace aerograsp {
 namespace {
@@ -52,16 +52,23 @@ class SupportScorer {
   SupportScorer(const ModelCloud& model, const Eigen::Isometry3d& cMo, const ColorImage& color,
                 const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
                 const PoseSupportOptions& options)
-      : model_(model), color_(color), depth_(depth), depth_scale_m_(depth_scale_m), K_(K), options_(options) {
+      : model_(model),
+        color_(color),
+        depth_(depth),
+        depth_scale_m_(depth_scale_m),
+        K_(K),
+        options_(options) {
     check_color_ = options.max_color_distance < 768.0 && color.width == depth.width &&
                    color.height == depth.height && !color.empty();
-    valid_ = !model.points_o.empty() && !depth.empty() && cMo.matrix().allFinite() && depth_scale_m > 0.0;
+    valid_ = !model.points_o.empty() && !depth.empty() && cMo.matrix().allFinite() &&
+             depth_scale_m > 0.0;
     if (!valid_) return;
     const Eigen::Isometry3f cMo_f = cMo.cast<float>();
     cRo_ = cMo_f.linear();
     t_c_ = cMo_f.translation();
     const std::size_t n = model.points_o.size();
-    const std::size_t step = std::max<std::size_t>(1, n / std::max(1, 2 * options.max_points));  // about half face the camera
+    const std::size_t step = std::max<std::size_t>(
+        1, n / std::max(1, 2 * options.max_points));  // about half face the camera
     for (std::size_t i = 0; i < n; i += step) {
       index_.push_back(i);
       p_c_.push_back(cMo_f * model.points_o[i]);
@@ -80,7 +87,8 @@ class SupportScorer {
       const Eigen::Vector3f p = p_c_[k] + shift_c;
       if (p.z() < 0.05f || n_c_[k].dot(p) >= 0.0f) continue;
       const Eigen::Vector2d uv = K_.Project(p.cast<double>());
-      const int u = static_cast<int>(RoundHalfAway(uv.x())), v = static_cast<int>(RoundHalfAway(uv.y()));
+      const int u = static_cast<int>(RoundHalfAway(uv.x())),
+                v = static_cast<int>(RoundHalfAway(uv.y()));
       if (u < 0 || v < 0 || u >= depth_.width || v >= depth_.height) continue;
       support.box.x0 = std::min(support.box.x0, u);
       support.box.y0 = std::min(support.box.y0, v);
@@ -94,9 +102,9 @@ class SupportScorer {
           std::max(options_.min_tolerance_m, 3.0 * options_.depth_noise_per_m2 * p.z() * p.z());
       if (std::abs(z_obs - p.z()) <= tolerance) {
         const std::size_t i = index_[k];
-        if (!check_color_ ||
-            ColorDistance(Eigen::Vector3f(color_.at(u, v, 0), color_.at(u, v, 1), color_.at(u, v, 2)),
-                          model_.colors[i]) <= options_.max_color_distance) {
+        if (!check_color_ || ColorDistance(Eigen::Vector3f(color_.at(u, v, 0), color_.at(u, v, 1),
+                                                           color_.at(u, v, 2)),
+                                           model_.colors[i]) <= options_.max_color_distance) {
           ++support.agree;
         } else if (tolerance > options_.min_tolerance_m && z_obs < p.z() - 0.5 * tolerance &&
                    SelfOccluded(model_, i, c_o)) {
@@ -124,22 +132,24 @@ class SupportScorer {
   bool check_color_ = false, valid_ = false;
   Eigen::Matrix3f cRo_ = Eigen::Matrix3f::Identity();
   Eigen::Vector3f t_c_ = Eigen::Vector3f::Zero();  // cMo's translation
-  std::vector<std::size_t> index_;       // model point of each sample
-  std::vector<Eigen::Vector3f> p_c_, n_c_;  // its point and normal in c at cMo
+  std::vector<std::size_t> index_;                 // model point of each sample
+  std::vector<Eigen::Vector3f> p_c_, n_c_;         // its point and normal in c at cMo
 };
 
 }  // namespace
 
-PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo, const ColorImage& color,
-                             const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
-                             const PoseSupportOptions& options) {
-  return SupportScorer(model, cMo, color, depth, depth_scale_m, K, options).Score(Eigen::Vector3f::Zero());
+PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo,
+                             const ColorImage& color, const DepthImage& depth, double depth_scale_m,
+                             const CameraIntrinsics& K, const PoseSupportOptions& options) {
+  return SupportScorer(model, cMo, color, depth, depth_scale_m, K, options)
+      .Score(Eigen::Vector3f::Zero());
 }
 
-SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo, const Eigen::Vector3d& direction_o,
-                            const ColorImage& color, const DepthImage& depth, double depth_scale_m,
-                            const CameraIntrinsics& K, const PoseSupportOptions& options, double range_m,
-                            double step_m, double probe_m) {
+SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo,
+                            const Eigen::Vector3d& direction_o, const ColorImage& color,
+                            const DepthImage& depth, double depth_scale_m,
+                            const CameraIntrinsics& K, const PoseSupportOptions& options,
+                            double range_m, double step_m, double probe_m) {
   // Coarse (4 fine steps) over the whole range, then fine around the best, with
   // many points: a slide of a few mm moves only the points at the ends.
   PoseSupportOptions dense = options;

@@ -19,28 +19,30 @@
 namespace aerograsp {
 
 struct PoseSupport {
-  int projected = 0;   ///< front-facing model points inside the image with measured depth
+  int projected = 0;  ///< front-facing model points inside the image with measured depth
   int agree = 0;
   int see_through = 0;  ///< the camera sees through the model, or the colour disagrees
   int occluded = 0;
   /// agree / (agree + see_through); 0 when nothing was compared.
-  double ratio() const { return agree + see_through > 0 ? double(agree) / (agree + see_through) : 0.0; }
+  double ratio() const {
+    return agree + see_through > 0 ? double(agree) / (agree + see_through) : 0.0;
+  }
   /// agree / projected: how much of the visible model is explained.
   double coverage() const { return projected > 0 ? double(agree) / projected : 0.0; }
-  PixelBox box;        ///< bounding box of the projected front-facing points
+  PixelBox box;  ///< bounding box of the projected front-facing points
 };
 
 struct PoseSupportOptions {
-  int max_points = 400;               ///< model points tested (strided over the model)
-  double depth_noise_per_m2 = 0.0047; ///< depth tolerance max(min_tolerance_m, 3 * this * z^2)
+  int max_points = 400;                ///< model points tested (strided over the model)
+  double depth_noise_per_m2 = 0.0047;  ///< depth tolerance max(min_tolerance_m, 3 * this * z^2)
   double min_tolerance_m = 0.01;
   double max_color_distance = 100.0;  ///< colour check (ColorDistance); >= 768 disables it
 };
 
 /// `color` may be empty (no colour check). Never throws; bad input gives an empty support.
-PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo, const ColorImage& color,
-                             const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
-                             const PoseSupportOptions& options = {});
+PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo,
+                             const ColorImage& color, const DepthImage& depth, double depth_scale_m,
+                             const CameraIntrinsics& K, const PoseSupportOptions& options = {});
 
 /// The best slide and how sharply the support locates it.
 struct SlideFit {
@@ -56,9 +58,10 @@ struct SlideFit {
 /// whose pose the depth and colour support best (agreeing minus contradicting
 /// points): the outline fixes what ICP's point-to-plane pairs cannot when the
 /// object could slide along a face.
-SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo, const Eigen::Vector3d& direction_o,
-                            const ColorImage& color, const DepthImage& depth, double depth_scale_m,
-                            const CameraIntrinsics& K, const PoseSupportOptions& options = {}, double range_m = 0.04,
-                            double step_m = 0.001, double probe_m = 0.01);
+SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo,
+                            const Eigen::Vector3d& direction_o, const ColorImage& color,
+                            const DepthImage& depth, double depth_scale_m,
+                            const CameraIntrinsics& K, const PoseSupportOptions& options = {},
+                            double range_m = 0.04, double step_m = 0.001, double probe_m = 0.01);
 
 }  // namespace aerograsp

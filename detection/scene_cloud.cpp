@@ -7,7 +7,8 @@
 namespace aerograsp {
 
 PixelBox PixelBox::Clipped(int w, int h) const {
-  PixelBox b{std::clamp(x0, 0, w), std::clamp(y0, 0, h), std::clamp(x1, 0, w), std::clamp(y1, 0, h)};
+  PixelBox b{std::clamp(x0, 0, w), std::clamp(y0, 0, h), std::clamp(x1, 0, w),
+             std::clamp(y1, 0, h)};
   return b;
 }
 
@@ -19,14 +20,16 @@ PixelBox PixelBox::Grown(double fraction) const {
 
 double BoxIoU(const PixelBox& a, const PixelBox& b) {
   if (a.empty() || b.empty()) return 0.0;
-  const PixelBox i{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1)};
+  const PixelBox i{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1),
+                   std::min(a.y1, b.y1)};
   if (i.empty()) return 0.0;
   const double inter = double(i.width()) * i.height();
   return inter / (double(a.width()) * a.height() + double(b.width()) * b.height() - inter);
 }
 
 SceneCloud BuildSceneCloud(const ColorImage& color, const DepthImage& depth, double depth_scale_m,
-                           const CameraIntrinsics& K, const PixelBox& box_in, const SceneCloudOptions& options) {
+                           const CameraIntrinsics& K, const PixelBox& box_in,
+                           const SceneCloudOptions& options) {
   SceneCloud cloud;
   if (depth.empty() || color.width != depth.width || color.height != depth.height ||
       depth.data.size() != std::size_t(depth.width) * depth.height || !(depth_scale_m > 0.0)) {
@@ -34,16 +37,19 @@ SceneCloud BuildSceneCloud(const ColorImage& color, const DepthImage& depth, dou
   }
   const PixelBox box = box_in.Clipped(depth.width, depth.height);
   if (box.empty()) return cloud;
-  const auto lo = static_cast<std::uint32_t>(std::max(1.0, std::ceil(options.min_depth_m / depth_scale_m)));
-  const auto hi = static_cast<std::uint32_t>(std::min(65535.0, std::floor(options.max_depth_m / depth_scale_m)));
+  const auto lo =
+      static_cast<std::uint32_t>(std::max(1.0, std::ceil(options.min_depth_m / depth_scale_m)));
+  const auto hi = static_cast<std::uint32_t>(
+      std::min(65535.0, std::floor(options.max_depth_m / depth_scale_m)));
   auto valid = [&](std::uint16_t d) { return d >= lo && d <= hi; };
   for (int y = box.y0; y < box.y1; ++y) {
     const std::uint16_t* row = depth.Row(y);
     for (int x = box.x0; x < box.x1; ++x) cloud.valid_pixels += valid(row[x]) ? 1 : 0;
   }
   if (cloud.valid_pixels == 0) return cloud;
-  const int stride = std::max(
-      1, static_cast<int>(std::lround(std::sqrt(double(cloud.valid_pixels) / std::max(1, options.target_points)))));
+  const int stride =
+      std::max(1, static_cast<int>(std::lround(
+                      std::sqrt(double(cloud.valid_pixels) / std::max(1, options.target_points)))));
   const std::size_t expected = std::size_t(cloud.valid_pixels) / (stride * stride) + 16;
   cloud.points_c.reserve(expected);
   cloud.normals_c.reserve(expected);
@@ -57,7 +63,8 @@ SceneCloud BuildSceneCloud(const ColorImage& color, const DepthImage& depth, dou
       const double z = d * depth_scale_m;
       const Eigen::Vector3d p = K.Unproject(x, y, z);
       // Plane fit over a 5x5 sample grid spanning about normal_radius_m.
-      const int r = std::clamp(static_cast<int>(std::lround(options.normal_radius_m * K.fx / z)), 2, 12);
+      const int r =
+          std::clamp(static_cast<int>(std::lround(options.normal_radius_m * K.fx / z)), 2, 12);
       const int step = std::max(1, r / 2);
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       Eigen::Matrix3d sum2 = Eigen::Matrix3d::Zero();
@@ -70,7 +77,8 @@ SceneCloud BuildSceneCloud(const ColorImage& color, const DepthImage& depth, dou
           if (xx < 0 || xx >= depth.width) continue;
           const std::uint16_t dd = depth.at(xx, yy);
           if (!valid(dd) || std::abs(double(dd) - double(d)) > jump_units) continue;
-          const Eigen::Vector3d q = K.Unproject(xx, yy, dd * depth_scale_m) - p;  // centred for precision
+          const Eigen::Vector3d q =
+              K.Unproject(xx, yy, dd * depth_scale_m) - p;  // centred for precision
           sum += q;
           sum2 += q * q.transpose();
           ++count;
@@ -88,7 +96,8 @@ SceneCloud BuildSceneCloud(const ColorImage& color, const DepthImage& depth, dou
       }
       cloud.points_c.push_back(p.cast<float>());
       cloud.normals_c.push_back(normal);
-      cloud.colors.push_back(Eigen::Vector3f(color.at(x, y, 0), color.at(x, y, 1), color.at(x, y, 2)));
+      cloud.colors.push_back(
+          Eigen::Vector3f(color.at(x, y, 0), color.at(x, y, 1), color.at(x, y, 2)));
     }
   }
   return cloud;

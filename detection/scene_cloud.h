@@ -27,19 +27,22 @@ struct PixelBox {
 double BoxIoU(const PixelBox& a, const PixelBox& b);
 
 struct SceneCloud {
-  std::vector<Eigen::Vector3f> points_c;   ///< m, camera frame c
-  std::vector<Eigen::Vector3f> normals_c;  ///< unit, towards the camera; zero when it could not be fitted
-  std::vector<Eigen::Vector3f> colors;     ///< RGB 0..255
-  int valid_pixels = 0;                    ///< pixels of the box with depth in range
+  std::vector<Eigen::Vector3f> points_c;  ///< m, camera frame c
+  std::vector<Eigen::Vector3f>
+      normals_c;  ///< unit, towards the camera; zero when it could not be fitted
+  std::vector<Eigen::Vector3f> colors;  ///< RGB 0..255
+  int valid_pixels = 0;                 ///< pixels of the box with depth in range
   bool empty() const { return points_c.empty(); }
 };
 
 struct SceneCloudOptions {
-  int target_points = 1000;       ///< subsample to about this many points, [50, 100000]
-  double min_depth_m = 0.15;      ///< ignore nearer depth, m
-  double max_depth_m = 3.0;       ///< ignore farther depth, m
-  double normal_radius_m = 0.03;  ///< neighbourhood of the normal fit, m (its pixel radius is capped at 12)
-  double max_normal_jump_m = 0.03;  ///< neighbours farther in depth than this are another surface, m
+  int target_points = 1000;   ///< subsample to about this many points, [50, 100000]
+  double min_depth_m = 0.15;  ///< ignore nearer depth, m
+  double max_depth_m = 3.0;   ///< ignore farther depth, m
+  double normal_radius_m =
+      0.03;  ///< neighbourhood of the normal fit, m (its pixel radius is capped at 12)
+  double max_normal_jump_m =
+      0.03;  ///< neighbours farther in depth than this are another surface, m
 };
 
 /// Builds the cloud of the pixels of `box` (clipped to the image). Depth and
@@ -47,6 +50,7 @@ struct SceneCloudOptions {
 /// depth 0 or outside [min_depth_m, max_depth_m] are skipped. An empty box, an
 /// all-zero depth or a mismatch in sizes gives an empty cloud, never a throw.
 SceneCloud BuildSceneCloud(const ColorImage& color, const DepthImage& depth, double depth_scale_m,
-                           const CameraIntrinsics& K, const PixelBox& box, const SceneCloudOptions& options = {});
+                           const CameraIntrinsics& K, const PixelBox& box,
+                           const SceneCloudOptions& options = {});
 
 }  // namespace aerograsp

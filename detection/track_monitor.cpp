@@ -18,7 +18,9 @@ void TrackMonitorOptions::Validate() const {
   }
 }
 
-TrackMonitor::TrackMonitor(const TrackMonitorOptions& options) : options_(options) { options_.Validate(); }
+TrackMonitor::TrackMonitor(const TrackMonitorOptions& options) : options_(options) {
+  options_.Validate();
+}
 
 TrackState TrackMonitor::Update(double confidence, bool continues) {
   if (!(confidence == confidence)) confidence = 0.0;  // NaN counts as nothing

@@ -87,9 +87,12 @@ ContactCacheKey MakeContactCacheKey(const TriangleMesh& mesh, const GripperConfi
 
 const char* CacheStatusName(CacheStatus status) {
   switch (status) {
-    case CacheStatus::kOk: return "ok";
-    case CacheStatus::kStale: return "stale";
-    case CacheStatus::kCorrupt: return "corrupt";
+    case CacheStatus::kOk:
+      return "ok";
+    case CacheStatus::kStale:
+      return "stale";
+    case CacheStatus::kCorrupt:
+      return "corrupt";
   }
   return "?";
 }
@@ -102,8 +105,8 @@ std::string SerializeContacts(const ContactSet& contacts, const ContactCacheKey&
   w.Put(key.resolution_m);
   w.Put(key.max_aperture_m);
   w.Put(key.finger_clearance_m);
-  for (std::int32_t v : {contacts.rays, contacts.rays_hit, contacts.rays_skipped,
-                         contacts.pairs_too_wide}) {
+  for (std::int32_t v :
+       {contacts.rays, contacts.rays_hit, contacts.rays_skipped, contacts.pairs_too_wide}) {
     w.Put(v);
   }
   w.Put(contacts.max_width_m);
@@ -136,8 +139,8 @@ CacheReadResult DeserializeContacts(const std::string& bytes, const ContactCache
   std::uint32_t version = 0;
   r.Get(&version);
   if (version != kVersion) {
-    return {CacheStatus::kStale, "format version " + std::to_string(version) + ", expected " +
-                                     std::to_string(kVersion)};
+    return {CacheStatus::kStale,
+            "format version " + std::to_string(version) + ", expected " + std::to_string(kVersion)};
   }
   if (Fnv1a64(bytes.data(), body) != stored_sum) return corrupt("checksum mismatch");
   ContactCacheKey key;

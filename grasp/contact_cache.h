@@ -31,7 +31,8 @@ struct ContactCacheKey {
 };
 
 /// FNV-1a 64 of a byte range (the cache's checksum; also a content hash).
-std::uint64_t Fnv1a64(const void* data, std::size_t size, std::uint64_t seed = 14695981039346656037ull);
+std::uint64_t Fnv1a64(const void* data, std::size_t size,
+                      std::uint64_t seed = 14695981039346656037ull);
 
 /// Content hash of a mesh: its vertices (as doubles) and triangle indices, in
 /// order (colours are not part of the geometry and are left out).

@@ -37,9 +37,8 @@ ScenePtr BuildScene(const TriangleMesh& mesh) {
   rtcSetSceneFlags(scene.get(), RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(scene.get(), RTC_BUILD_QUALITY_MEDIUM);
   RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                                        mesh.vertices.size()));
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     for (int k = 0; k < 3; ++k) v[3 * i + k] = static_cast<float>(mesh.vertices[i][k]);
   }
@@ -106,7 +105,8 @@ ContactSet ComputeContactPairs(const TriangleMesh& mesh_o, const GripperConfig& 
   }
   if (!(options.resolution_m >= 0.001 && options.resolution_m <= 0.1)) {
     throw std::invalid_argument("ComputeContactPairs: resolution_m " +
-                                std::to_string(options.resolution_m) + " m is outside [0.001, 0.1]");
+                                std::to_string(options.resolution_m) +
+                                " m is outside [0.001, 0.1]");
   }
   ContactSet set;
   set.resolution_m = options.resolution_m;

@@ -43,10 +43,10 @@ struct ContactPair {
 struct ContactSet {
   std::vector<ContactPair> pairs;
   double resolution_m = 0.0;
-  int rays = 0;            ///< rays cast
-  int rays_hit = 0;        ///< rays that crossed the object
-  int rays_skipped = 0;    ///< rays dropped: grazing a face or hits not alternating in/out
-  int pairs_too_wide = 0;  ///< entry/exit combinations wider than the gripper takes
+  int rays = 0;              ///< rays cast
+  int rays_hit = 0;          ///< rays that crossed the object
+  int rays_skipped = 0;      ///< rays dropped: grazing a face or hits not alternating in/out
+  int pairs_too_wide = 0;    ///< entry/exit combinations wider than the gripper takes
   double max_width_m = 0.0;  ///< widest pair the gripper takes (aperture minus clearances)
 };
 

@@ -32,12 +32,18 @@ bool Better(const DualGrasp& a, const DualGrasp& b) {
 
 const char* InfeasibilityName(Infeasibility why) {
   switch (why) {
-    case Infeasibility::kNone: return "feasible";
-    case Infeasibility::kUnreachable: return "unreachable";
-    case Infeasibility::kSafeVolume: return "safe volume";
-    case Infeasibility::kObjectCollision: return "hits the object";
-    case Infeasibility::kPrecatchUnreachable: return "pre-catch unreachable";
-    case Infeasibility::kPrecatchCollision: return "pre-catch collides";
+    case Infeasibility::kNone:
+      return "feasible";
+    case Infeasibility::kUnreachable:
+      return "unreachable";
+    case Infeasibility::kSafeVolume:
+      return "safe volume";
+    case Infeasibility::kObjectCollision:
+      return "hits the object";
+    case Infeasibility::kPrecatchUnreachable:
+      return "pre-catch unreachable";
+    case Infeasibility::kPrecatchCollision:
+      return "pre-catch collides";
   }
   return "?";
 }
@@ -186,7 +192,8 @@ bool GraspPlanner::EvaluateArm(Side side, int pair, const Eigen::Isometry3d& dMo
   return false;
 }
 
-bool GraspPlanner::Robust(Side side, int pair, const Eigen::Isometry3d& dMo, const Eigen::VectorXd& q) const {
+bool GraspPlanner::Robust(Side side, int pair, const Eigen::Isometry3d& dMo,
+                          const Eigen::VectorXd& q) const {
   if (config_.reach_margin_m <= 0.0) return true;
   ArmGrasp unused;
   Infeasibility why;
@@ -233,8 +240,8 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
     for (const ArmGrasp& r : result.right) {
       if (l.pair == r.pair) continue;
       ++ps.considered;
-      const double eps =
-          EpsilonUpperBound(hl, &support_[static_cast<std::size_t>(r.pair) * directions_], directions_);
+      const double eps = EpsilonUpperBound(
+          hl, &support_[static_cast<std::size_t>(r.pair) * directions_], directions_);
       if (eps <= 0.0) {
         ++ps.no_force_closure;
         continue;
@@ -271,8 +278,10 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
   // Robust grasps first, and among each those clear of edges, so that the
   // exact epsilon goes to the ones that will rank first.
   const auto put_first = [](std::vector<DualGrasp>* ranked) {
-    std::stable_partition(ranked->begin(), ranked->end(), [](const DualGrasp& d) { return d.clear_of_edges; });
-    std::stable_partition(ranked->begin(), ranked->end(), [](const DualGrasp& d) { return d.robust; });
+    std::stable_partition(ranked->begin(), ranked->end(),
+                          [](const DualGrasp& d) { return d.clear_of_edges; });
+    std::stable_partition(ranked->begin(), ranked->end(),
+                          [](const DualGrasp& d) { return d.robust; });
   };
   put_first(&result.ranked);
 
@@ -303,8 +312,8 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
   return result;
 }
 
-bool OnSameIkBranch(const Eigen::VectorXd& q_new_rad, const Eigen::VectorXd& q_last_rad, double jump_rad,
-                    double drift_rad_per_s, double since_s) {
+bool OnSameIkBranch(const Eigen::VectorXd& q_new_rad, const Eigen::VectorXd& q_last_rad,
+                    double jump_rad, double drift_rad_per_s, double since_s) {
   return (q_new_rad - q_last_rad).cwiseAbs().maxCoeff() < jump_rad + drift_rad_per_s * since_s;
 }
 
@@ -348,7 +357,8 @@ SwitchDecision GraspPlanner::Reevaluate(const PlanQuery& query, const SwitchStat
         EvaluateArm(Side::kLeft, state.left_pair, query.dMo, query.q_left, &unused, &wl);
         EvaluateArm(Side::kRight, state.right_pair, query.dMo, query.q_right, &unused, &wr);
         why << " (left: " << InfeasibilityName(wl) << ", right: " << InfeasibilityName(wr);
-        if (wl == Infeasibility::kNone && wr == Infeasibility::kNone) why << ", pair: arms or quality";
+        if (wl == Infeasibility::kNone && wr == Infeasibility::kNone)
+          why << ", pair: arms or quality";
         why << ")";
       }
     } else {

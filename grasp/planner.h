@@ -30,21 +30,21 @@ class PlatformCollision;
 struct GraspPlannerConfig {
   ContactOptions contacts;
   FrictionConfig friction;
-  double depth_min_m{0.0};   ///< contacts at least this far behind the tool point along the
-                             ///< approach, [-0.02, 0.2] m (the tool point is 0.02 m inside the tips)
+  double depth_min_m{0.0};  ///< contacts at least this far behind the tool point along the
+                            ///< approach, [-0.02, 0.2] m (the tool point is 0.02 m inside the tips)
   double depth_max_m{0.08};  ///< and at most this far (on the pads), (depth_min_m, finger_length_m)
-  double precatch_distance_m{0.08};   ///< pre-catch tool point back along the approach, [0, 0.3] m
+  double precatch_distance_m{0.08};  ///< pre-catch tool point back along the approach, [0, 0.3] m
   /// Arm clearance to the safe volume, [0, 0.1] m. Default 0 (touching counts):
   /// the volume's lower face is only 0.03 m above the shoulder pitch axes and the
   /// upper arm's box sweeps to 0.005 m of it as it turns, so any larger margin
   /// would forbid most of the workspace; the volume itself is the margin.
   double safe_volume_margin_m{0.0};
-  double arms_margin_m{0.01};         ///< clearance between the two arms, [0, 0.1] m
-  double object_margin_m{0.0};        ///< arm and open fingers to the object, [0, 0.05] m
-  int support_directions{256};        ///< directions of the fast epsilon bound, [12, 4096]
-  int exact_top_k{20};                ///< best pairs whose epsilon is recomputed exactly, [0, 10000]
-  double quality_weight{1.0};         ///< score per unit of epsilon, [0, 100]
-  double task_weight{0.05};           ///< score per unit of the weight-share term, [0, 100]
+  double arms_margin_m{0.01};   ///< clearance between the two arms, [0, 0.1] m
+  double object_margin_m{0.0};  ///< arm and open fingers to the object, [0, 0.05] m
+  int support_directions{256};  ///< directions of the fast epsilon bound, [12, 4096]
+  int exact_top_k{20};          ///< best pairs whose epsilon is recomputed exactly, [0, 10000]
+  double quality_weight{1.0};   ///< score per unit of epsilon, [0, 100]
+  double task_weight{0.05};     ///< score per unit of the weight-share term, [0, 100]
   double cost_weight_per_rad{0.005};  ///< score lost per rad of joint travel (both arms), [0, 10]
   double switch_margin{0.01};         ///< a feasible current pair is left only for one scoring
                                       ///< this much more, [0, 10]
@@ -72,7 +72,7 @@ struct GraspPlannerConfig {
 /// inline destructor for both, which corrupts the heap).
 struct GraspObject {
   std::string name;
-  TriangleMesh mesh_o;                            ///< closed, metres, frame o
+  TriangleMesh mesh_o;  ///< closed, metres, frame o
   double mass_kg = 0.0;
   Eigen::Vector3d com_o = Eigen::Vector3d::Zero();  ///< centre of mass in o
 };
@@ -81,13 +81,13 @@ struct GraspObject {
 struct ArmGrasp {
   int pair = -1;  ///< index into contacts().pairs
   Side side = Side::kLeft;
-  Eigen::VectorXd q_grasp;     ///< rad
-  Eigen::VectorXd q_precatch;  ///< rad
+  Eigen::VectorXd q_grasp;                                ///< rad
+  Eigen::VectorXd q_precatch;                             ///< rad
   Eigen::Isometry3d dMg = Eigen::Isometry3d::Identity();  ///< tool at the grasp, in d
   Eigen::Isometry3d dMp = Eigen::Isometry3d::Identity();  ///< tool at the pre-catch, in d
-  double depth_m = 0.0;   ///< contacts this far behind the tool point
-  double cost_rad = 0.0;  ///< |q_grasp - q_current|
-  bool robust = true;     ///< feasible too with the object moved by reach_margin_m (Plan)
+  double depth_m = 0.0;        ///< contacts this far behind the tool point
+  double cost_rad = 0.0;       ///< |q_grasp - q_current|
+  bool robust = true;          ///< feasible too with the object moved by reach_margin_m (Plan)
   bool clear_of_edges = true;  ///< contacts edge_margin_m or more from their faces' edges
 };
 
@@ -115,23 +115,23 @@ std::string DescribeReasons(const ArmStats& stats);
 /// A ranked dual grasp.
 struct DualGrasp {
   ArmGrasp left, right;
-  double epsilon = 0.0;      ///< Ferrari-Canny epsilon of both grippers' contacts together
+  double epsilon = 0.0;        ///< Ferrari-Canny epsilon of both grippers' contacts together
   bool epsilon_exact = false;  ///< true: Qhull; false: the support-function upper bound
-  double task = 0.0;         ///< weight-share term [0, 1]
-  double left_share = 0.0;   ///< fraction of the weight on the left arm
-  double score = 0.0;        ///< quality_weight eps + task_weight task - cost_weight cost
-  bool robust = true;        ///< both arm grasps are robust (ArmGrasp::robust)
+  double task = 0.0;           ///< weight-share term [0, 1]
+  double left_share = 0.0;     ///< fraction of the weight on the left arm
+  double score = 0.0;          ///< quality_weight eps + task_weight task - cost_weight cost
+  bool robust = true;          ///< both arm grasps are robust (ArmGrasp::robust)
   bool clear_of_edges = true;  ///< both arm grasps are (ArmGrasp::clear_of_edges)
 };
 
 struct PairStats {
-  long long considered = 0;       ///< feasible left x feasible right, different pairs
-  long long no_force_closure = 0; ///< bound <= 0
-  long long arms_collide = 0;     ///< the two arms touch at the grasp or pre-catch
-  long long exact_dropped = 0;    ///< bound > 0 but no force closure in the exact hull
-  long long valid = 0;            ///< ranked
-  double quality_seconds = 0.0;   ///< bound + task term over `considered`
-  double exact_seconds = 0.0;     ///< Qhull over `exact_evaluations`
+  long long considered = 0;        ///< feasible left x feasible right, different pairs
+  long long no_force_closure = 0;  ///< bound <= 0
+  long long arms_collide = 0;      ///< the two arms touch at the grasp or pre-catch
+  long long exact_dropped = 0;     ///< bound > 0 but no force closure in the exact hull
+  long long valid = 0;             ///< ranked
+  double quality_seconds = 0.0;    ///< bound + task term over `considered`
+  double exact_seconds = 0.0;      ///< Qhull over `exact_evaluations`
   int exact_evaluations = 0;
   double collision_seconds = 0.0;
 };
@@ -146,23 +146,23 @@ struct PlanQuery {
 struct PlanResult {
   std::vector<ArmGrasp> left, right;  ///< feasible per arm, in contact-pair order
   ArmStats left_stats, right_stats;
-  std::vector<DualGrasp> ranked;      ///< valid pairs, best first
+  std::vector<DualGrasp> ranked;  ///< valid pairs, best first
   PairStats pair_stats;
 };
 
 /// The current choice the app follows (state kept by the caller).
 struct SwitchState {
-  int left_pair = -1;   ///< -1: none yet
+  int left_pair = -1;  ///< -1: none yet
   int right_pair = -1;
 };
 
 struct SwitchDecision {
   enum class Status { kKeep, kSwitch, kNoGrasp };
   Status status = Status::kNoGrasp;
-  DualGrasp grasp;          ///< the pair to follow now (valid unless kNoGrasp)
+  DualGrasp grasp;  ///< the pair to follow now (valid unless kNoGrasp)
   bool current_feasible = false;
-  std::string reason;       ///< one line for the log
-  SwitchState next;         ///< state for the next call
+  std::string reason;  ///< one line for the log
+  SwitchState next;    ///< state for the next call
 };
 
 /// Whether a grasp solved again (joints q_new_rad) is on the IK branch of the
@@ -170,13 +170,13 @@ struct SwitchDecision {
 /// since_s or more. A solution far in joint space is another branch or depth,
 /// and following it would throw the arm across; the allowance grows with the
 /// time since the last one (the object moves on while a pair is out of reach).
-bool OnSameIkBranch(const Eigen::VectorXd& q_new_rad, const Eigen::VectorXd& q_last_rad, double jump_rad,
-                    double drift_rad_per_s, double since_s);
+bool OnSameIkBranch(const Eigen::VectorXd& q_new_rad, const Eigen::VectorXd& q_last_rad,
+                    double jump_rad, double drift_rad_per_s, double since_s);
 
 class GraspPlanner {
  public:
-  /// Copies what it needs from `platform`. Precomputes, per contact pair, its wrenches (torques about the centre of
-  /// mass divided by the object's largest vertex distance from it) and their
+  /// Copies what it needs from `platform`. Precomputes, per contact pair, its wrenches (torques
+  /// about the centre of mass divided by the object's largest vertex distance from it) and their
   /// support table, and builds the object's collision model.
   /// @throws ConfigError from config.Validate; std::invalid_argument when the
   /// platform's arms have different joint counts or the mesh is empty.

@@ -9,7 +9,6 @@
 
 namespace aerograsp {
 
-
 struct GripperState {
   double aperture_m = 0.0;  ///< current opening between the finger pads
   bool moving = false;      ///< still opening or closing

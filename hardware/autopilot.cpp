@@ -4,12 +4,18 @@ namespace aerograsp {
 
 const char* FlightModeName(FlightMode mode) {
   switch (mode) {
-    case FlightMode::kDisarmed: return "disarmed";
-    case FlightMode::kLanded: return "landed";
-    case FlightMode::kTakingOff: return "taking-off";
-    case FlightMode::kHold: return "hold";
-    case FlightMode::kOffboard: return "offboard";
-    case FlightMode::kLanding: return "landing";
+    case FlightMode::kDisarmed:
+      return "disarmed";
+    case FlightMode::kLanded:
+      return "landed";
+    case FlightMode::kTakingOff:
+      return "taking-off";
+    case FlightMode::kHold:
+      return "hold";
+    case FlightMode::kOffboard:
+      return "offboard";
+    case FlightMode::kLanding:
+      return "landing";
   }
   return "unknown";
 }

@@ -23,8 +23,8 @@ struct VehicleState {
   double stamp_s = 0.0;
   FlightMode mode = FlightMode::kDisarmed;
   Eigen::Isometry3d wMd = Eigen::Isometry3d::Identity();  ///< body pose in w
-  Eigen::Vector3d v_w = Eigen::Vector3d::Zero();           ///< body velocity in w, m/s
-  Eigen::Vector3d w_d = Eigen::Vector3d::Zero();           ///< body angular velocity in d, rad/s
+  Eigen::Vector3d v_w = Eigen::Vector3d::Zero();          ///< body velocity in w, m/s
+  Eigen::Vector3d w_d = Eigen::Vector3d::Zero();          ///< body angular velocity in d, rad/s
   bool link_ok = true;  ///< false when the autopilot has gone silent (the rest is then stale)
 };
 

@@ -20,8 +20,8 @@ void LoadServos(const ConfigNode& n, Side side, ScsArmsConfig* scs) {
   for (int i = 1; arm.Has("j" + std::to_string(i)); ++i) {
     const ConfigNode j = arm.Child("j" + std::to_string(i));
     j.RequireOnlyKeys({"id", "deg_at_raw_0", "deg_at_raw_1023"});
-    scs->joints[s].push_back(
-        {j.GetInt("id"), j.GetDouble("deg_at_raw_0") * kDeg, j.GetDouble("deg_at_raw_1023") * kDeg});
+    scs->joints[s].push_back({j.GetInt("id"), j.GetDouble("deg_at_raw_0") * kDeg,
+                              j.GetDouble("deg_at_raw_1023") * kDeg});
   }
   const ConfigNode g = arm.Child("gripper");
   g.RequireOnlyKeys({"id", "raw_open", "raw_closed"});
@@ -34,7 +34,8 @@ std::string Beside(const std::string& config_path, const std::string& name) {
 
 }  // namespace
 
-HardwareConfig HardwareConfig::InProcessSimulation(const std::string& platform_path, const std::string& world_path) {
+HardwareConfig HardwareConfig::InProcessSimulation(const std::string& platform_path,
+                                                   const std::string& world_path) {
   HardwareConfig c;
   c.source = "built-in simulation";
   c.platform = platform_path;
@@ -59,8 +60,9 @@ HardwareConfig HardwareConfig::Load(const std::string& path) {
 
   if (root.Has("arms")) {
     const ConfigNode n = root.Child("arms");
-    n.RequireOnlyKeys({"backend", "port", "baud", "reply_timeout_s", "local_echo", "stale_after_s", "max_step_deg",
-                       "goal_time_ms", "goal_speed", "rate_hz", "servos", "sim_bus"});
+    n.RequireOnlyKeys({"backend", "port", "baud", "reply_timeout_s", "local_echo", "stale_after_s",
+                       "max_step_deg", "goal_time_ms", "goal_speed", "rate_hz", "servos",
+                       "sim_bus"});
     ArmsHardwareConfig& a = c.arms;
     ScsArmsConfig& s = a.scs;
     a.backend = n.GetString("backend", a.backend);
@@ -82,21 +84,30 @@ HardwareConfig HardwareConfig::Load(const std::string& path) {
     }
     if (n.Has("sim_bus")) {
       const ConfigNode b = n.Child("sim_bus");
-      b.RequireOnlyKeys({"byte_time_s", "return_delay_s", "corrupt_probability", "slow_extra_s", "seed"});
+      b.RequireOnlyKeys(
+          {"byte_time_s", "return_delay_s", "corrupt_probability", "slow_extra_s", "seed"});
       a.sim_bus.byte_time_s = b.GetDouble("byte_time_s", a.sim_bus.byte_time_s);
       a.sim_bus.return_delay_s = b.GetDouble("return_delay_s", a.sim_bus.return_delay_s);
-      a.sim_bus.corrupt_probability = b.GetDouble("corrupt_probability", a.sim_bus.corrupt_probability);
+      a.sim_bus.corrupt_probability =
+          b.GetDouble("corrupt_probability", a.sim_bus.corrupt_probability);
       a.sim_bus.slow_extra_s = b.GetDouble("slow_extra_s", a.sim_bus.slow_extra_s);
-      a.sim_bus.seed = static_cast<std::uint64_t>(b.GetInt("seed", static_cast<int>(a.sim_bus.seed)));
+      a.sim_bus.seed =
+          static_cast<std::uint64_t>(b.GetInt("seed", static_cast<int>(a.sim_bus.seed)));
     }
   }
   if (root.Has("autopilot")) {
     const ConfigNode n = root.Child("autopilot");
-    n.RequireOnlyKeys({"backend", "link", "udp_local_host", "udp_local_port", "udp_remote_host", "udp_remote_port",
-                       "serial_port", "baud", "system_id", "component_id", "target_system", "target_component",
-                       "heartbeat_hz", "setpoint_hz", "prestream_s", "command_timeout_s", "command_attempts",
-                       "link_timeout_s", "connect_timeout_s", "home_amsl_m", "signing_key_hex",
-                       "signing_link_id"});
+    n.RequireOnlyKeys({"backend",           "link",
+                       "udp_local_host",    "udp_local_port",
+                       "udp_remote_host",   "udp_remote_port",
+                       "serial_port",       "baud",
+                       "system_id",         "component_id",
+                       "target_system",     "target_component",
+                       "heartbeat_hz",      "setpoint_hz",
+                       "prestream_s",       "command_timeout_s",
+                       "command_attempts",  "link_timeout_s",
+                       "connect_timeout_s", "home_amsl_m",
+                       "signing_key_hex",   "signing_link_id"});
     AutopilotHardwareConfig& a = c.autopilot;
     Px4Config& p = a.px4;
     a.backend = n.GetString("backend", a.backend);
@@ -145,7 +156,8 @@ void HardwareConfig::Validate() const {
   CheckOneOf(f, "arms.backend", arms.backend, {"scs", "sim-bus", "sim"});
   const ScsArmsConfig& s = arms.scs;
   if (BaudConstant(s.baud) == 0) {
-    throw ConfigError(f + ": arms.baud: " + std::to_string(s.baud) + " is not a standard baud rate");
+    throw ConfigError(f + ": arms.baud: " + std::to_string(s.baud) +
+                      " is not a standard baud rate");
   }
   CheckRange(f, "arms.reply_timeout_s", s.reply_timeout_s, 1e-4, 1.0, "s");
   CheckRange(f, "arms.stale_after_s", s.stale_after_s, 0.01, 10.0, "s");
@@ -162,17 +174,21 @@ void HardwareConfig::Validate() const {
         const ServoCalibration& cal = s.joints[k][i];
         const std::string jkey = key + ".j" + std::to_string(i + 1);
         CheckRange(f, jkey + ".id", cal.id, 0, 253, "");
-        if (!ids.insert(cal.id).second) throw ConfigError(f + ": " + jkey + ".id: " + std::to_string(cal.id) + " is used twice");
+        if (!ids.insert(cal.id).second)
+          throw ConfigError(f + ": " + jkey + ".id: " + std::to_string(cal.id) + " is used twice");
         if (std::abs(cal.angle_at_max_rad - cal.angle_at_min_rad) < 1e-3) {
           throw ConfigError(f + ": " + jkey + ": deg_at_raw_0 and deg_at_raw_1023 must differ");
         }
       }
       const GripperServoConfig& g = s.grippers[k];
       CheckRange(f, key + ".gripper.id", g.id, 0, 253, "");
-      if (!ids.insert(g.id).second) throw ConfigError(f + ": " + key + ".gripper.id: " + std::to_string(g.id) + " is used twice");
+      if (!ids.insert(g.id).second)
+        throw ConfigError(f + ": " + key + ".gripper.id: " + std::to_string(g.id) +
+                          " is used twice");
       CheckRange(f, key + ".gripper.raw_open", g.raw_open, 0, 1023, "");
       CheckRange(f, key + ".gripper.raw_closed", g.raw_closed, 0, 1023, "");
-      if (g.raw_open == g.raw_closed) throw ConfigError(f + ": " + key + ".gripper: raw_open equals raw_closed");
+      if (g.raw_open == g.raw_closed)
+        throw ConfigError(f + ": " + key + ".gripper: raw_open equals raw_closed");
     }
   }
   CheckRange(f, "arms.sim_bus.byte_time_s", arms.sim_bus.byte_time_s, 0.0, 0.01, "s");
@@ -186,7 +202,8 @@ void HardwareConfig::Validate() const {
   CheckRange(f, "autopilot.udp_local_port", p.udp_local_port, 0, 65535, "");
   CheckRange(f, "autopilot.udp_remote_port", p.udp_remote_port, 0, 65535, "");
   if (p.link == "serial" && BaudConstant(p.baud) == 0) {
-    throw ConfigError(f + ": autopilot.baud: " + std::to_string(p.baud) + " is not a standard baud rate");
+    throw ConfigError(f + ": autopilot.baud: " + std::to_string(p.baud) +
+                      " is not a standard baud rate");
   }
   CheckRange(f, "autopilot.system_id", p.system_id, 1, 255, "");
   CheckRange(f, "autopilot.component_id", p.component_id, 1, 255, "");
@@ -206,7 +223,8 @@ void HardwareConfig::Validate() const {
 
   CheckOneOf(f, "camera.backend", camera.backend, {"realsense", "replay", "sim"});
   if (camera.backend == "replay") {
-    if (camera.path.empty()) throw ConfigError(f + ": camera.path: a replay needs a sequence folder or .bag file");
+    if (camera.path.empty())
+      throw ConfigError(f + ": camera.path: a replay needs a sequence folder or .bag file");
   }
   CheckRange(f, "camera.width", camera.width, 160, 1920, "px");
   CheckRange(f, "camera.height", camera.height, 120, 1080, "px");

@@ -33,24 +33,25 @@ struct CameraHardwareConfig {
   /// "realsense": a D435 (needs a build with librealsense2); "replay": a sequence
   /// folder (or a .bag with librealsense2); "sim": the simulator's renderer.
   std::string backend{"sim"};
-  std::string path;     ///< replay: sequence folder or .bag file
-  std::string serial;   ///< realsense: device serial number; empty = the first one
-  int width{640};       ///< realsense colour and aligned depth, pixels
+  std::string path;    ///< replay: sequence folder or .bag file
+  std::string serial;  ///< realsense: device serial number; empty = the first one
+  int width{640};      ///< realsense colour and aligned depth, pixels
   int height{480};
   int fps{30};
 };
 
 struct HardwareConfig {
-  std::string source;                           ///< the file (for messages)
-  std::string platform{"platform_4dof.yaml"};   ///< resolved against the file's folder
-  std::string world{"world_default.yaml"};      ///< the simulated world, for simulated backends
+  std::string source;                          ///< the file (for messages)
+  std::string platform{"platform_4dof.yaml"};  ///< resolved against the file's folder
+  std::string world{"world_default.yaml"};     ///< the simulated world, for simulated backends
   ArmsHardwareConfig arms;
   AutopilotHardwareConfig autopilot;
   CameraHardwareConfig camera;
 
   /// Every device simulated in-process (no pseudo-terminal, no UDP): what the
   /// mission and the bench run without --hardware.
-  static HardwareConfig InProcessSimulation(const std::string& platform_path, const std::string& world_path);
+  static HardwareConfig InProcessSimulation(const std::string& platform_path,
+                                            const std::string& world_path);
   /// True when any device is simulated (a World is needed).
   bool NeedsWorld() const;
   /// @throws ConfigError "<file>: <key>: ..." for a missing file, unknown key,

@@ -54,8 +54,9 @@ std::unique_ptr<RgbdCamera> OpenCamera(const CameraHardwareConfig& config, World
   options.fps = config.fps;
   return std::make_unique<RealSenseCamera>(options);
 #else
-  throw HardwareError(std::string("camera: ") + (bag ? config.path + ": replaying a .bag" : "a RealSense") +
-                      " needs librealsense2, which this build was configured without (README: Hardware)");
+  throw HardwareError(
+      std::string("camera: ") + (bag ? config.path + ": replaying a .bag" : "a RealSense") +
+      " needs librealsense2, which this build was configured without (README: Hardware)");
 #endif
 }
 
@@ -89,8 +90,9 @@ std::unique_ptr<Autopilot> OpenAutopilot(const AutopilotHardwareConfig& config, 
   return client;
 }
 
-std::unique_ptr<ArmsDriver> OpenArms(const ArmsHardwareConfig& config, const Platform& platform, World* world,
-                                     std::unique_ptr<SimServoBus>* bus, bool torque_on) {
+std::unique_ptr<ArmsDriver> OpenArms(const ArmsHardwareConfig& config, const Platform& platform,
+                                     World* world, std::unique_ptr<SimServoBus>* bus,
+                                     bool torque_on) {
   if (config.backend == "sim") {
     RequireWorld(world, "arms");
     return std::make_unique<SimArmsDriver>(world);
@@ -158,7 +160,8 @@ void Hardware::StepSimulation(double dt_s) {
   }
   if (px4_) {
     px4_->Spin();
-    if (sim_px4_) sim_px4_->WaitForSetpoints(px4_->setpoints_sent(), 0.2);  // each counts at its own time
+    if (sim_px4_)
+      sim_px4_->WaitForSetpoints(px4_->setpoints_sent(), 0.2);  // each counts at its own time
   }
 }
 

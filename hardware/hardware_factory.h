@@ -46,7 +46,9 @@ class Hardware {
   /// From now on platform() has this arm's base at dMb (a calibration's; the
   /// simulated world keeps its own, true, platform). The drivers' references
   /// to platform() stay valid. @throws std::invalid_argument for a non-rigid dMb.
-  void SetArmBase(Side side, const Eigen::Isometry3d& dMb) { *platform_ = platform_->WithArmBase(side, dMb); }
+  void SetArmBase(Side side, const Eigen::Isometry3d& dMb) {
+    *platform_ = platform_->WithArmBase(side, dMb);
+  }
   /// Null when every device is real.
   World* world() { return world_.get(); }
   ArmsDriver& arms() { return *arms_; }
@@ -84,8 +86,9 @@ std::unique_ptr<Autopilot> OpenAutopilot(const AutopilotHardwareConfig& config, 
                                          std::unique_ptr<SimPx4>* peer);
 /// For "sim-bus", `bus` receives the simulated bus. Torque stays as the servos
 /// had it unless `torque_on`.
-std::unique_ptr<ArmsDriver> OpenArms(const ArmsHardwareConfig& config, const Platform& platform, World* world,
-                                     std::unique_ptr<SimServoBus>* bus, bool torque_on);
+std::unique_ptr<ArmsDriver> OpenArms(const ArmsHardwareConfig& config, const Platform& platform,
+                                     World* world, std::unique_ptr<SimServoBus>* bus,
+                                     bool torque_on);
 
 /// Whether this build can talk to a RealSense (librealsense2 found at configure time).
 bool HaveRealSense();

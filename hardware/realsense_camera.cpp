@@ -1,8 +1,7 @@
 #include "hardware/realsense_camera.h"
 
-#include <librealsense2/rs.hpp>
-
 #include <cstring>
+#include <librealsense2/rs.hpp>
 
 namespace aerograsp {
 
@@ -16,7 +15,8 @@ struct RealSenseCamera::State {
 RealSenseCamera::RealSenseCamera(const RealSenseOptions& options)
     : state_(std::make_unique<State>()), options_(options) {
   const bool bag = !options.bag_path.empty();
-  name_ = bag ? "camera: " + options.bag_path : "camera: RealSense" + (options.serial.empty() ? "" : " " + options.serial);
+  name_ = bag ? "camera: " + options.bag_path
+              : "camera: RealSense" + (options.serial.empty() ? "" : " " + options.serial);
   try {
     rs2::config config;
     if (bag) {
@@ -26,10 +26,13 @@ RealSenseCamera::RealSenseCamera(const RealSenseOptions& options)
       config.enable_stream(RS2_STREAM_DEPTH);
     } else {
       rs2::context context;
-      if (context.query_devices().size() == 0) throw HardwareError(name_ + ": no RealSense device is connected");
+      if (context.query_devices().size() == 0)
+        throw HardwareError(name_ + ": no RealSense device is connected");
       if (!options.serial.empty()) config.enable_device(options.serial);
-      config.enable_stream(RS2_STREAM_COLOR, options.width, options.height, RS2_FORMAT_RGB8, options.fps);
-      config.enable_stream(RS2_STREAM_DEPTH, options.width, options.height, RS2_FORMAT_Z16, options.fps);
+      config.enable_stream(RS2_STREAM_COLOR, options.width, options.height, RS2_FORMAT_RGB8,
+                           options.fps);
+      config.enable_stream(RS2_STREAM_DEPTH, options.width, options.height, RS2_FORMAT_Z16,
+                           options.fps);
     }
     state_->profile = state_->pipeline.start(config);
     if (bag) {
@@ -37,8 +40,9 @@ RealSenseCamera::RealSenseCamera(const RealSenseOptions& options)
       playback.set_real_time(false);  // every frame, as fast as we read them
       state_->playback = true;
     }
-    const rs2_intrinsics k =
-        state_->profile.get_stream(RS2_STREAM_COLOR).as<rs2::video_stream_profile>().get_intrinsics();
+    const rs2_intrinsics k = state_->profile.get_stream(RS2_STREAM_COLOR)
+                                 .as<rs2::video_stream_profile>()
+                                 .get_intrinsics();
     intrinsics_.width = k.width;
     intrinsics_.height = k.height;
     intrinsics_.fx = k.fx;
@@ -62,7 +66,8 @@ RealSenseCamera::~RealSenseCamera() {
 bool RealSenseCamera::Grab(RgbdFrame* frame) {
   try {
     rs2::frameset frames;
-    if (!state_->pipeline.try_wait_for_frames(&frames, static_cast<unsigned>(options_.timeout_ms))) {
+    if (!state_->pipeline.try_wait_for_frames(&frames,
+                                              static_cast<unsigned>(options_.timeout_ms))) {
       if (state_->playback) return false;  // the recording has ended
       throw HardwareError(name_ + ": no frames for " + std::to_string(options_.timeout_ms) + " ms");
     }
@@ -71,7 +76,8 @@ bool RealSenseCamera::Grab(RgbdFrame* frame) {
     const rs2::depth_frame depth = frames.get_depth_frame();
     if (!color || !depth) throw HardwareError(name_ + ": a frame set without colour or depth");
     const int w = color.get_width(), h = color.get_height();
-    if (w != intrinsics_.width || h != intrinsics_.height || depth.get_width() != w || depth.get_height() != h) {
+    if (w != intrinsics_.width || h != intrinsics_.height || depth.get_width() != w ||
+        depth.get_height() != h) {
       throw HardwareError(name_ + ": frame size differs from the colour stream's intrinsics");
     }
     // Colour: RGB8 live; a bag may hold BGR8 / RGBA8 / BGRA8.
@@ -79,11 +85,21 @@ bool RealSenseCamera::Grab(RgbdFrame* frame) {
     int channels = 3;
     bool swap = false;
     switch (format) {
-      case RS2_FORMAT_RGB8: break;
-      case RS2_FORMAT_BGR8: swap = true; break;
-      case RS2_FORMAT_RGBA8: channels = 4; break;
-      case RS2_FORMAT_BGRA8: channels = 4; swap = true; break;
-      default: throw HardwareError(name_ + ": colour format " + rs2_format_to_string(format) + " is not supported");
+      case RS2_FORMAT_RGB8:
+        break;
+      case RS2_FORMAT_BGR8:
+        swap = true;
+        break;
+      case RS2_FORMAT_RGBA8:
+        channels = 4;
+        break;
+      case RS2_FORMAT_BGRA8:
+        channels = 4;
+        swap = true;
+        break;
+      default:
+        throw HardwareError(name_ + ": colour format " + rs2_format_to_string(format) +
+                            " is not supported");
     }
     frame->color = ColorImage(w, h);
     const auto* src = static_cast<const std::uint8_t*>(color.get_data());
@@ -99,7 +115,8 @@ bool RealSenseCamera::Grab(RgbdFrame* frame) {
     frame->depth = DepthImage(w, h);
     const auto* dsrc = static_cast<const std::uint8_t*>(depth.get_data());
     for (int y = 0; y < h; ++y) {
-      std::memcpy(frame->depth.Row(y), dsrc + static_cast<std::size_t>(y) * depth.get_stride_in_bytes(),
+      std::memcpy(frame->depth.Row(y),
+                  dsrc + static_cast<std::size_t>(y) * depth.get_stride_in_bytes(),
                   static_cast<std::size_t>(w) * sizeof(std::uint16_t));
     }
     frame->index = next_index_++;

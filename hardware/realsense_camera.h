@@ -20,7 +20,7 @@ struct RealSenseOptions {
   int width = 640;       ///< pixels (live devices; a bag has its own)
   int height = 480;
   int fps = 30;
-  int timeout_ms = 2000; ///< wait for a frame set
+  int timeout_ms = 2000;  ///< wait for a frame set
 };
 
 class RealSenseCamera : public RgbdCamera {

@@ -83,7 +83,8 @@ std::vector<std::vector<double>> ReadCsv(const std::string& path, std::int64_t f
       char* end = nullptr;
       const double v = std::strtod(cell.c_str(), &end);
       if (cell.empty() || end != cell.c_str() + cell.size() || !std::isfinite(v)) {
-        Fail(path, "line " + std::to_string(line_number) + ": '" + cell + "' is not a finite number");
+        Fail(path,
+             "line " + std::to_string(line_number) + ": '" + cell + "' is not a finite number");
       }
       row.push_back(v);
     }
@@ -92,14 +93,15 @@ std::vector<std::vector<double>> ReadCsv(const std::string& path, std::int64_t f
                      " columns, expected " + std::to_string(columns));
     }
     if (row[0] != static_cast<double>(rows.size())) {
-      Fail(path, "line " + std::to_string(line_number) + ": frame " + std::to_string(static_cast<long long>(row[0])) +
-                     ", expected " + std::to_string(rows.size()));
+      Fail(path, "line " + std::to_string(line_number) + ": frame " +
+                     std::to_string(static_cast<long long>(row[0])) + ", expected " +
+                     std::to_string(rows.size()));
     }
     rows.push_back(std::move(row));
   }
   if (static_cast<std::int64_t>(rows.size()) != frames) {
-    Fail(path, std::to_string(rows.size()) + " rows but sequence.yaml says " + std::to_string(frames) +
-                   " frames (truncated recording?)");
+    Fail(path, std::to_string(rows.size()) + " rows but sequence.yaml says " +
+                   std::to_string(frames) + " frames (truncated recording?)");
   }
   return rows;
 }
@@ -118,8 +120,8 @@ SequenceWriter::SequenceWriter(const std::string& folder, const SequenceInfo& in
   }
   std::error_code ec;
   // An overwritten recording must keep nothing of the old one.
-  for (const char* old : {"sequence.yaml", "color", "depth", "stamps.csv", "groundtruth.csv", "vehicle.csv",
-                          "joints.csv"}) {
+  for (const char* old : {"sequence.yaml", "color", "depth", "stamps.csv", "groundtruth.csv",
+                          "vehicle.csv", "joints.csv"}) {
     fs::remove_all(root / old, ec);
   }
   for (const char* sub : {"color", "depth"}) {
@@ -139,23 +141,28 @@ SequenceWriter::~SequenceWriter() {
 void SequenceWriter::Write(const RgbdFrame& frame, const SequenceExtras& extras) {
   if (closed_) Fail(folder_, "the sequence is closed");
   const CameraIntrinsics& K = info_.intrinsics;
-  if (frame.color.width != K.width || frame.color.height != K.height || frame.depth.width != K.width ||
-      frame.depth.height != K.height) {
-    Fail(folder_, "frame " + std::to_string(count_) + " is " + std::to_string(frame.color.width) + "x" +
-                      std::to_string(frame.color.height) + " colour, " + std::to_string(frame.depth.width) +
-                      "x" + std::to_string(frame.depth.height) + " depth; the intrinsics say " +
-                      std::to_string(K.width) + "x" + std::to_string(K.height));
+  if (frame.color.width != K.width || frame.color.height != K.height ||
+      frame.depth.width != K.width || frame.depth.height != K.height) {
+    Fail(folder_, "frame " + std::to_string(count_) + " is " + std::to_string(frame.color.width) +
+                      "x" + std::to_string(frame.color.height) + " colour, " +
+                      std::to_string(frame.depth.width) + "x" + std::to_string(frame.depth.height) +
+                      " depth; the intrinsics say " + std::to_string(K.width) + "x" +
+                      std::to_string(K.height));
   }
   const cv::Mat rgb(K.height, K.width, CV_8UC3, const_cast<std::uint8_t*>(frame.color.data.data()));
   cv::Mat bgr;
   cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
   const std::string color_path = ColorPath(folder_, count_);
-  if (!cv::imwrite(color_path, bgr, {cv::IMWRITE_PNG_COMPRESSION, 1})) Fail(color_path, "cannot be written");
-  const cv::Mat depth(K.height, K.width, CV_16UC1, const_cast<std::uint16_t*>(frame.depth.data.data()));
+  if (!cv::imwrite(color_path, bgr, {cv::IMWRITE_PNG_COMPRESSION, 1}))
+    Fail(color_path, "cannot be written");
+  const cv::Mat depth(K.height, K.width, CV_16UC1,
+                      const_cast<std::uint16_t*>(frame.depth.data.data()));
   const std::string depth_path = DepthPath(folder_, count_);
-  if (!cv::imwrite(depth_path, depth, {cv::IMWRITE_PNG_COMPRESSION, 1})) Fail(depth_path, "cannot be written");
+  if (!cv::imwrite(depth_path, depth, {cv::IMWRITE_PNG_COMPRESSION, 1}))
+    Fail(depth_path, "cannot be written");
 
-  auto open_once = [this](std::ofstream& out, const char* name, const std::string& header, bool present) {
+  auto open_once = [this](std::ofstream& out, const char* name, const std::string& header,
+                          bool present) {
     const std::string path = (fs::path(folder_) / name).string();
     if (count_ == 0 && present) {
       out.open(path);
@@ -170,13 +177,15 @@ void SequenceWriter::Write(const RgbdFrame& frame, const SequenceExtras& extras)
   };
   open_once(stamps_, "stamps.csv", "frame,stamp_s", true);
   WriteRow(stamps_, count_, {frame.stamp_s});
-  open_once(groundtruth_, "groundtruth.csv", "frame,stamp_s,tx,ty,tz,qw,qx,qy,qz", extras.cMo.has_value());
+  open_once(groundtruth_, "groundtruth.csv", "frame,stamp_s,tx,ty,tz,qw,qx,qy,qz",
+            extras.cMo.has_value());
   if (extras.cMo) {
     std::vector<double> row = {frame.stamp_s};
     for (double v : PoseValues(*extras.cMo)) row.push_back(v);
     WriteRow(groundtruth_, count_, row);
   }
-  open_once(vehicle_, "vehicle.csv", "frame,stamp_s,x,y,z,qw,qx,qy,qz,vx,vy,vz", extras.vehicle.has_value());
+  open_once(vehicle_, "vehicle.csv", "frame,stamp_s,x,y,z,qw,qx,qy,qz,vx,vy,vz",
+            extras.vehicle.has_value());
   if (extras.vehicle) {
     std::vector<double> row = {frame.stamp_s};
     for (double v : PoseValues(extras.vehicle->wMd)) row.push_back(v);
@@ -234,7 +243,8 @@ void SequenceWriter::Close() {
   y << YAML::EndSeq << YAML::EndMap;
   const std::string path = (fs::path(folder_) / "sequence.yaml").string();
   std::ofstream out(path);
-  out << "# An aerograsp RGB-D sequence (hardware/sequence.h describes the folder).\n" << y.c_str() << "\n";
+  out << "# An aerograsp RGB-D sequence (hardware/sequence.h describes the folder).\n"
+      << y.c_str() << "\n";
   if (!out) Fail(path, "cannot be written");
 }
 
@@ -244,14 +254,17 @@ void SequenceWriter::Close() {
 SequenceInfo ReadSequenceInfo(const std::string& folder) {
   const fs::path path = fs::path(folder) / "sequence.yaml";
   if (!fs::is_directory(folder)) Fail(folder, "no such folder");
-  if (!fs::exists(path)) Fail(folder, "not a sequence: no sequence.yaml (an unfinished recording?)");
+  if (!fs::exists(path))
+    Fail(folder, "not a sequence: no sequence.yaml (an unfinished recording?)");
   const ConfigNode node = ConfigNode::LoadFile(path.string());
-  node.RequireOnlyKeys({"format", "version", "description", "object", "frame_count", "frame_rate_hz",
-                        "depth_scale_m", "intrinsics", "depth_to_color"});
-  if (node.GetString("format") != kFormat) node.Fail("format", std::string("expected '") + kFormat + "'");
+  node.RequireOnlyKeys({"format", "version", "description", "object", "frame_count",
+                        "frame_rate_hz", "depth_scale_m", "intrinsics", "depth_to_color"});
+  if (node.GetString("format") != kFormat)
+    node.Fail("format", std::string("expected '") + kFormat + "'");
   if (node.GetInt("version") != kVersion) {
-    node.Fail("version", "version " + std::to_string(node.GetInt("version")) + " is not supported (this build reads " +
-                             std::to_string(kVersion) + ")");
+    node.Fail("version", "version " + std::to_string(node.GetInt("version")) +
+                             " is not supported (this build reads " + std::to_string(kVersion) +
+                             ")");
   }
   SequenceInfo info;
   info.description = node.GetString("description", "");
@@ -279,7 +292,8 @@ SequenceInfo ReadSequenceInfo(const std::string& folder) {
   return info;
 }
 
-ReplayCamera::ReplayCamera(const std::string& folder) : folder_(folder), info_(ReadSequenceInfo(folder)) {
+ReplayCamera::ReplayCamera(const std::string& folder)
+    : folder_(folder), info_(ReadSequenceInfo(folder)) {
   const std::int64_t n = info_.frame_count;
   for (std::int64_t i = 0; i < n; ++i) {
     for (const std::string& p : {ColorPath(folder, i), DepthPath(folder, i)}) {
@@ -327,8 +341,10 @@ ReplayCamera::ReplayCamera(const std::string& folder) : folder_(folder), info_(R
     }
     const auto rows = ReadCsv(joints.string(), n, 2 + n_left + n_right);
     for (std::int64_t i = 0; i < n; ++i) {
-      extras_[i].q_left_rad = Eigen::Map<const Eigen::VectorXd>(&rows[i][2], static_cast<long>(n_left));
-      extras_[i].q_right_rad = Eigen::Map<const Eigen::VectorXd>(&rows[i][2 + n_left], static_cast<long>(n_right));
+      extras_[i].q_left_rad =
+          Eigen::Map<const Eigen::VectorXd>(&rows[i][2], static_cast<long>(n_left));
+      extras_[i].q_right_rad =
+          Eigen::Map<const Eigen::VectorXd>(&rows[i][2 + n_left], static_cast<long>(n_right));
     }
   }
 }
@@ -341,16 +357,18 @@ bool ReplayCamera::Grab(RgbdFrame* frame) {
   if (bgr.empty()) Fail(color_path, "cannot be read as an image (corrupt or truncated PNG?)");
   if (bgr.type() != CV_8UC3) Fail(color_path, "is not 8-bit 3-channel colour");
   if (bgr.cols != K.width || bgr.rows != K.height) {
-    Fail(color_path, "is " + std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows) + ", sequence.yaml says " +
-                         std::to_string(K.width) + "x" + std::to_string(K.height));
+    Fail(color_path, "is " + std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows) +
+                         ", sequence.yaml says " + std::to_string(K.width) + "x" +
+                         std::to_string(K.height));
   }
   const std::string depth_path = DepthPath(folder_, next_);
   const cv::Mat depth = cv::imread(depth_path, cv::IMREAD_UNCHANGED);
   if (depth.empty()) Fail(depth_path, "cannot be read as an image (corrupt or truncated PNG?)");
   if (depth.type() != CV_16UC1) Fail(depth_path, "is not a 16-bit single-channel depth image");
   if (depth.cols != K.width || depth.rows != K.height) {
-    Fail(depth_path, "is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) + ", sequence.yaml says " +
-                         std::to_string(K.width) + "x" + std::to_string(K.height));
+    Fail(depth_path, "is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
+                         ", sequence.yaml says " + std::to_string(K.width) + "x" +
+                         std::to_string(K.height));
   }
   frame->color = ColorImage(K.width, K.height);
   cv::Mat rgb(K.height, K.width, CV_8UC3, frame->color.data.data());

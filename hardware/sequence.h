@@ -25,11 +25,12 @@ namespace aerograsp {
 struct SequenceInfo {
   CameraIntrinsics intrinsics;
   double depth_scale_m = 0.001;
-  Eigen::Isometry3d colorMdepth = Eigen::Isometry3d::Identity();  ///< identity: depth aligned to colour
-  std::string object;           ///< object id (a shipped name or model path); may be empty
+  Eigen::Isometry3d colorMdepth =
+      Eigen::Isometry3d::Identity();  ///< identity: depth aligned to colour
+  std::string object;                 ///< object id (a shipped name or model path); may be empty
   double frame_rate_hz = 30.0;
   std::int64_t frame_count = 0;
-  std::string description;      ///< free text: where it came from (simulator seed, device)
+  std::string description;  ///< free text: where it came from (simulator seed, device)
 };
 
 /// Per-frame extras a recording may carry.
@@ -88,7 +89,9 @@ class ReplayCamera : public RgbdCamera {
   const SequenceInfo& info() const { return info_; }
   const std::string& folder() const { return folder_; }
   /// Extras of frame i (as recorded; empty optionals for what was not).
-  const SequenceExtras& extras(std::int64_t i) const { return extras_.at(static_cast<std::size_t>(i)); }
+  const SequenceExtras& extras(std::int64_t i) const {
+    return extras_.at(static_cast<std::size_t>(i));
+  }
   bool has_groundtruth() const { return has_groundtruth_; }
   /// Goes back to the first frame.
   void Rewind() { next_ = 0; }

@@ -4,12 +4,18 @@ namespace aerograsp {
 
 const char* StateName(GlobalState state) {
   switch (state) {
-    case GlobalState::kIdle: return "idle";
-    case GlobalState::kApproaching: return "approaching";
-    case GlobalState::kGrasping: return "grasping";
-    case GlobalState::kHoming: return "homing";
-    case GlobalState::kDone: return "done";
-    case GlobalState::kAborted: return "aborted";
+    case GlobalState::kIdle:
+      return "idle";
+    case GlobalState::kApproaching:
+      return "approaching";
+    case GlobalState::kGrasping:
+      return "grasping";
+    case GlobalState::kHoming:
+      return "homing";
+    case GlobalState::kDone:
+      return "done";
+    case GlobalState::kAborted:
+      return "aborted";
   }
   return "?";
 }
@@ -56,12 +62,18 @@ bool GlobalMachine::Emergency(double now_s, const std::string& cause) {
 
 const char* StateName(VehicleMode state) {
   switch (state) {
-    case VehicleMode::kIdle: return "idle";
-    case VehicleMode::kTakeOff: return "take-off";
-    case VehicleMode::kHover: return "hover";
-    case VehicleMode::kWaypoint: return "waypoint";
-    case VehicleMode::kTracking: return "tracking";
-    case VehicleMode::kLanding: return "landing";
+    case VehicleMode::kIdle:
+      return "idle";
+    case VehicleMode::kTakeOff:
+      return "take-off";
+    case VehicleMode::kHover:
+      return "hover";
+    case VehicleMode::kWaypoint:
+      return "waypoint";
+    case VehicleMode::kTracking:
+      return "tracking";
+    case VehicleMode::kLanding:
+      return "landing";
   }
   return "?";
 }
@@ -103,7 +115,8 @@ bool VehicleMachine::Lost(double now_s) {
 }
 
 bool VehicleMachine::Land(double now_s, const std::string& cause) {
-  if (state() != VehicleMode::kHover && state() != VehicleMode::kWaypoint && state() != VehicleMode::kTracking) {
+  if (state() != VehicleMode::kHover && state() != VehicleMode::kWaypoint &&
+      state() != VehicleMode::kTracking) {
     return false;
   }
   Go(VehicleMode::kLanding, now_s, cause);
@@ -118,9 +131,12 @@ bool VehicleMachine::Landed(double now_s) {
 
 const char* StateName(VisionState state) {
   switch (state) {
-    case VisionState::kSearching: return "searching";
-    case VisionState::kFound: return "found";
-    case VisionState::kLost: return "lost";
+    case VisionState::kSearching:
+      return "searching";
+    case VisionState::kFound:
+      return "found";
+    case VisionState::kLost:
+      return "lost";
   }
   return "?";
 }
@@ -139,13 +155,20 @@ VisionSignal VisionMachine::Update(double now_s, bool found, const std::string& 
 
 const char* StateName(PlannerState state) {
   switch (state) {
-    case PlannerState::kIdle: return "idle";
-    case PlannerState::kPlanning: return "planning";
-    case PlannerState::kServoing: return "servoing";
-    case PlannerState::kApproachPose: return "approach pose";
-    case PlannerState::kGrasping: return "grasping";
-    case PlannerState::kGrasped: return "grasped";
-    case PlannerState::kFailed: return "failed";
+    case PlannerState::kIdle:
+      return "idle";
+    case PlannerState::kPlanning:
+      return "planning";
+    case PlannerState::kServoing:
+      return "servoing";
+    case PlannerState::kApproachPose:
+      return "approach pose";
+    case PlannerState::kGrasping:
+      return "grasping";
+    case PlannerState::kGrasped:
+      return "grasped";
+    case PlannerState::kFailed:
+      return "failed";
   }
   return "?";
 }
@@ -196,21 +219,27 @@ bool PlannerMachine::Retry(double now_s, const std::string& cause) {
   }
   ++attempts_;
   if (attempts_ >= max_attempts_) {
-    Go(PlannerState::kFailed, now_s, cause + " (attempt " + std::to_string(attempts_) + " of " +
-                                         std::to_string(max_attempts_) + ": giving up)");
+    Go(PlannerState::kFailed, now_s,
+       cause + " (attempt " + std::to_string(attempts_) + " of " + std::to_string(max_attempts_) +
+           ": giving up)");
   } else {
-    Go(PlannerState::kPlanning, now_s, cause + " (attempt " + std::to_string(attempts_) + " of " +
-                                           std::to_string(max_attempts_) + ": planning again)");
+    Go(PlannerState::kPlanning, now_s,
+       cause + " (attempt " + std::to_string(attempts_) + " of " + std::to_string(max_attempts_) +
+           ": planning again)");
   }
   return true;
 }
 
 const char* StateName(ArmsState state) {
   switch (state) {
-    case ArmsState::kIdle: return "idle";
-    case ArmsState::kMoving: return "moving";
-    case ArmsState::kHolding: return "holding";
-    case ArmsState::kEmergencyStop: return "emergency stop";
+    case ArmsState::kIdle:
+      return "idle";
+    case ArmsState::kMoving:
+      return "moving";
+    case ArmsState::kHolding:
+      return "holding";
+    case ArmsState::kEmergencyStop:
+      return "emergency stop";
   }
   return "?";
 }

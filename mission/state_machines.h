@@ -52,7 +52,8 @@ const char* StateName(GlobalState state);
 
 class GlobalMachine : public StateMachine<GlobalState> {
  public:
-  explicit GlobalMachine(TransitionSink sink = {}) : StateMachine("global", GlobalState::kIdle, std::move(sink)) {}
+  explicit GlobalMachine(TransitionSink sink = {})
+      : StateMachine("global", GlobalState::kIdle, std::move(sink)) {}
   /// idle -> approaching (the vehicle is then told to take off, then to fly to the waypoint).
   bool Start(double now_s);
   /// approaching -> grasping: the object is found with the vehicle at the waypoint.
@@ -80,16 +81,17 @@ const char* StateName(VehicleMode state);
 
 class VehicleMachine : public StateMachine<VehicleMode> {
  public:
-  explicit VehicleMachine(TransitionSink sink = {}) : StateMachine("vehicle", VehicleMode::kIdle, std::move(sink)) {}
-  bool TakeOff(double now_s);                                 ///< idle -> take-off
-  bool Airborne(double now_s);                                ///< take-off -> hover
+  explicit VehicleMachine(TransitionSink sink = {})
+      : StateMachine("vehicle", VehicleMode::kIdle, std::move(sink)) {}
+  bool TakeOff(double now_s);   ///< idle -> take-off
+  bool Airborne(double now_s);  ///< take-off -> hover
   /// hover or tracking -> waypoint (`cause` names the waypoint).
   bool GoTo(double now_s, const std::string& cause);
-  bool Arrived(double now_s);                                 ///< waypoint -> hover
-  bool Found(double now_s);                                   ///< hover -> tracking
-  bool Lost(double now_s);                                    ///< tracking -> hover
-  bool Land(double now_s, const std::string& cause);          ///< hover, waypoint or tracking -> landing
-  bool Landed(double now_s);                                  ///< landing -> idle
+  bool Arrived(double now_s);                         ///< waypoint -> hover
+  bool Found(double now_s);                           ///< hover -> tracking
+  bool Lost(double now_s);                            ///< tracking -> hover
+  bool Land(double now_s, const std::string& cause);  ///< hover, waypoint or tracking -> landing
+  bool Landed(double now_s);                          ///< landing -> idle
 };
 
 // ---- Vision (Fig. 7a) -------------------------------------------------------
@@ -101,27 +103,37 @@ enum class VisionSignal { kNone, kFound, kLost };
 
 class VisionMachine : public StateMachine<VisionState> {
  public:
-  explicit VisionMachine(TransitionSink sink = {}) : StateMachine("vision", VisionState::kSearching, std::move(sink)) {}
+  explicit VisionMachine(TransitionSink sink = {})
+      : StateMachine("vision", VisionState::kSearching, std::move(sink)) {}
   /// One perception result: `found` is the tracker's found / lost decision.
   /// searching or lost -> found gives kFound; found -> lost gives kLost.
   VisionSignal Update(double now_s, bool found, const std::string& cause);
 };
 
 // ---- Grasp planner (Fig. 7b) ------------------------------------------------
-enum class PlannerState { kIdle, kPlanning, kServoing, kApproachPose, kGrasping, kGrasped, kFailed };
+enum class PlannerState {
+  kIdle,
+  kPlanning,
+  kServoing,
+  kApproachPose,
+  kGrasping,
+  kGrasped,
+  kFailed
+};
 const char* StateName(PlannerState state);
 
 class PlannerMachine : public StateMachine<PlannerState> {
  public:
   /// `max_attempts`: plans that may end in a failed approach before kFailed, >= 1.
   explicit PlannerMachine(int max_attempts, TransitionSink sink = {})
-      : StateMachine("planner", PlannerState::kIdle, std::move(sink)), max_attempts_(max_attempts) {}
-  bool Start(double now_s);                      ///< idle -> planning
+      : StateMachine("planner", PlannerState::kIdle, std::move(sink)),
+        max_attempts_(max_attempts) {}
+  bool Start(double now_s);  ///< idle -> planning
   /// planning -> servoing: a dual grasp was chosen (`cause` names it).
   bool Planned(double now_s, const std::string& cause);
-  bool AtPreCatch(double now_s);                 ///< servoing -> approach pose: both arms at their pre-catch poses
-  bool GoIn(double now_s);                       ///< approach pose -> grasping: the arms move in and close
-  bool Closed(double now_s);                     ///< grasping -> grasped: both grippers hold the object
+  bool AtPreCatch(double now_s);  ///< servoing -> approach pose: both arms at their pre-catch poses
+  bool GoIn(double now_s);        ///< approach pose -> grasping: the arms move in and close
+  bool Closed(double now_s);      ///< grasping -> grasped: both grippers hold the object
   /// servoing, approach pose or grasping -> servoing: the followed grasp became
   /// unreachable and re-evaluation chose another (`cause`: which and why).
   bool Switched(double now_s, const std::string& cause);
@@ -141,9 +153,12 @@ const char* StateName(ArmsState state);
 
 class ArmsMachine : public StateMachine<ArmsState> {
  public:
-  explicit ArmsMachine(TransitionSink sink = {}) : StateMachine("arms", ArmsState::kIdle, std::move(sink)) {}
-  bool Move(double now_s, const std::string& cause);   ///< idle or holding -> moving (servo commands pass)
-  bool Hold(double now_s, const std::string& cause);   ///< idle or moving -> holding (targets frozen)
+  explicit ArmsMachine(TransitionSink sink = {})
+      : StateMachine("arms", ArmsState::kIdle, std::move(sink)) {}
+  bool Move(double now_s,
+            const std::string& cause);  ///< idle or holding -> moving (servo commands pass)
+  bool Hold(double now_s,
+            const std::string& cause);  ///< idle or moving -> holding (targets frozen)
   /// Any state -> emergency stop (latched: every later signal is refused).
   bool EmergencyStop(double now_s, const std::string& cause);
   /// True when joint commands may reach the arms.

@@ -6,7 +6,7 @@ set -euo pipefail
 
 PACKAGES=(
   # toolchain
-  build-essential cmake ninja-build ccache pkg-config git
+  build-essential cmake ninja-build ccache pkg-config git clang-format
   # numerics, geometry, vision
   libeigen3-dev libvisp-dev libopencv-dev libpcl-dev libopenmpi-dev
   libfcl-dev libccd-dev liburdfdom-dev liburdfdom-headers-dev libapriltag-dev

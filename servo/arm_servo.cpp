@@ -35,13 +35,20 @@ void ServoConfig::Validate(const std::string& source) const {
 
 const char* ServoStatusName(ServoStatus status) {
   switch (status) {
-    case ServoStatus::kMoving: return "moving";
-    case ServoStatus::kNoTarget: return "no target";
-    case ServoStatus::kStaleTarget: return "stale target";
-    case ServoStatus::kInvalidTarget: return "invalid target";
-    case ServoStatus::kInvalidState: return "invalid joint state";
-    case ServoStatus::kSafeVolume: return "safe volume";
-    case ServoStatus::kUnreachable: return "unreachable";
+    case ServoStatus::kMoving:
+      return "moving";
+    case ServoStatus::kNoTarget:
+      return "no target";
+    case ServoStatus::kStaleTarget:
+      return "stale target";
+    case ServoStatus::kInvalidTarget:
+      return "invalid target";
+    case ServoStatus::kInvalidState:
+      return "invalid joint state";
+    case ServoStatus::kSafeVolume:
+      return "safe volume";
+    case ServoStatus::kUnreachable:
+      return "unreachable";
   }
   return "?";
 }
@@ -57,17 +64,19 @@ ArmServo::ArmServo(const ArmModel& arm, const ServoConfig& config, ForbiddenPred
       ik_(arm, config.ik, config.orientation_weights) {
   config_.Validate("servo config");
   if (seat_ != 0 && seat_ != 1) {
-    throw ConfigError("servo config: right-of-way seat " + std::to_string(seat_) + " must be 0 or 1");
+    throw ConfigError("servo config: right-of-way seat " + std::to_string(seat_) +
+                      " must be 0 or 1");
   }
   for (std::size_t v = 0; v < config_.via_rad.size(); ++v) {
     if (!arm_.WithinLimits(config_.via_rad[v])) {
-      throw ConfigError("servo config: servo.via_rad[" + std::to_string(v) +
-                        "]: needs " + std::to_string(arm_.dof()) + " finite joints within the limits of " +
+      throw ConfigError("servo config: servo.via_rad[" + std::to_string(v) + "]: needs " +
+                        std::to_string(arm_.dof()) + " finite joints within the limits of " +
                         arm_.source());
     }
   }
-  via_ = config_.via_rad.empty() ? std::vector<Eigen::VectorXd>{arm_.Clamp(Eigen::VectorXd::Zero(arm_.dof()))}
-                                 : config_.via_rad;
+  via_ = config_.via_rad.empty()
+             ? std::vector<Eigen::VectorXd>{arm_.Clamp(Eigen::VectorXd::Zero(arm_.dof()))}
+             : config_.via_rad;
   std::mt19937 rng(7);
   for (int v = 0; v < config_.random_vias; ++v) via_.push_back(DrawJointsWithinLimits(arm_, &rng));
   Reset();
@@ -95,7 +104,8 @@ void ArmServo::SetTarget(const Eigen::Isometry3d& bMg, double stamp_s, bool is_s
 bool ArmServo::PathAllowed(const Eigen::VectorXd& q_from, const Eigen::VectorXd& q_to) const {
   if (!forbidden_) return true;
   const double length = (q_to - q_from).cwiseAbs().maxCoeff();
-  const int samples = std::max(1, static_cast<int>(std::ceil(length / config_.path_check_step_rad)));
+  const int samples =
+      std::max(1, static_cast<int>(std::ceil(length / config_.path_check_step_rad)));
   for (int k = samples; k >= 1; --k) {  // the goal first: it is the likeliest to be refused
     if (forbidden_(q_from + (q_to - q_from) * (static_cast<double>(k) / samples))) return false;
   }
@@ -191,8 +201,10 @@ Eigen::VectorXd ArmServo::Limit(const Eigen::VectorXd& q, Eigen::VectorXd dq, do
   // Never step past a joint limit.
   for (int i = 0; i < arm_.dof(); ++i) {
     const double next = q[i] + dq[i] * dt_s;
-    if (next > arm_.upper_limits()[i]) dq[i] = std::min(0.0, (arm_.upper_limits()[i] - q[i]) / dt_s);
-    if (next < arm_.lower_limits()[i]) dq[i] = std::max(0.0, (arm_.lower_limits()[i] - q[i]) / dt_s);
+    if (next > arm_.upper_limits()[i])
+      dq[i] = std::min(0.0, (arm_.upper_limits()[i] - q[i]) / dt_s);
+    if (next < arm_.lower_limits()[i])
+      dq[i] = std::max(0.0, (arm_.lower_limits()[i] - q[i]) / dt_s);
   }
   return dq;
 }
@@ -208,7 +220,8 @@ ServoStatus ArmServo::Hold(const Eigen::VectorXd& q, ServoStatus status, ServoCo
 }
 
 bool ArmServo::MakeWay(const Eigen::VectorXd& q, double now_s, double to_target_m) {
-  if (!right_of_way_ || !right_of_way_->ShouldYield(seat_, now_s, to_target_m, config_.stale_target_s)) {
+  if (!right_of_way_ ||
+      !right_of_way_->ShouldYield(seat_, now_s, to_target_m, config_.stale_target_s)) {
     return false;
   }
   for (const Eigen::VectorXd& via : via_) {
@@ -244,7 +257,8 @@ ServoStatus ArmServo::Command(const Eigen::VectorXd& q, double now_s, double dt_
   if (!(dt_s > 0.0) || !std::isfinite(now_s)) return Hold(q, ServoStatus::kInvalidState, out);
   if (!has_target_) return Hold(q, ServoStatus::kNoTarget, out);
   if (!IsValidTransform(bMg_, 1e-6)) return Hold(q, ServoStatus::kInvalidTarget, out);
-  if (now_s - target_stamp_s_ > config_.stale_target_s) return Hold(q, ServoStatus::kStaleTarget, out);
+  if (now_s - target_stamp_s_ > config_.stale_target_s)
+    return Hold(q, ServoStatus::kStaleTarget, out);
 
   Eigen::Isometry3d bMe;
   Eigen::Matrix<double, 6, Eigen::Dynamic> J(6, n);

@@ -31,28 +31,29 @@
 namespace aerograsp {
 
 struct ServoConfig {
-  double gain_per_s{3.0};              ///< PBVS error decrease rate lambda, (0, 50] 1/s
-  double switch_blend_per_s{10.0};     ///< rate at which a target switch blends in, (0, 100] 1/s
-  DampingOptions damping{};            ///< singular_threshold, max_damping: (0, 1]
-  double speed_fraction{0.8};          ///< of each joint's URDF velocity limit, (0, 1]
-  double max_accel_rad_s2{30.0};       ///< per joint, smoothing, (0, 1000] rad/s^2
-  double limit_zone_rad{0.15};         ///< a joint this close to a limit and moving toward it gets less weight in PBVS, [0, 1] rad
+  double gain_per_s{3.0};           ///< PBVS error decrease rate lambda, (0, 50] 1/s
+  double switch_blend_per_s{10.0};  ///< rate at which a target switch blends in, (0, 100] 1/s
+  DampingOptions damping{};         ///< singular_threshold, max_damping: (0, 1]
+  double speed_fraction{0.8};       ///< of each joint's URDF velocity limit, (0, 1]
+  double max_accel_rad_s2{30.0};    ///< per joint, smoothing, (0, 1000] rad/s^2
+  double limit_zone_rad{0.15};  ///< a joint this close to a limit and moving toward it gets less
+                                ///< weight in PBVS, [0, 1] rad
   /// Weights of the orientation error about the tool's x, y, z axes, [0, 1]
   /// each. The 4-DoF arm cannot reach every orientation: position always comes
   /// first, orientation is met within what position leaves free.
   Eigen::Vector3d orientation_weights{1.0, 1.0, 1.0};
-  double stale_target_s{0.2};          ///< a target older than this is refused, (0, 10] s
+  double stale_target_s{0.2};  ///< a target older than this is refused, (0, 10] s
   /// Blend of the joint-space guide: weight guide_min of motion toward q* when
   /// max_i |q*_i - q_i| is below guide_near_rad, pure motion toward q* above
   /// guide_far_rad, linear between; PBVS has the rest.
-  double guide_near_rad{0.05};         ///< [0, 3] rad
-  double guide_far_rad{0.3};           ///< (guide_near_rad, 6] rad
-  double guide_min{0.5};               ///< [0, 1]
+  double guide_near_rad{0.05};  ///< [0, 3] rad
+  double guide_far_rad{0.3};    ///< (guide_near_rad, 6] rad
+  double guide_min{0.5};        ///< [0, 1]
   /// An unreachable target is searched again only once it has moved this far.
-  double retarget_m{0.005};            ///< [0, 1] m
-  double retarget_rad{0.05};           ///< [0, pi] rad
+  double retarget_m{0.005};   ///< [0, 1] m
+  double retarget_rad{0.05};  ///< [0, pi] rad
   /// ... or once this long has passed (the other arm may have moved away).
-  double unreachable_retry_s{0.5};     ///< [0, 60] s
+  double unreachable_retry_s{0.5};  ///< [0, 60] s
   /// Joint configurations (rad) a goal may be reached through when the straight
   /// joint path to it is forbidden; each of size dof() within the limits.
   /// Empty: the zero configuration clamped into the limits (for the shipped
@@ -61,23 +62,23 @@ struct ServoConfig {
   /// Further via configurations drawn uniformly within the limits (fixed seed,
   /// once), tried after via_rad: ways around the other arm where the fixed
   /// ones pass through it.
-  int random_vias{16};                 ///< [0, 1000]
+  int random_vias{16};  ///< [0, 1000]
   /// Spacing of the forbidden-predicate checks along the straight path to q*.
-  double path_check_step_rad{0.02};    ///< (0, 1] rad
-  ApproachIkOptions ik{};                      ///< the joint-goal search
+  double path_check_step_rad{0.02};  ///< (0, 1] rad
+  ApproachIkOptions ik{};            ///< the joint-goal search
 
   /// @throws ConfigError "<source>: servo.<field>: ..." for out-of-range values.
   void Validate(const std::string& source) const;
 };
 
 enum class ServoStatus {
-  kMoving,           ///< a velocity toward the target was commanded
-  kNoTarget,         ///< holding: no target set yet
-  kStaleTarget,      ///< holding: the target is older than stale_target_s
-  kInvalidTarget,    ///< holding: the target has NaN/Inf or is not a rigid transform
-  kInvalidState,     ///< holding: q has NaN/Inf or the wrong size
-  kSafeVolume,       ///< holding: every scaled step would enter the forbidden region
-  kUnreachable,      ///< holding: no joint goal meets the target within limits and allowed
+  kMoving,         ///< a velocity toward the target was commanded
+  kNoTarget,       ///< holding: no target set yet
+  kStaleTarget,    ///< holding: the target is older than stale_target_s
+  kInvalidTarget,  ///< holding: the target has NaN/Inf or is not a rigid transform
+  kInvalidState,   ///< holding: q has NaN/Inf or the wrong size
+  kSafeVolume,     ///< holding: every scaled step would enter the forbidden region
+  kUnreachable,    ///< holding: no joint goal meets the target within limits and allowed
 };
 const char* ServoStatusName(ServoStatus status);
 
@@ -86,12 +87,12 @@ struct ServoCommand {
   Eigen::VectorXd q_target_rad;   ///< q + dq * dt: the joint targets to send
   double position_error_m = 0.0;  ///< |p_g - p_e|
   double rotation_error_rad = 0.0;
-  ApproachError error;            ///< position, approach axis and roll errors at q
-  Eigen::VectorXd q_goal_rad;     ///< the IK joint goal q* (empty while there is none)
-  double guide_weight = 0.0;      ///< guide_min..1: the share of the motion toward q*
-  double damping = 0.0;           ///< lambda of the primary task
-  double min_singular = 0.0;      ///< smallest singular value of the position Jacobian
-  double step_scale = 1.0;        ///< < 1 when speed or safe-volume limits shortened the step
+  ApproachError error;         ///< position, approach axis and roll errors at q
+  Eigen::VectorXd q_goal_rad;  ///< the IK joint goal q* (empty while there is none)
+  double guide_weight = 0.0;   ///< guide_min..1: the share of the motion toward q*
+  double damping = 0.0;        ///< lambda of the primary task
+  double min_singular = 0.0;   ///< smallest singular value of the position Jacobian
+  double step_scale = 1.0;     ///< < 1 when speed or safe-volume limits shortened the step
 };
 
 /// True when the arm at joint positions q must not be commanded (e.g. it would
@@ -158,10 +159,10 @@ class ArmServo {
   bool has_target_ = false;
   Eigen::Isometry3d bMg_ = Eigen::Isometry3d::Identity();
   double target_stamp_s_ = 0.0;
-  Eigen::VectorXd last_dq_;       // previous command (for smoothing and blending)
-  Eigen::VectorXd switch_dq_;     // command at the last switch, fading out
-  bool switch_pending_ = false;   // a switch was declared; the blend starts at the next Step
-  double switch_time_s_ = -1.0;   // < 0: no blend active
+  Eigen::VectorXd last_dq_;      // previous command (for smoothing and blending)
+  Eigen::VectorXd switch_dq_;    // command at the last switch, fading out
+  bool switch_pending_ = false;  // a switch was declared; the blend starts at the next Step
+  double switch_time_s_ = -1.0;  // < 0: no blend active
   Eigen::VectorXd last_good_q_;
   // Joint goal q* and the target it solves; the last target no goal was found for.
   bool has_goal_ = false;

@@ -1,7 +1,6 @@
 #include "servo/dls.h"
 
 #include <Eigen/SVD>
-
 #include <cmath>
 
 namespace aerograsp {
@@ -14,8 +13,8 @@ double Damping(double min_singular, const DampingOptions& options) {
 }
 
 // A damped inverse applied to e, from an SVD; also returns the null-space projector when asked.
-DlsSolution Solve(const Eigen::MatrixXd& J, const Eigen::VectorXd& e,
-                  const DampingOptions& options, Eigen::MatrixXd* null_projector) {
+DlsSolution Solve(const Eigen::MatrixXd& J, const Eigen::VectorXd& e, const DampingOptions& options,
+                  Eigen::MatrixXd* null_projector) {
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(J, Eigen::ComputeFullU | Eigen::ComputeFullV);
   const Eigen::VectorXd& s = svd.singularValues();
   const Eigen::Index n = J.cols();
@@ -54,8 +53,7 @@ DlsSolution SolvePrioritized(const Eigen::MatrixXd& J1, const Eigen::VectorXd& e
                              const DampingOptions& options) {
   Eigen::MatrixXd N1;
   DlsSolution primary = Solve(J1, e1, options, &N1);
-  const DlsSolution secondary =
-      Solve(J2 * N1, e2 - J2 * primary.dq, options, nullptr);
+  const DlsSolution secondary = Solve(J2 * N1, e2 - J2 * primary.dq, options, nullptr);
   primary.dq += N1 * secondary.dq;
   return primary;
 }

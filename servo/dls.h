@@ -16,9 +16,9 @@ struct DampingOptions {
 
 /// Result of one damped solve.
 struct DlsSolution {
-  Eigen::VectorXd dq;          ///< joint increment (or velocity)
-  double min_singular = 0.0;   ///< smallest singular value of the (projected) Jacobian
-  double damping = 0.0;        ///< lambda used
+  Eigen::VectorXd dq;         ///< joint increment (or velocity)
+  double min_singular = 0.0;  ///< smallest singular value of the (projected) Jacobian
+  double damping = 0.0;       ///< lambda used
 };
 
 /// dq = J^T (J J^T + lambda^2 I)^-1 e, computed by SVD so that it is exact for any

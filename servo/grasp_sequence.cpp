@@ -15,11 +15,16 @@ void GraspSequenceConfig::Validate(const std::string& source) const {
 
 const char* GraspPhaseName(GraspPhase phase) {
   switch (phase) {
-    case GraspPhase::kPreCatch: return "pre-catch";
-    case GraspPhase::kGrasp: return "grasp";
-    case GraspPhase::kClose: return "close";
-    case GraspPhase::kDone: return "done";
-    case GraspPhase::kTimedOut: return "timed out";
+    case GraspPhase::kPreCatch:
+      return "pre-catch";
+    case GraspPhase::kGrasp:
+      return "grasp";
+    case GraspPhase::kClose:
+      return "close";
+    case GraspPhase::kDone:
+      return "done";
+    case GraspPhase::kTimedOut:
+      return "timed out";
   }
   return "?";
 }
@@ -43,8 +48,8 @@ void GraspSequence::SetGrasp(const Eigen::Isometry3d& bMg, double stamp_s, bool 
   SetGrasp(bMg, PreCatchPose(bMg), stamp_s, is_switch);
 }
 
-void GraspSequence::SetGrasp(const Eigen::Isometry3d& bMg, const Eigen::Isometry3d& bMp, double stamp_s,
-                             bool is_switch) {
+void GraspSequence::SetGrasp(const Eigen::Isometry3d& bMg, const Eigen::Isometry3d& bMp,
+                             double stamp_s, bool is_switch) {
   bMg_ = bMg;
   bMp_ = bMp;
   grasp_stamp_s_ = stamp_s;
@@ -85,7 +90,8 @@ GraspPhase GraspSequence::Step(const Eigen::VectorXd& q, double now_s, double dt
       Enter(GraspPhase::kTimedOut, now_s);
     }
   };
-  at_precatch_ = phase_ == GraspPhase::kPreCatch && moving && config_.precatch_tolerance.Met(out->joints.error);
+  at_precatch_ = phase_ == GraspPhase::kPreCatch && moving &&
+                 config_.precatch_tolerance.Met(out->joints.error);
   switch (phase_) {
     case GraspPhase::kPreCatch:
       if (at_precatch_ && hold_at_precatch_) {

@@ -18,9 +18,9 @@ struct GraspSequenceConfig {
   double precatch_distance_m{0.08};  ///< pre-catch pose: back along the grasp's z, (0, 0.5] m
   PoseTolerance precatch_tolerance{0.005, 0.05, 0.1};  ///< pre-catch counts as reached
   PoseTolerance grasp_tolerance{0.002, 0.02, 0.05};    ///< grasp pose counts as reached
-  double precatch_timeout_s{6.0};    ///< to reach the pre-catch pose, (0, 600] s
-  double grasp_timeout_s{3.0};       ///< from the pre-catch to the grasp pose, (0, 600] s
-  double close_time_s{0.8};          ///< gripper closing (PlatformConfig gripper), (0, 10] s
+  double precatch_timeout_s{6.0};                      ///< to reach the pre-catch pose, (0, 600] s
+  double grasp_timeout_s{3.0};  ///< from the pre-catch to the grasp pose, (0, 600] s
+  double close_time_s{0.8};     ///< gripper closing (PlatformConfig gripper), (0, 10] s
 
   /// @throws ConfigError "<source>: grasp_sequence.<field>: ..." for bad values.
   void Validate(const std::string& source) const;
@@ -35,13 +35,12 @@ enum class GraspPhase {
 };
 const char* GraspPhaseName(GraspPhase phase);
 
-
 struct GraspCommand {
-  ServoCommand joints;                        ///< the arm's command (zero dq on hold)
+  ServoCommand joints;  ///< the arm's command (zero dq on hold)
   ServoStatus servo_status = ServoStatus::kNoTarget;
   GripperCommand gripper = GripperCommand::kOpen;
-  GraspPhase phase = GraspPhase::kPreCatch;   ///< after this step
-  double phase_time_s = 0.0;                  ///< time spent in `phase` so far
+  GraspPhase phase = GraspPhase::kPreCatch;  ///< after this step
+  double phase_time_s = 0.0;                 ///< time spent in `phase` so far
 };
 
 class GraspSequence {
@@ -59,7 +58,8 @@ class GraspSequence {
   /// The same with the pre-catch pose given (e.g. the planner's, which a 4-DoF
   /// arm reaches: moving straight back along a grasp's approach axis turns that
   /// axis, so PreCatchPose(bMg) itself may be out of its reach).
-  void SetGrasp(const Eigen::Isometry3d& bMg, const Eigen::Isometry3d& bMp, double stamp_s, bool is_switch = false);
+  void SetGrasp(const Eigen::Isometry3d& bMg, const Eigen::Isometry3d& bMp, double stamp_s,
+                bool is_switch = false);
 
   /// One cycle: servo toward the phase's pose, advance the phase. Never throws.
   /// A servo hold (stale or invalid target, unreachable, safe volume) holds the

@@ -17,8 +17,8 @@ ApproachError ComputeApproachError(const Eigen::Isometry3d& bMe, const Eigen::Is
   const double sin_a = cross.norm(), cos_a = z_e.dot(z_g);
   error.approach_rad = std::atan2(sin_a, cos_a);
   // Swing axis: along z_e x z_g; when they are (anti)parallel any axis normal to z_e does.
-  const Eigen::Vector3d axis = sin_a > 1e-12 ? Eigen::Vector3d(cross / sin_a)
-                                             : Eigen::Vector3d(bMe.linear().col(0));
+  const Eigen::Vector3d axis =
+      sin_a > 1e-12 ? Eigen::Vector3d(cross / sin_a) : Eigen::Vector3d(bMe.linear().col(0));
   error.swing_b = axis * error.approach_rad;
   const Eigen::Vector3d x_swung = Eigen::AngleAxisd(error.approach_rad, axis) * bMe.linear().col(0);
   const Eigen::Vector3d x_g = bMg.linear().col(0);
@@ -29,7 +29,8 @@ ApproachError ComputeApproachError(const Eigen::Isometry3d& bMe, const Eigen::Is
 Eigen::VectorXd DrawJointsWithinLimits(const ArmModel& arm, std::mt19937* rng) {
   Eigen::VectorXd q(arm.dof());
   for (int i = 0; i < arm.dof(); ++i) {
-    q[i] = std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(*rng);
+    q[i] =
+        std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(*rng);
   }
   return q;
 }
@@ -45,12 +46,13 @@ void ApproachIkOptions::Validate(const std::string& source, const std::string& k
   CheckRange(source, key + ".random_seeds", random_seeds, 0, 10000, "");
   CheckRange(source, key + ".max_step_rad", max_step_rad, 1e-6, 3.0, "rad");
   tolerance.Validate(source, key + ".tolerance");
-  CheckRange(source, key + ".damping.singular_threshold", damping.singular_threshold, 1e-9, 1.0, "");
+  CheckRange(source, key + ".damping.singular_threshold", damping.singular_threshold, 1e-9, 1.0,
+             "");
   CheckRange(source, key + ".damping.max_damping", damping.max_damping, 1e-9, 1.0, "");
 }
 
 ApproachIk::ApproachIk(const ArmModel& arm, const ApproachIkOptions& options,
-             const Eigen::Vector3d& orientation_weights)
+                       const Eigen::Vector3d& orientation_weights)
     : arm_(arm), options_(options), weights_(orientation_weights) {
   options_.Validate("ik options", "ik");
 }
@@ -75,7 +77,7 @@ double Badness(const ApproachError& e) {
 }  // namespace
 
 ApproachIkResult ApproachIk::SolveFrom(const Eigen::Isometry3d& bMg, const Eigen::VectorXd& q_seed,
-                          int max_iterations) const {
+                                       int max_iterations) const {
   const int n = arm_.dof();
   ApproachIkResult best;
   best.q = arm_.Clamp(q_seed);
@@ -106,8 +108,7 @@ ApproachIkResult ApproachIk::SolveFrom(const Eigen::Isometry3d& bMg, const Eigen
     // singularities of the 4-DoF arm only the approach axis tells the
     // position's branches apart, so it must act on every joint.
     const Eigen::Matrix3d bRe = bMe.linear();
-    const Eigen::Matrix3d W_b =
-        kRotationScaleM * bRe * weights_.asDiagonal() * bRe.transpose();
+    const Eigen::Matrix3d W_b = kRotationScaleM * bRe * weights_.asDiagonal() * bRe.transpose();
     Eigen::Matrix<double, 6, 1> e;
     e.head<3>() = error.position_b;
     e.tail<3>() = W_b * (error.swing_b + error.roll_rad * bRe.col(2));
@@ -148,9 +149,9 @@ ApproachIkResult ApproachIk::SolveFrom(const Eigen::Isometry3d& bMg, const Eigen
   return best;
 }
 
-ApproachIkResult ApproachIk::Search(const Eigen::Isometry3d& bMg, const std::vector<Eigen::VectorXd>& seeds,
-                       unsigned rng_seed,
-                       const std::function<bool(const Eigen::VectorXd&)>& accept) const {
+ApproachIkResult ApproachIk::Search(
+    const Eigen::Isometry3d& bMg, const std::vector<Eigen::VectorXd>& seeds, unsigned rng_seed,
+    const std::function<bool(const Eigen::VectorXd&)>& accept) const {
   const int n = arm_.dof();
   ApproachIkResult best;
   best.q = seeds.empty() ? arm_.Clamp(Eigen::VectorXd::Zero(n)) : arm_.Clamp(seeds.front());

@@ -21,9 +21,9 @@ namespace aerograsp {
 /// approach axis z_e onto z_g, and the roll about z_g left after it.
 struct ApproachError {
   Eigen::Vector3d position_b = Eigen::Vector3d::Zero();  ///< p_g - p_e in b (m)
-  Eigen::Vector3d swing_b = Eigen::Vector3d::Zero();  ///< axis * angle of the swing, in b (rad)
-  double approach_rad = 0.0;                          ///< angle between z_e and z_g, [0, pi]
-  double roll_rad = 0.0;                              ///< signed roll about z_g, [-pi, pi]
+  Eigen::Vector3d swing_b = Eigen::Vector3d::Zero();     ///< axis * angle of the swing, in b (rad)
+  double approach_rad = 0.0;                             ///< angle between z_e and z_g, [0, pi]
+  double roll_rad = 0.0;                                 ///< signed roll about z_g, [-pi, pi]
 };
 /// Both poses must be rigid transforms. At z_e = -z_g the swing turns about x_e.
 ApproachError ComputeApproachError(const Eigen::Isometry3d& bMe, const Eigen::Isometry3d& bMg);
@@ -35,9 +35,9 @@ Eigen::VectorXd DrawJointsWithinLimits(const ArmModel& arm, std::mt19937* rng);
 /// (its roll joint j3 sets the roll); the roll tolerance may be set to pi to
 /// leave the roll out.
 struct PoseTolerance {
-  double position_m{1e-3};     ///< |p_g - p_e|, (0, 1] m
-  double approach_rad{0.01};   ///< angle between the approach axes, (0, pi] rad
-  double roll_rad{0.02};       ///< roll about the approach axis, (0, pi] rad
+  double position_m{1e-3};    ///< |p_g - p_e|, (0, 1] m
+  double approach_rad{0.01};  ///< angle between the approach axes, (0, pi] rad
+  double roll_rad{0.02};      ///< roll about the approach axis, (0, pi] rad
 
   bool Met(const ApproachError& error) const {
     return error.position_b.norm() <= position_m && error.approach_rad <= approach_rad &&
@@ -48,11 +48,11 @@ struct PoseTolerance {
 };
 
 struct ApproachIkOptions {
-  int iterations_per_seed{60};      ///< damped Newton iterations from one seed, [1, 10000]
-  int random_seeds{24};             ///< seeds drawn in the limits after the given ones, [0, 10000]
-  double max_step_rad{0.4};         ///< largest joint change per iteration, (0, 3] rad
+  int iterations_per_seed{60};  ///< damped Newton iterations from one seed, [1, 10000]
+  int random_seeds{24};         ///< seeds drawn in the limits after the given ones, [0, 10000]
+  double max_step_rad{0.4};     ///< largest joint change per iteration, (0, 3] rad
   PoseTolerance tolerance{1e-4, 1e-3, 1e-3};  ///< what a solution must meet
-  DampingOptions damping{0.02, 0.02};  ///< max_damping is also capped by the error (m)
+  DampingOptions damping{0.02, 0.02};         ///< max_damping is also capped by the error (m)
 
   /// @throws ConfigError naming `source` and the key.
   void Validate(const std::string& source, const std::string& key) const;
@@ -60,9 +60,9 @@ struct ApproachIkOptions {
 
 struct ApproachIkResult {
   bool converged = false;
-  Eigen::VectorXd q;        ///< the solution (rad), within limits; the best iterate when not converged
-  ApproachError error;      ///< at q
-  int iterations = 0;       ///< in all seeds
+  Eigen::VectorXd q;    ///< the solution (rad), within limits; the best iterate when not converged
+  ApproachError error;  ///< at q
+  int iterations = 0;   ///< in all seeds
 };
 
 /// Damped least squares IK of one arm: each iteration solves position and the
@@ -76,18 +76,19 @@ class ApproachIk {
   /// `arm` must outlive the solver. orientation_weights: of the error about the
   /// tool's x, y (approach) and z (roll) axes, [0, 1].
   ApproachIk(const ArmModel& arm, const ApproachIkOptions& options,
-        const Eigen::Vector3d& orientation_weights = Eigen::Vector3d::Ones());
+             const Eigen::Vector3d& orientation_weights = Eigen::Vector3d::Ones());
 
   /// Iterates from one seed (clamped into the limits) toward bMg.
   ApproachIkResult SolveFrom(const Eigen::Isometry3d& bMg, const Eigen::VectorXd& q_seed,
-                     int max_iterations) const;
+                             int max_iterations) const;
 
   /// Tries the `seeds` in order, then options.random_seeds seeds drawn uniformly
   /// in the limits from a generator seeded with `rng_seed` (so the search is
   /// repeatable). Returns the first converged solution q* that `accept(q*)`
   /// takes (an empty accept takes any), or the best non-converged iterate.
   ApproachIkResult Search(const Eigen::Isometry3d& bMg, const std::vector<Eigen::VectorXd>& seeds,
-                  unsigned rng_seed, const std::function<bool(const Eigen::VectorXd&)>& accept) const;
+                          unsigned rng_seed,
+                          const std::function<bool(const Eigen::VectorXd&)>& accept) const;
 
   /// The error the solver drives to zero, with weights applied (for tests).
   bool Converged(const ApproachError& error) const;

@@ -94,7 +94,8 @@ std::array<std::uint8_t, 6> Signature(const std::array<std::uint8_t, 32>& secret
   return out;
 }
 
-std::vector<std::uint8_t> Encoder::Encode(std::uint32_t msgid, const std::vector<std::uint8_t>& payload,
+std::vector<std::uint8_t> Encoder::Encode(std::uint32_t msgid,
+                                          const std::vector<std::uint8_t>& payload,
                                           std::optional<std::uint64_t> timestamp) {
   const MessageInfo* info = FindMessage(msgid);
   assert(info != nullptr && payload.size() <= kMaxPayload);
@@ -144,7 +145,8 @@ Parser::Result Parser::Push(std::uint8_t byte) {
       ++counters_.unsupported_flags;
       return Result::kUnsupportedFlags;
     }
-    expected_ = kHeaderLength + buffer_[1] + 2 + ((incompat & kIncompatSigned) ? kSignatureLength : 0);
+    expected_ =
+        kHeaderLength + buffer_[1] + 2 + ((incompat & kIncompatSigned) ? kSignatureLength : 0);
   }
   if (buffer_.size() < kHeaderLength || buffer_.size() < expected_) return Result::kNeedMore;
   const Result result = Finish();
@@ -154,7 +156,8 @@ Parser::Result Parser::Push(std::uint8_t byte) {
 
 Parser::Result Parser::Finish() {
   const std::uint8_t length = buffer_[1];
-  const std::uint32_t msgid = buffer_[7] | (buffer_[8] << 8) | (static_cast<std::uint32_t>(buffer_[9]) << 16);
+  const std::uint32_t msgid =
+      buffer_[7] | (buffer_[8] << 8) | (static_cast<std::uint32_t>(buffer_[9]) << 16);
   const MessageInfo* info = FindMessage(msgid);
   if (!info) {
     ++counters_.unknown_message;
@@ -172,14 +175,16 @@ Parser::Result Parser::Finish() {
   std::uint64_t timestamp = 0;
   if (is_signed) {
     link_id = buffer_[crc_at + 2];
-    for (int i = 0; i < 6; ++i) timestamp |= static_cast<std::uint64_t>(buffer_[crc_at + 3 + i]) << (8 * i);
+    for (int i = 0; i < 6; ++i)
+      timestamp |= static_cast<std::uint64_t>(buffer_[crc_at + 3 + i]) << (8 * i);
   }
   if (secret_) {
     if (!is_signed) {
       ++counters_.bad_signature;
       return Result::kBadSignature;
     }
-    const std::array<std::uint8_t, 6> expected = Signature(*secret_, buffer_.data(), crc_at + 3, timestamp);
+    const std::array<std::uint8_t, 6> expected =
+        Signature(*secret_, buffer_.data(), crc_at + 3, timestamp);
     const auto key = std::make_tuple(buffer_[5], buffer_[6], link_id);
     const auto last = last_timestamps_.find(key);
     if (std::memcmp(expected.data(), buffer_.data() + crc_at + 9, 6) != 0 ||
@@ -195,7 +200,8 @@ Parser::Result Parser::Finish() {
   frame_.sysid = buffer_[5];
   frame_.compid = buffer_[6];
   frame_.msgid = msgid;
-  frame_.payload.assign(buffer_.begin() + kHeaderLength, buffer_.begin() + static_cast<std::ptrdiff_t>(crc_at));
+  frame_.payload.assign(buffer_.begin() + kHeaderLength,
+                        buffer_.begin() + static_cast<std::ptrdiff_t>(crc_at));
   frame_.is_signed = is_signed;
   frame_.link_id = link_id;
   frame_.timestamp = timestamp;

@@ -2,7 +2,8 @@
 // message's CRC_EXTRA, payload truncation of trailing zeros, incompatibility
 // flags, and optional packet signing (SHA-256, 6-byte signature).
 //   STX(0xFD) LEN INCOMPAT COMPAT SEQ SYSID COMPID MSGID(3, LE) PAYLOAD CRC(2, LE) [SIGNATURE(13)]
-//   signature: LINK_ID TIMESTAMP(6, LE, 10 us since 2015-01-01) SHA256(key, frame..link_id, timestamp)[0..5]
+//   signature: LINK_ID TIMESTAMP(6, LE, 10 us since 2015-01-01) SHA256(key, frame..link_id,
+//   timestamp)[0..5]
 // The parser never reads past what it was given and keeps at most one frame.
 #pragma once
 
@@ -55,7 +56,7 @@ struct Frame {
   std::vector<std::uint8_t> payload;  ///< as on the wire (trailing zeros may be cut)
   bool is_signed = false;
   std::uint8_t link_id = 0;
-  std::uint64_t timestamp = 0;        ///< 10 us units since 2015-01-01 (48 bits)
+  std::uint64_t timestamp = 0;  ///< 10 us units since 2015-01-01 (48 bits)
 };
 
 /// Serialises frames of one sender and counts its sequence.
@@ -96,10 +97,19 @@ struct ParserCounters {
 /// Splits bytes into frames. Resynchronises on the next STX after any error.
 class Parser {
  public:
-  enum class Result { kNeedMore, kFrame, kBadCrc, kUnknownMessage, kBadSignature, kUnsupportedFlags };
+  enum class Result {
+    kNeedMore,
+    kFrame,
+    kBadCrc,
+    kUnknownMessage,
+    kBadSignature,
+    kUnsupportedFlags
+  };
   /// With a key, only frames signed with it (and with a timestamp newer than
   /// the last from the same sysid, compid, link) are accepted.
-  void RequireSigning(const std::optional<std::array<std::uint8_t, 32>>& secret) { secret_ = secret; }
+  void RequireSigning(const std::optional<std::array<std::uint8_t, 32>>& secret) {
+    secret_ = secret;
+  }
   Result Push(std::uint8_t byte);
   /// Valid after kFrame until the next Push.
   const Frame& frame() const { return frame_; }

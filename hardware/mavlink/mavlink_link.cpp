@@ -33,8 +33,8 @@ std::string AddressText(const sockaddr_in& a) {
 
 static_assert(sizeof(sockaddr_in) <= 16, "remote_ holds a sockaddr_in");
 
-UdpLink::UdpLink(const std::string& local_host, int local_port, const std::string& remote_host, int remote_port,
-                 const std::string& device)
+UdpLink::UdpLink(const std::string& local_host, int local_port, const std::string& remote_host,
+                 int remote_port, const std::string& device)
     : local_host_(local_host.empty() ? "0.0.0.0" : local_host) {
   const std::string where = "udp " + local_host_ + ":" + std::to_string(local_port);
   sockaddr_in local{};

@@ -30,8 +30,8 @@ class MavlinkLink {
 class UdpLink : public MavlinkLink {
  public:
   /// @throws HardwareError "<device>: cannot bind udp <host>:<port>: <reason>".
-  UdpLink(const std::string& local_host, int local_port, const std::string& remote_host, int remote_port,
-          const std::string& device);
+  UdpLink(const std::string& local_host, int local_port, const std::string& remote_host,
+          int remote_port, const std::string& device);
   ~UdpLink() override;
   UdpLink(const UdpLink&) = delete;
   UdpLink& operator=(const UdpLink&) = delete;
@@ -55,11 +55,15 @@ class SerialLink : public MavlinkLink {
  public:
   /// @throws HardwareError naming the device and the port.
   SerialLink(const std::string& path, int baud, const std::string& device);
-  bool Send(const std::vector<std::uint8_t>& bytes) override { return port_.Write(bytes.data(), bytes.size()); }
+  bool Send(const std::vector<std::uint8_t>& bytes) override {
+    return port_.Write(bytes.data(), bytes.size());
+  }
   std::size_t Receive(std::uint8_t* data, std::size_t capacity, double timeout_s) override {
     return port_.ReadSome(data, capacity, timeout_s);
   }
-  std::string Describe() const override { return "serial " + port_.path() + " " + std::to_string(baud_); }
+  std::string Describe() const override {
+    return "serial " + port_.path() + " " + std::to_string(baud_);
+  }
 
  private:
   SerialPort port_;

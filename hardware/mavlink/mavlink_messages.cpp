@@ -7,14 +7,22 @@ namespace mavlink {
 
 const char* MavResultName(std::uint8_t result) {
   switch (result) {
-    case kResultAccepted: return "accepted";
-    case kResultTemporarilyRejected: return "temporarily rejected";
-    case kResultDenied: return "denied";
-    case kResultUnsupported: return "unsupported";
-    case kResultFailed: return "failed";
-    case kResultInProgress: return "in progress";
-    case kResultCancelled: return "cancelled";
-    default: return "unknown result";
+    case kResultAccepted:
+      return "accepted";
+    case kResultTemporarilyRejected:
+      return "temporarily rejected";
+    case kResultDenied:
+      return "denied";
+    case kResultUnsupported:
+      return "unsupported";
+    case kResultFailed:
+      return "failed";
+    case kResultInProgress:
+      return "in progress";
+    case kResultCancelled:
+      return "cancelled";
+    default:
+      return "unknown result";
   }
 }
 

@@ -11,7 +11,9 @@ namespace {
 
 using Steady = std::chrono::steady_clock;
 
-double SecondsSince(Steady::time_point t0) { return std::chrono::duration<double>(Steady::now() - t0).count(); }
+double SecondsSince(Steady::time_point t0) {
+  return std::chrono::duration<double>(Steady::now() - t0).count();
+}
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr double kThreadPeriod_s = 0.01;
@@ -22,18 +24,21 @@ Px4Autopilot::Px4Autopilot(std::unique_ptr<MavlinkLink> link, const Px4Config& c
     : config_(config),
       clock_(std::move(clock)),
       link_(std::move(link)),
-      encoder_(static_cast<std::uint8_t>(config.system_id), static_cast<std::uint8_t>(config.component_id)) {
+      encoder_(static_cast<std::uint8_t>(config.system_id),
+               static_cast<std::uint8_t>(config.component_id)) {
   if (!config.signing_key_hex.empty()) {
     const auto key = mavlink::ParseKeyHex(config.signing_key_hex);
     if (!key) throw HardwareError("autopilot: signing key is not 64 hex digits");
-    encoder_.SetSigning(mavlink::SigningKey{*key, static_cast<std::uint8_t>(config.signing_link_id)});
+    encoder_.SetSigning(
+        mavlink::SigningKey{*key, static_cast<std::uint8_t>(config.signing_link_id)});
     parser_.RequireSigning(*key);
   }
 }
 
 Px4Autopilot::~Px4Autopilot() { StopThread(); }
 
-template <class M> void Px4Autopilot::Send(const M& message) {
+template <class M>
+void Px4Autopilot::Send(const M& message) {
   std::lock_guard<std::mutex> lock(send_mutex_);
   link_->Send(encoder_.Encode(M::kId, mavlink::Pack(message)));
 }
@@ -47,8 +52,9 @@ void Px4Autopilot::Connect() {
     if (heard_) return;
   }
   throw HardwareError("autopilot (" + link_->Describe() + "): no heartbeat from system " +
-                      std::to_string(config_.target_system) + " component " + std::to_string(config_.target_component) +
-                      " within " + std::to_string(config_.connect_timeout_s).substr(0, 4) + " s");
+                      std::to_string(config_.target_system) + " component " +
+                      std::to_string(config_.target_component) + " within " +
+                      std::to_string(config_.connect_timeout_s).substr(0, 4) + " s");
 }
 
 void Px4Autopilot::ReceiveFor(double timeout_s) {
@@ -70,7 +76,8 @@ void Px4Autopilot::Handle(const mavlink::Frame& frame) {
   std::lock_guard<std::mutex> lock(mutex_);
   switch (frame.msgid) {
     case mavlink::Heartbeat::kId: {
-      if (frame.compid != config_.target_component) return;  // a camera or gimbal of the same system
+      if (frame.compid != config_.target_component)
+        return;  // a camera or gimbal of the same system
       const auto hb = mavlink::Unpack<mavlink::Heartbeat>(frame);
       armed_ = hb.base_mode & mavlink::kModeFlagSafetyArmed;
       custom_mode_ = hb.custom_mode;
@@ -104,7 +111,8 @@ void Px4Autopilot::Handle(const mavlink::Frame& frame) {
       return;
     case mavlink::CommandAck::kId: {
       const auto ack = mavlink::Unpack<mavlink::CommandAck>(frame);
-      if (ack.target_system != 0 && ack.target_system != config_.system_id) return;  // someone else's
+      if (ack.target_system != 0 && ack.target_system != config_.system_id)
+        return;  // someone else's
       acks_[ack.command] = {ack.result, ++ack_serial_};
       ack_cv_.notify_all();
       return;
@@ -129,8 +137,8 @@ void Px4Autopilot::SendDue(double now_s) {
   }
   if (heartbeat) {
     mavlink::Heartbeat hb;
-    hb.type = 18;       // MAV_TYPE_ONBOARD_CONTROLLER
-    hb.autopilot = 8;   // MAV_AUTOPILOT_INVALID: not an autopilot
+    hb.type = 18;          // MAV_TYPE_ONBOARD_CONTROLLER
+    hb.autopilot = 8;      // MAV_AUTOPILOT_INVALID: not an autopilot
     hb.system_status = 4;  // MAV_STATE_ACTIVE
     Send(hb);
   }
@@ -195,7 +203,8 @@ VehicleState Px4Autopilot::State() const {
   std::lock_guard<std::mutex> lock(mutex_);
   VehicleState state = telemetry_;
   state.link_ok = ok;
-  const std::uint8_t main = mavlink::px4::MainMode(custom_mode_), sub = mavlink::px4::SubMode(custom_mode_);
+  const std::uint8_t main = mavlink::px4::MainMode(custom_mode_),
+                     sub = mavlink::px4::SubMode(custom_mode_);
   if (!armed_) {
     state.mode = FlightMode::kDisarmed;
   } else if (landed_state_ == mavlink::kLandedOnGround) {
@@ -212,7 +221,8 @@ VehicleState Px4Autopilot::State() const {
   return state;
 }
 
-bool Px4Autopilot::WaitForAck(std::uint16_t command, std::int64_t after_serial, double timeout_s, Ack* ack) {
+bool Px4Autopilot::WaitForAck(std::uint16_t command, std::int64_t after_serial, double timeout_s,
+                              Ack* ack) {
   const auto t0 = Steady::now();
   auto fresh = [&] {
     const auto it = acks_.find(command);
@@ -224,7 +234,8 @@ bool Px4Autopilot::WaitForAck(std::uint16_t command, std::int64_t after_serial, 
     const double left = timeout_s - SecondsSince(t0);
     if (running_.load()) {  // the thread receives; wait for it
       std::unique_lock<std::mutex> lock(mutex_);
-      if (ack_cv_.wait_for(lock, std::chrono::duration<double>(std::max(0.0, left)), fresh)) return true;
+      if (ack_cv_.wait_for(lock, std::chrono::duration<double>(std::max(0.0, left)), fresh))
+        return true;
       if (left <= 0.0) return false;
       continue;
     }
@@ -237,7 +248,8 @@ bool Px4Autopilot::WaitForAck(std::uint16_t command, std::int64_t after_serial, 
   }
 }
 
-CommandAck Px4Autopilot::Command(std::uint16_t command, const std::array<float, 7>& params, const char* name) {
+CommandAck Px4Autopilot::Command(std::uint16_t command, const std::array<float, 7>& params,
+                                 const char* name) {
   for (int attempt = 0; attempt < config_.command_attempts; ++attempt) {
     std::int64_t serial;
     {
@@ -270,11 +282,14 @@ CommandAck Px4Autopilot::Command(std::uint16_t command, const std::array<float, 
       return {false, reason};
     }
   }
-  return {false, std::string(name) + ": no COMMAND_ACK after " + std::to_string(config_.command_attempts) +
-                     " attempts (" + link_->Describe() + ")"};
+  return {false, std::string(name) + ": no COMMAND_ACK after " +
+                     std::to_string(config_.command_attempts) + " attempts (" + link_->Describe() +
+                     ")"};
 }
 
-CommandAck Px4Autopilot::Arm() { return Command(mavlink::kCmdComponentArmDisarm, {1, 0, 0, 0, 0, 0, 0}, "arm"); }
+CommandAck Px4Autopilot::Arm() {
+  return Command(mavlink::kCmdComponentArmDisarm, {1, 0, 0, 0, 0, 0, 0}, "arm");
+}
 
 CommandAck Px4Autopilot::Disarm() {
   return Command(mavlink::kCmdComponentArmDisarm, {0, 0, 0, 0, 0, 0, 0}, "disarm");
@@ -287,7 +302,8 @@ CommandAck Px4Autopilot::Takeoff(double altitude_m) {
   }
   // param4 yaw, param5/6 latitude/longitude NaN: keep the present ones; param7 AMSL altitude.
   return Command(mavlink::kCmdNavTakeoff,
-                 {0, 0, 0, kNaN, kNaN, kNaN, static_cast<float>(config_.home_amsl_m + altitude_m)}, "take-off");
+                 {0, 0, 0, kNaN, kNaN, kNaN, static_cast<float>(config_.home_amsl_m + altitude_m)},
+                 "take-off");
 }
 
 CommandAck Px4Autopilot::Land() {
@@ -304,7 +320,8 @@ CommandAck Px4Autopilot::Hold() {
     streaming_ = offboard_accepted_ = offboard_seen_ = false;
   }
   return Command(mavlink::kCmdDoSetMode,
-                 {mavlink::kModeFlagCustomModeEnabled, mavlink::px4::kMainAuto, mavlink::px4::kAutoLoiter, 0, 0, 0, 0},
+                 {mavlink::kModeFlagCustomModeEnabled, mavlink::px4::kMainAuto,
+                  mavlink::px4::kAutoLoiter, 0, 0, 0, 0},
                  "hold");
 }
 
@@ -329,7 +346,8 @@ CommandAck Px4Autopilot::SetPositionTarget(const Eigen::Vector3d& p_w, double ya
   }
   // PX4 switches to offboard only while setpoints are arriving: stream first.
   const auto t0 = Steady::now();
-  const auto period = std::chrono::duration_cast<Steady::duration>(std::chrono::duration<double>(1.0 / config_.setpoint_hz));
+  const auto period = std::chrono::duration_cast<Steady::duration>(
+      std::chrono::duration<double>(1.0 / config_.setpoint_hz));
   auto next = t0;
   while (SecondsSince(t0) < config_.prestream_s) {
     if (Steady::now() >= next) {
@@ -343,9 +361,10 @@ CommandAck Px4Autopilot::SetPositionTarget(const Eigen::Vector3d& p_w, double ya
     }
   }
   SendSetpoint();
-  const CommandAck ack = Command(mavlink::kCmdDoSetMode,
-                                 {mavlink::kModeFlagCustomModeEnabled, mavlink::px4::kMainOffboard, 0, 0, 0, 0, 0},
-                                 "offboard");
+  const CommandAck ack =
+      Command(mavlink::kCmdDoSetMode,
+              {mavlink::kModeFlagCustomModeEnabled, mavlink::px4::kMainOffboard, 0, 0, 0, 0, 0},
+              "offboard");
   std::lock_guard<std::mutex> lock(mutex_);
   offboard_accepted_ = ack.accepted;
   offboard_seen_ = false;

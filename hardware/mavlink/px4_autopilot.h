@@ -17,8 +17,8 @@
 // Autopilot methods are thread-safe; commands block until acknowledged.
 #pragma once
 
-#include <condition_variable>
 #include <atomic>
+#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -35,27 +35,29 @@
 namespace aerograsp {
 
 struct Px4Config {
-  std::string link{"udp"};             ///< "udp" | "serial"
+  std::string link{"udp"};  ///< "udp" | "serial"
   std::string udp_local_host{"0.0.0.0"};
-  int udp_local_port{14540};           ///< PX4 SITL sends to 14540; [0, 65535], 0 = any
+  int udp_local_port{14540};  ///< PX4 SITL sends to 14540; [0, 65535], 0 = any
   std::string udp_remote_host{"127.0.0.1"};
-  int udp_remote_port{0};              ///< 0: answer whoever sends (PX4 SITL); [0, 65535]
+  int udp_remote_port{0};  ///< 0: answer whoever sends (PX4 SITL); [0, 65535]
   std::string serial_port{"/dev/ttyACM0"};
   int baud{921600};
-  int system_id{1};                    ///< ours, [1, 255] (same system as the vehicle)
-  int component_id{191};               ///< ours: MAV_COMP_ID_ONBOARD_COMPUTER, [1, 255]
-  int target_system{1};                ///< the autopilot's, [1, 255]
-  int target_component{1};             ///< [1, 255]
-  double heartbeat_hz{1.0};            ///< (0, 50] Hz
-  double setpoint_hz{20.0};            ///< offboard stream, [10, 200] Hz (PX4 needs >= 2)
-  double prestream_s{0.3};             ///< stream before switching to offboard, [0.1, 5] s
-  double command_timeout_s{0.3};       ///< wait for a COMMAND_ACK, (0, 10] s
-  int command_attempts{3};             ///< sends of a command before giving up, [1, 10]
-  double link_timeout_s{1.0};          ///< no heartbeat for this long: link lost, (0, 60] s
-  double connect_timeout_s{3.0};       ///< wait for the first heartbeat, (0, 120] s
-  double home_amsl_m{0.0};             ///< altitude of the take-off point above sea level (NAV_TAKEOFF wants AMSL), m
-  std::string signing_key_hex;         ///< 64 hex digits: sign what we send and require signed frames; empty = off
-  int signing_link_id{0};              ///< [0, 255]
+  int system_id{1};               ///< ours, [1, 255] (same system as the vehicle)
+  int component_id{191};          ///< ours: MAV_COMP_ID_ONBOARD_COMPUTER, [1, 255]
+  int target_system{1};           ///< the autopilot's, [1, 255]
+  int target_component{1};        ///< [1, 255]
+  double heartbeat_hz{1.0};       ///< (0, 50] Hz
+  double setpoint_hz{20.0};       ///< offboard stream, [10, 200] Hz (PX4 needs >= 2)
+  double prestream_s{0.3};        ///< stream before switching to offboard, [0.1, 5] s
+  double command_timeout_s{0.3};  ///< wait for a COMMAND_ACK, (0, 10] s
+  int command_attempts{3};        ///< sends of a command before giving up, [1, 10]
+  double link_timeout_s{1.0};     ///< no heartbeat for this long: link lost, (0, 60] s
+  double connect_timeout_s{3.0};  ///< wait for the first heartbeat, (0, 120] s
+  double home_amsl_m{
+      0.0};  ///< altitude of the take-off point above sea level (NAV_TAKEOFF wants AMSL), m
+  std::string
+      signing_key_hex;  ///< 64 hex digits: sign what we send and require signed frames; empty = off
+  int signing_link_id{0};  ///< [0, 255]
 };
 
 class Px4Autopilot : public Autopilot {
@@ -101,13 +103,15 @@ class Px4Autopilot : public Autopilot {
     std::int64_t serial = 0;  // which arrival
   };
   CommandAck Command(std::uint16_t command, const std::array<float, 7>& params, const char* name);
-  /// Waits until an ACK of `command` newer than `after_serial` arrives or `timeout_s` (real) passes.
+  /// Waits until an ACK of `command` newer than `after_serial` arrives or `timeout_s` (real)
+  /// passes.
   bool WaitForAck(std::uint16_t command, std::int64_t after_serial, double timeout_s, Ack* ack);
   void ReceiveFor(double timeout_s);
   void Handle(const mavlink::Frame& frame);
   void SendDue(double now_s);
   void SendSetpoint();
-  template <class M> void Send(const M& message);
+  template <class M>
+  void Send(const M& message);
 
   Px4Config config_;
   Clock clock_;

@@ -10,9 +10,9 @@ namespace aerograsp {
 namespace {
 
 constexpr double kSimServoRange_rad = 220.0 * M_PI / 180.0;  // hardware/sim/world_config.h default
-constexpr int kGripperStillCounts = 3;     // smaller changes are noise
-constexpr double kGripperSettle_s = 0.15;  // no change for this long: stopped
-constexpr int kGripperAtGoalCounts = 12;   // within this of the goal: arrived
+constexpr int kGripperStillCounts = 3;                       // smaller changes are noise
+constexpr double kGripperSettle_s = 0.15;                    // no change for this long: stopped
+constexpr int kGripperAtGoalCounts = 12;                     // within this of the goal: arrived
 
 int SignedLoad(int raw) { return (raw & 0x400) ? -(raw & 0x3FF) : (raw & 0x3FF); }
 
@@ -34,35 +34,41 @@ ScsArmsConfig ScsArmsConfig::Default(const Platform& platform) {
 }
 
 ScsArmsDriver::ScsArmsDriver(const Platform& platform, const ScsArmsConfig& config, Clock clock)
-    : config_(config), clock_(std::move(clock)), max_aperture_m_(platform.config().gripper.max_aperture_m) {
+    : config_(config),
+      clock_(std::move(clock)),
+      max_aperture_m_(platform.config().gripper.max_aperture_m) {
   for (Side side : {Side::kLeft, Side::kRight}) {
     const int s = static_cast<int>(side);
     const ArmModel& arm = platform.arm(side);
     if (static_cast<int>(config.joints[s].size()) != arm.dof()) {
       throw HardwareError("servo bus " + config.port + ": " + SideName(side) + " arm has " +
-                          std::to_string(arm.dof()) + " joints but " + std::to_string(config.joints[s].size()) +
-                          " servos are configured");
+                          std::to_string(arm.dof()) + " joints but " +
+                          std::to_string(config.joints[s].size()) + " servos are configured");
     }
     arms_[s].lower = arm.lower_limits();
     arms_[s].upper = arm.upper_limits();
     arms_[s].measured = arms_[s].command = arms_[s].target = Eigen::VectorXd::Zero(arm.dof());
     for (int i = 0; i < arm.dof(); ++i) {
-      servos_.push_back({config.joints[s][i].id, std::string(SideName(side)) + " j" + std::to_string(i + 1)});
+      servos_.push_back(
+          {config.joints[s][i].id, std::string(SideName(side)) + " j" + std::to_string(i + 1)});
     }
     servos_.push_back({config.grippers[s].id, std::string(SideName(side)) + " gripper"});
   }
-  bus_ = std::make_unique<ScsBus>(std::make_unique<SerialPort>(config.port, config.baud, "servo bus"),
-                                  config.reply_timeout_s, config.local_echo);
+  bus_ =
+      std::make_unique<ScsBus>(std::make_unique<SerialPort>(config.port, config.baud, "servo bus"),
+                               config.reply_timeout_s, config.local_echo);
   // Every servo must answer before anything moves.
   std::vector<std::string> missing;
   for (ScsServoStatus& servo : servos_) {
     std::vector<std::uint8_t> data;
     BusStatus status = BusStatus::kTimeout;
     for (int attempt = 0; attempt < 3 && status != BusStatus::kOk; ++attempt) {
-      status = bus_->Read(static_cast<std::uint8_t>(servo.id), scs::reg::kPresentPosition, 2, &data, &servo.error);
+      status = bus_->Read(static_cast<std::uint8_t>(servo.id), scs::reg::kPresentPosition, 2, &data,
+                          &servo.error);
     }
     if (status != BusStatus::kOk) {
-      missing.push_back(std::to_string(servo.id) + " (" + servo.name + ", " + BusStatusName(status) + ")");
+      missing.push_back(std::to_string(servo.id) + " (" + servo.name + ", " +
+                        BusStatusName(status) + ")");
       continue;
     }
     servo.raw_position = scs::GetU16(data.data());
@@ -78,10 +84,13 @@ ScsArmsDriver::ScsArmsDriver(const Platform& platform, const ScsArmsConfig& conf
   for (Side side : {Side::kLeft, Side::kRight}) {
     const int s = static_cast<int>(side);
     for (int i = 0; i < arms_[s].measured.size(); ++i) {
-      arms_[s].measured[i] = config_.joints[s][i].AngleFromRaw(servos_[ServoIndex(side, i)].raw_position);
+      arms_[s].measured[i] =
+          config_.joints[s][i].AngleFromRaw(servos_[ServoIndex(side, i)].raw_position);
     }
     arms_[s].command = arms_[s].target = arms_[s].measured;
-    UpdateGripperState(side, servos_[ServoIndex(side, static_cast<int>(config_.joints[s].size()))].raw_position, now);
+    UpdateGripperState(
+        side, servos_[ServoIndex(side, static_cast<int>(config_.joints[s].size()))].raw_position,
+        now);
   }
   if (config_.torque_on_start) SetTorque(true);
 }
@@ -97,7 +106,8 @@ std::size_t ScsArmsDriver::ServoIndex(Side side, int joint) const {
 void ScsArmsDriver::SetJointTargets(Side side, const Eigen::VectorXd& q_rad) {
   std::lock_guard<std::mutex> lock(mutex_);
   ArmState& arm = arms_[static_cast<int>(side)];
-  if (q_rad.size() != arm.target.size() || !q_rad.allFinite()) return;  // not a command: keep the last
+  if (q_rad.size() != arm.target.size() || !q_rad.allFinite())
+    return;  // not a command: keep the last
   arm.target = q_rad.cwiseMax(arm.lower).cwiseMin(arm.upper);
   arm.target_stamp_s = clock_();
   arm.has_target = true;
@@ -146,7 +156,8 @@ BusCounters ScsArmsDriver::counters() const {
 BusStatus ScsArmsDriver::SetTorque(bool on) {
   std::vector<scs::SyncEntry> entries;
   for (const ScsServoStatus& servo : servos_) {
-    entries.push_back({static_cast<std::uint8_t>(servo.id), {static_cast<std::uint8_t>(on ? 1 : 0)}});
+    entries.push_back(
+        {static_cast<std::uint8_t>(servo.id), {static_cast<std::uint8_t>(on ? 1 : 0)}});
   }
   return bus_->SyncWrite(scs::reg::kTorqueEnable, 1, entries);
 }
@@ -167,7 +178,8 @@ void ScsArmsDriver::UpdateGripperState(Side side, int raw, double now_s) {
   state.moving = !at_goal && now_s - arm.gripper_changed_s < kGripperSettle_s;
   const bool closing = arm.gripper == GripperCommand::kClose;
   state.closed = closing && !state.moving;
-  state.holding = state.closed && !at_goal;  // stopped before closing fully: something is between the fingers
+  state.holding =
+      state.closed && !at_goal;  // stopped before closing fully: something is between the fingers
 }
 
 CycleReport ScsArmsDriver::Cycle() {
@@ -182,20 +194,23 @@ CycleReport ScsArmsDriver::Cycle() {
       const bool stale = !arm.has_target || now - arm.target_stamp_s > config_.stale_after_s;
       if (arm.has_target && stale) report.stale = true;
       if (!stale) {
-        const Eigen::VectorXd step =
-            (arm.target - arm.command).cwiseMax(-config_.max_step_rad).cwiseMin(config_.max_step_rad);
+        const Eigen::VectorXd step = (arm.target - arm.command)
+                                         .cwiseMax(-config_.max_step_rad)
+                                         .cwiseMin(config_.max_step_rad);
         arm.command += step;
       }
       for (int i = 0; i < arm.command.size(); ++i) {
         std::vector<std::uint8_t> data(6);
-        scs::PutU16(static_cast<std::uint16_t>(config_.joints[s][i].RawFromAngle(arm.command[i])), &data[0]);
+        scs::PutU16(static_cast<std::uint16_t>(config_.joints[s][i].RawFromAngle(arm.command[i])),
+                    &data[0]);
         scs::PutU16(static_cast<std::uint16_t>(config_.goal_time_ms), &data[2]);
         scs::PutU16(static_cast<std::uint16_t>(config_.goal_speed), &data[4]);
         entries.push_back({static_cast<std::uint8_t>(config_.joints[s][i].id), std::move(data)});
       }
       const GripperServoConfig& g = config_.grippers[s];
       std::vector<std::uint8_t> data(6);
-      scs::PutU16(static_cast<std::uint16_t>(arm.gripper == GripperCommand::kOpen ? g.raw_open : g.raw_closed),
+      scs::PutU16(static_cast<std::uint16_t>(arm.gripper == GripperCommand::kOpen ? g.raw_open
+                                                                                  : g.raw_closed),
                   &data[0]);
       scs::PutU16(static_cast<std::uint16_t>(config_.goal_time_ms), &data[2]);
       scs::PutU16(static_cast<std::uint16_t>(config_.goal_speed), &data[4]);
@@ -209,8 +224,8 @@ CycleReport ScsArmsDriver::Cycle() {
   std::vector<std::uint8_t> errors(servos_.size(), 0);
   for (std::size_t k = 0; k < servos_.size(); ++k) {
     std::vector<std::uint8_t> data;
-    if (bus_->Read(static_cast<std::uint8_t>(servos_[k].id), scs::reg::kPresentPosition, 2, &data, &errors[k]) ==
-        BusStatus::kOk) {
+    if (bus_->Read(static_cast<std::uint8_t>(servos_[k].id), scs::reg::kPresentPosition, 2, &data,
+                   &errors[k]) == BusStatus::kOk) {
       raw[k] = scs::GetU16(data.data());
     } else {
       ++report.failed_reads;
@@ -219,8 +234,8 @@ CycleReport ScsArmsDriver::Cycle() {
   const std::size_t status_index = next_status_;
   next_status_ = (next_status_ + 1) % servos_.size();
   std::vector<std::uint8_t> status_data;
-  const bool status_ok = bus_->Read(static_cast<std::uint8_t>(servos_[status_index].id), scs::reg::kPresentLoad, 4,
-                                    &status_data) == BusStatus::kOk;
+  const bool status_ok = bus_->Read(static_cast<std::uint8_t>(servos_[status_index].id),
+                                    scs::reg::kPresentLoad, 4, &status_data) == BusStatus::kOk;
 
   std::lock_guard<std::mutex> lock(mutex_);
   counters_ = bus_->counters();

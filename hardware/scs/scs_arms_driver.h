@@ -35,12 +35,13 @@ struct ScsArmsConfig {
   bool local_echo{false};            ///< the adapter echoes sent bytes (one-wire TTL boards)
   std::array<std::vector<ServoCalibration>, 2> joints;  ///< per side (left, right), one per joint
   std::array<GripperServoConfig, 2> grippers;           ///< per side
-  double stale_after_s{0.2};         ///< watchdog: hold when targets are older, (0, 10] s (FACTS: 0.2)
-  double max_step_rad{0.349};        ///< largest change of a command per cycle, (0, pi] rad (FACTS: 20 deg)
-  int goal_time_ms{0};               ///< GOAL_TIME register, 0 = as fast as allowed, [0, 65535]
-  int goal_speed{0};                 ///< GOAL_SPEED register, 0 = maximum, [0, 65535]
-  double rate_hz{100.0};             ///< cycle rate of the driver's thread, (0, 1000] Hz
-  bool torque_on_start{true};        ///< enable torque after reading the start positions
+  double stale_after_s{0.2};  ///< watchdog: hold when targets are older, (0, 10] s (FACTS: 0.2)
+  double max_step_rad{
+      0.349};             ///< largest change of a command per cycle, (0, pi] rad (FACTS: 20 deg)
+  int goal_time_ms{0};    ///< GOAL_TIME register, 0 = as fast as allowed, [0, 65535]
+  int goal_speed{0};      ///< GOAL_SPEED register, 0 = maximum, [0, 65535]
+  double rate_hz{100.0};  ///< cycle rate of the driver's thread, (0, 1000] Hz
+  bool torque_on_start{true};  ///< enable torque after reading the start positions
 
   /// IDs 10*k + i (arm k = 1 left, 2 right, joint i from 1) and gripper 10*k + 7
   /// (FACTS.md); each joint's raw 0 at its lower limit and raw 1023 220 deg above
@@ -51,9 +52,9 @@ struct ScsArmsConfig {
 /// What the driver knows of one servo.
 struct ScsServoStatus {
   int id = 0;
-  std::string name;        ///< "left j2", "right gripper"
-  int raw_position = -1;   ///< last good PRESENT_POSITION; -1 before the first
-  int load = 0;            ///< PRESENT_LOAD, signed (-1023 .. 1023)
+  std::string name;       ///< "left j2", "right gripper"
+  int raw_position = -1;  ///< last good PRESENT_POSITION; -1 before the first
+  int load = 0;           ///< PRESENT_LOAD, signed (-1023 .. 1023)
   double voltage_v = 0.0;
   int temperature_c = 0;
   std::uint8_t error = 0;  ///< last status error bits
@@ -61,8 +62,8 @@ struct ScsServoStatus {
 };
 
 struct CycleReport {
-  bool stale = false;        ///< the watchdog held the last command
-  int failed_reads = 0;      ///< position reads that failed this cycle
+  bool stale = false;    ///< the watchdog held the last command
+  int failed_reads = 0;  ///< position reads that failed this cycle
   BusStatus sync_write = BusStatus::kOk;
 };
 
@@ -99,16 +100,16 @@ class ScsArmsDriver : public ArmsDriver {
 
  private:
   struct ArmState {
-    Eigen::VectorXd lower, upper;     // joint limits, rad
-    Eigen::VectorXd target;           // newest target, clamped
-    double target_stamp_s = -1e300;   // clock time of the newest target
+    Eigen::VectorXd lower, upper;    // joint limits, rad
+    Eigen::VectorXd target;          // newest target, clamped
+    double target_stamp_s = -1e300;  // clock time of the newest target
     bool has_target = false;
-    Eigen::VectorXd command;          // last sent
-    Eigen::VectorXd measured;         // last read
+    Eigen::VectorXd command;   // last sent
+    Eigen::VectorXd measured;  // last read
     GripperCommand gripper = GripperCommand::kOpen;
     GripperState gripper_state;
     int gripper_last_raw = -1;
-    double gripper_changed_s = 0.0;   // last time the gripper position changed
+    double gripper_changed_s = 0.0;  // last time the gripper position changed
   };
   void UpdateGripperState(Side side, int raw, double now_s);
   std::size_t ServoIndex(Side side, int joint) const;  // into servos_
@@ -119,7 +120,7 @@ class ScsArmsDriver : public ArmsDriver {
   std::unique_ptr<ScsBus> bus_;
   mutable std::mutex mutex_;
   std::array<ArmState, 2> arms_;
-  BusCounters counters_;             // copy of the bus's, taken each cycle
+  BusCounters counters_;                // copy of the bus's, taken each cycle
   std::vector<ScsServoStatus> servos_;  // left joints, left gripper, right joints, right gripper
   std::size_t next_status_ = 0;
   std::thread thread_;

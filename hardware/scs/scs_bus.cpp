@@ -13,11 +13,16 @@ double SecondsSince(std::chrono::steady_clock::time_point t0) {
 
 const char* BusStatusName(BusStatus status) {
   switch (status) {
-    case BusStatus::kOk: return "ok";
-    case BusStatus::kTimeout: return "timeout";
-    case BusStatus::kBadChecksum: return "bad checksum";
-    case BusStatus::kBadReply: return "bad reply";
-    case BusStatus::kWriteFailed: return "write failed";
+    case BusStatus::kOk:
+      return "ok";
+    case BusStatus::kTimeout:
+      return "timeout";
+    case BusStatus::kBadChecksum:
+      return "bad checksum";
+    case BusStatus::kBadReply:
+      return "bad reply";
+    case BusStatus::kWriteFailed:
+      return "write failed";
   }
   return "unknown";
 }
@@ -41,7 +46,8 @@ BusStatus ScsBus::Send(const std::vector<std::uint8_t>& request) {
   return BusStatus::kOk;
 }
 
-BusStatus ScsBus::Exchange(const std::vector<std::uint8_t>& request, std::uint8_t id, scs::Packet* reply) {
+BusStatus ScsBus::Exchange(const std::vector<std::uint8_t>& request, std::uint8_t id,
+                           scs::Packet* reply) {
   ++counters_.exchanges;
   const BusStatus sent = Send(request);
   if (sent != BusStatus::kOk) return sent;
@@ -56,7 +62,8 @@ BusStatus ScsBus::Exchange(const std::vector<std::uint8_t>& request, std::uint8_
     const std::size_t n = port_->ReadSome(buffer, sizeof buffer, left);
     for (std::size_t i = 0; i < n; ++i) {
       const scs::PacketParser::Result r = parser_.Push(buffer[i]);
-      if (r == scs::PacketParser::Result::kBadChecksum || r == scs::PacketParser::Result::kBadLength) {
+      if (r == scs::PacketParser::Result::kBadChecksum ||
+          r == scs::PacketParser::Result::kBadLength) {
         corrupted = true;
       } else if (r == scs::PacketParser::Result::kPacket) {
         if (parser_.packet().id != id) {  // a late reply of an earlier exchange: skip it
@@ -97,8 +104,8 @@ BusStatus ScsBus::Read(std::uint8_t id, std::uint8_t address, std::uint8_t lengt
   return BusStatus::kOk;
 }
 
-BusStatus ScsBus::Write(std::uint8_t id, std::uint8_t address, const std::vector<std::uint8_t>& data,
-                        std::uint8_t* error) {
+BusStatus ScsBus::Write(std::uint8_t id, std::uint8_t address,
+                        const std::vector<std::uint8_t>& data, std::uint8_t* error) {
   scs::Packet reply;
   const BusStatus status = Exchange(scs::EncodeWrite(id, address, data), id, &reply);
   if (status == BusStatus::kOk && error) *error = reply.code;

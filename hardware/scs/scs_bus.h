@@ -39,13 +39,14 @@ class ScsBus {
   /// `error` (may be null) gets the servo's error bits on kOk.
   BusStatus Ping(std::uint8_t id, std::uint8_t* error = nullptr);
   /// Reads `length` bytes from `address` into `data`.
-  BusStatus Read(std::uint8_t id, std::uint8_t address, std::uint8_t length, std::vector<std::uint8_t>* data,
-                 std::uint8_t* error = nullptr);
+  BusStatus Read(std::uint8_t id, std::uint8_t address, std::uint8_t length,
+                 std::vector<std::uint8_t>* data, std::uint8_t* error = nullptr);
   /// Writes and waits for the status reply.
   BusStatus Write(std::uint8_t id, std::uint8_t address, const std::vector<std::uint8_t>& data,
                   std::uint8_t* error = nullptr);
   /// Broadcast SYNC_WRITE: no reply.
-  BusStatus SyncWrite(std::uint8_t address, std::uint8_t data_length, const std::vector<scs::SyncEntry>& entries);
+  BusStatus SyncWrite(std::uint8_t address, std::uint8_t data_length,
+                      const std::vector<scs::SyncEntry>& entries);
   const BusCounters& counters() const { return counters_; }
 
  private:

@@ -6,7 +6,7 @@ namespace aerograsp {
 namespace scs {
 
 std::string ErrorBitsText(std::uint8_t error) {
-  static const char* const kNames[] = {"input voltage", "angle limit", "overheat", "range",
+  static const char* const kNames[] = {"input voltage", "angle limit", "overheat",    "range",
                                        "checksum",      "overload",    "instruction", "bit 7"};
   std::string text;
   for (int bit = 0; bit < 8; ++bit) {

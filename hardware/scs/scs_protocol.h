@@ -33,13 +33,13 @@ enum Instruction : std::uint8_t {
 namespace reg {
 constexpr std::uint8_t kId = 5;
 constexpr std::uint8_t kBaudRate = 6;
-constexpr std::uint8_t kMinAngle = 9;      // 2 bytes
-constexpr std::uint8_t kMaxAngle = 11;     // 2 bytes
-constexpr std::uint8_t kMaxTorque = 16;    // 2 bytes
+constexpr std::uint8_t kMinAngle = 9;    // 2 bytes
+constexpr std::uint8_t kMaxAngle = 11;   // 2 bytes
+constexpr std::uint8_t kMaxTorque = 16;  // 2 bytes
 constexpr std::uint8_t kTorqueEnable = 40;
-constexpr std::uint8_t kGoalPosition = 42; // 2 bytes
-constexpr std::uint8_t kGoalTime = 44;     // 2 bytes
-constexpr std::uint8_t kGoalSpeed = 46;    // 2 bytes
+constexpr std::uint8_t kGoalPosition = 42;  // 2 bytes
+constexpr std::uint8_t kGoalTime = 44;      // 2 bytes
+constexpr std::uint8_t kGoalSpeed = 46;     // 2 bytes
 constexpr std::uint8_t kLock = 48;
 constexpr std::uint8_t kPresentPosition = 56;  // 2 bytes
 constexpr std::uint8_t kPresentSpeed = 58;     // 2 bytes
@@ -47,7 +47,7 @@ constexpr std::uint8_t kPresentLoad = 60;      // 2 bytes
 constexpr std::uint8_t kVoltage = 62;          // 0.1 V
 constexpr std::uint8_t kTemperature = 63;      // deg C
 constexpr std::uint8_t kMoving = 66;
-constexpr std::size_t kCount = 70;             // size of the register map
+constexpr std::size_t kCount = 70;  // size of the register map
 }  // namespace reg
 
 /// Error bits of a status packet.
@@ -77,7 +77,8 @@ struct Packet {
 std::vector<std::uint8_t> Encode(const Packet& packet);
 std::vector<std::uint8_t> EncodePing(std::uint8_t id);
 std::vector<std::uint8_t> EncodeRead(std::uint8_t id, std::uint8_t address, std::uint8_t length);
-std::vector<std::uint8_t> EncodeWrite(std::uint8_t id, std::uint8_t address, const std::vector<std::uint8_t>& data);
+std::vector<std::uint8_t> EncodeWrite(std::uint8_t id, std::uint8_t address,
+                                      const std::vector<std::uint8_t>& data);
 /// One SYNC_WRITE of `data_length` bytes from `address` to each (id, data).
 /// Precondition: every data has data_length bytes; the packet fits kMaxParams.
 struct SyncEntry {

@@ -85,7 +85,8 @@ void SimulateD435(const D435Config& config, const CameraIntrinsics& K, const Ren
     if (table_sigma != config.color_noise_levels) {
       FastRandom table_rng(0xC010Eull);
       table.resize(1u << 16);
-      for (auto& t : table) t = static_cast<std::int16_t>(std::lround(config.color_noise_levels * table_rng.Normal()));
+      for (auto& t : table)
+        t = static_cast<std::int16_t>(std::lround(config.color_noise_levels * table_rng.Normal()));
       table_sigma = config.color_noise_levels;
     }
     const std::int16_t* noise = table.data();
@@ -155,8 +156,10 @@ void SimulateD435(const D435Config& config, const CameraIntrinsics& K, const Ren
     const float c = cos_incidence[i], dark = darkness[i];
     if (!edge[i] && c >= cos_start && dark <= dark_start) continue;  // the common case
     double p_drop = edge[i] ? config.edge_hole_probability : 0.0;
-    if (c < cos_start) p_drop = std::max(p_drop, std::min(1.0, double(cos_start - c) / (cos_start - cos_end)));
-    if (dark > dark_start) p_drop = std::max(p_drop, config.dark_hole_probability * (dark - dark_start) / dark_span);
+    if (c < cos_start)
+      p_drop = std::max(p_drop, std::min(1.0, double(cos_start - c) / (cos_start - cos_end)));
+    if (dark > dark_start)
+      p_drop = std::max(p_drop, config.dark_hole_probability * (dark - dark_start) / dark_span);
     if (p_drop > 0.0 && rng->Uniform() < p_drop) hole[i] = 1;
   }
 
@@ -167,9 +170,11 @@ void SimulateD435(const D435Config& config, const CameraIntrinsics& K, const Ren
   // in pixels of the colour image the depth is aligned to.
   if (frame->depth.width != W || frame->depth.height != H) frame->depth = DepthImage(W, H);
   const double disparity_scale = K.fx * config.baseline_m;
-  const float noise_gain = static_cast<float>(config.subpixel / (config.DepthFocalPx(W) * config.baseline_m));
+  const float noise_gain =
+      static_cast<float>(config.subpixel / (config.DepthFocalPx(W) * config.baseline_m));
   const float inv_scale = static_cast<float>(1.0 / config.depth_scale_m);
-  const float min_range = static_cast<float>(config.min_range_m), max_range = static_cast<float>(config.max_range_m);
+  const float min_range = static_cast<float>(config.min_range_m),
+              max_range = static_cast<float>(config.max_range_m);
   const float max_units = std::numeric_limits<std::uint16_t>::max();
   for (int y = 0; y < H; ++y) {
     const std::size_t row = static_cast<std::size_t>(y) * W;
@@ -179,7 +184,8 @@ void SimulateD435(const D435Config& config, const CameraIntrinsics& K, const Ren
       for (int x = 1; x < W; ++x) {
         const float z_near = zr[x], z_far = zr[x - 1];
         if (!(z_far - z_near > edge_jump) || z_near == inf) continue;
-        const double band_px = disparity_scale * (1.0 / z_near - (z_far == inf ? 0.0 : 1.0 / z_far));
+        const double band_px =
+            disparity_scale * (1.0 / z_near - (z_far == inf ? 0.0 : 1.0 / z_far));
         const int first = std::max(0, x - static_cast<int>(std::ceil(band_px)));
         for (int k = first; k < x; ++k) {
           if (zr[k] > z_near + edge_jump) h[k] = 1;

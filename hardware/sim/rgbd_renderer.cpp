@@ -18,9 +18,9 @@ constexpr int kTileW = 8, kTileH = 2, kPacket = kTileW * kTileH;
 /// pose and the lighting but not on the pixel. Side 0 is the one its normal
 /// points to, side 1 the back (seen when the camera looks at the back face).
 struct FaceShade {
-  Eigen::Vector3f n_w;          // unit normal in w
-  float shade[2];               // ambient + directional light on each side
-  std::uint8_t rgb[2][3];       // colour on each side; only for a plain albedo (MeshData::plain)
+  Eigen::Vector3f n_w;     // unit normal in w
+  float shade[2];          // ambient + directional light on each side
+  std::uint8_t rgb[2][3];  // colour on each side; only for a plain albedo (MeshData::plain)
 };
 
 /// The per-mesh data shading needs, in the mesh frame.
@@ -94,9 +94,9 @@ struct RgbdRenderer::Impl {
   RTCScene statics = nullptr;
   RTCGeometry statics_instance = nullptr;
   bool top_dirty = true, statics_dirty = false;
-  std::vector<MeshData> meshes;       // by id
-  std::vector<int> mesh_of_top;       // top-level geometry ID -> mesh id (-1: the statics instance)
-  std::vector<int> mesh_of_static;    // geometry ID in `statics` -> mesh id
+  std::vector<MeshData> meshes;     // by id
+  std::vector<int> mesh_of_top;     // top-level geometry ID -> mesh id (-1: the statics instance)
+  std::vector<int> mesh_of_static;  // geometry ID in `statics` -> mesh id
 
   Impl() {
     device = rtcNewDevice("threads=1");  // one core: the budget is per core
@@ -148,13 +148,15 @@ int RgbdRenderer::AddMesh(const RenderMesh& in, Motion motion) {
   }
   MeshData data;
   RTCGeometry triangles = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-      triangles, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(triangles, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                               RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                               mesh.vertices.size()));
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     for (int k = 0; k < 3; ++k) vertices[3 * i + k] = static_cast<float>(mesh.vertices[i][k]);
   }
-  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-      triangles, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangles.size()));
+  auto* indices = static_cast<unsigned*>(
+      rtcSetNewGeometryBuffer(triangles, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                              3 * sizeof(unsigned), mesh.triangles.size()));
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
     for (int k = 0; k < 3; ++k) indices[3 * i + k] = static_cast<unsigned>(mesh.triangles[i][k]);
     data.face_normals.push_back(mesh.TriangleNormal(i).cast<float>());
@@ -172,7 +174,8 @@ int RgbdRenderer::AddMesh(const RenderMesh& in, Motion motion) {
     data.geometry = triangles;
   }
   data.triangles = mesh.triangles;
-  for (const auto& c : mesh.colors) data.vertex_colors.emplace_back(c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f);
+  for (const auto& c : mesh.colors)
+    data.vertex_colors.emplace_back(c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f);
   data.uv = in.uv;
   data.material = in.material;
   data.plain = data.vertex_colors.empty() && !data.material.texture;
@@ -184,11 +187,13 @@ int RgbdRenderer::AddMesh(const RenderMesh& in, Motion motion) {
   MeshData& added = impl_->meshes.back();
   if (added.movable) {
     SetPose(id, Eigen::Isometry3d::Identity());
-    rtcAttachGeometryByID(impl_->top, added.geometry, static_cast<unsigned>(impl_->mesh_of_top.size()));
+    rtcAttachGeometryByID(impl_->top, added.geometry,
+                          static_cast<unsigned>(impl_->mesh_of_top.size()));
     impl_->mesh_of_top.push_back(id);
     impl_->top_dirty = true;
   } else {
-    rtcAttachGeometryByID(impl_->statics, added.geometry, static_cast<unsigned>(impl_->mesh_of_static.size()));
+    rtcAttachGeometryByID(impl_->statics, added.geometry,
+                          static_cast<unsigned>(impl_->mesh_of_static.size()));
     impl_->mesh_of_static.push_back(id);
     impl_->statics_dirty = true;
   }
@@ -197,7 +202,8 @@ int RgbdRenderer::AddMesh(const RenderMesh& in, Motion motion) {
 
 void RgbdRenderer::SetPose(int id, const Eigen::Isometry3d& wMm) {
   MeshData& m = impl_->meshes.at(static_cast<std::size_t>(id));
-  if (!m.movable) throw std::invalid_argument("RgbdRenderer::SetPose: mesh " + std::to_string(id) + " is static");
+  if (!m.movable)
+    throw std::invalid_argument("RgbdRenderer::SetPose: mesh " + std::to_string(id) + " is static");
   float xfm[12];  // 3x4 column major
   for (int c = 0; c < 4; ++c) {
     for (int r = 0; r < 3; ++r) xfm[3 * c + r] = static_cast<float>(wMm.matrix()(r, c));
@@ -221,8 +227,8 @@ void RgbdRenderer::SetVisible(int id, bool visible) {
   (m.movable ? impl_->top_dirty : impl_->statics_dirty) = true;
 }
 
-void RgbdRenderer::Render(const Eigen::Isometry3d& wMc, const CameraIntrinsics& K, const Lighting& lighting,
-                          RenderBuffers* out) {
+void RgbdRenderer::Render(const Eigen::Isometry3d& wMc, const CameraIntrinsics& K,
+                          const Lighting& lighting, RenderBuffers* out) {
   if (impl_->statics_dirty) {
     rtcCommitScene(impl_->statics);
     rtcCommitGeometry(impl_->statics_instance);
@@ -245,7 +251,8 @@ void RgbdRenderer::Render(const Eigen::Isometry3d& wMc, const CameraIntrinsics& 
   const Eigen::Vector3f to_light = lighting.to_light_w.cast<float>().normalized();
   const float ambient = static_cast<float>(lighting.ambient);
   const float intensity = static_cast<float>(lighting.intensity);
-  const std::uint8_t background[3] = {ToByte(lighting.background.x()), ToByte(lighting.background.y()),
+  const std::uint8_t background[3] = {ToByte(lighting.background.x()),
+                                      ToByte(lighting.background.y()),
                                       ToByte(lighting.background.z())};
   // Per triangle of the visible meshes: normal, light and (plain meshes)
   // colour, once per frame instead of once per pixel.
@@ -268,7 +275,8 @@ void RgbdRenderer::Render(const Eigen::Isometry3d& wMc, const CameraIntrinsics& 
   // w: d = wRc (x_c, y_c, 1) = column part (per x) + row part (per y).
   std::vector<Eigen::Vector3f> column_w(W), row_w(H);
   for (int x = 0; x < W; ++x) column_w[x] = wRc.col(0) * static_cast<float>((x - K.cx) / K.fx);
-  for (int y = 0; y < H; ++y) row_w[y] = wRc.col(1) * static_cast<float>((y - K.cy) / K.fy) + wRc.col(2);
+  for (int y = 0; y < H; ++y)
+    row_w[y] = wRc.col(1) * static_cast<float>((y - K.cy) / K.fy) + wRc.col(2);
 
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
@@ -333,7 +341,8 @@ void RgbdRenderer::Render(const Eigen::Isometry3d& wMc, const CameraIntrinsics& 
           Eigen::Vector3f reflectance = m.material.albedo;
           const Eigen::Vector3i& tri = m.triangles[prim];
           if (!m.vertex_colors.empty()) {
-            reflectance = reflectance.cwiseProduct(bw * m.vertex_colors[tri[0]] + bu * m.vertex_colors[tri[1]] +
+            reflectance = reflectance.cwiseProduct(bw * m.vertex_colors[tri[0]] +
+                                                   bu * m.vertex_colors[tri[1]] +
                                                    bv * m.vertex_colors[tri[2]]);
           }
           if (m.material.texture) {

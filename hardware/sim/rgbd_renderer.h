@@ -18,31 +18,33 @@ namespace aerograsp {
 /// How a surface looks. With a texture the colour is texture x albedo, with
 /// vertex colours it is vertex colour x albedo, else albedo.
 struct RenderMaterial {
-  Eigen::Vector3f albedo{1.0f, 1.0f, 1.0f};        ///< RGB reflectance, each in [0, 1]
-  std::shared_ptr<const ColorImage> texture;       ///< optional, sampled by per-vertex uv
+  Eigen::Vector3f albedo{1.0f, 1.0f, 1.0f};   ///< RGB reflectance, each in [0, 1]
+  std::shared_ptr<const ColorImage> texture;  ///< optional, sampled by per-vertex uv
 };
 
 /// A mesh to render, in its own frame; posed in the world with SetPose().
 struct RenderMesh {
   TriangleMesh mesh;
-  std::vector<Eigen::Vector2f> uv;  ///< per vertex, in [0, 1] (u right, v down); needed with a texture
+  std::vector<Eigen::Vector2f>
+      uv;  ///< per vertex, in [0, 1] (u right, v down); needed with a texture
   RenderMaterial material;
 };
 
 /// One directional light plus ambient light.
 struct Lighting {
-  Eigen::Vector3d to_light_w{0.3, -0.2, -1.0};  ///< direction towards the light, world frame (any length)
-  double intensity = 0.8;                        ///< directional part, [0, 2]
-  double ambient = 0.35;                         ///< ambient part, [0, 1]
+  Eigen::Vector3d to_light_w{0.3, -0.2,
+                             -1.0};  ///< direction towards the light, world frame (any length)
+  double intensity = 0.8;            ///< directional part, [0, 2]
+  double ambient = 0.35;             ///< ambient part, [0, 1]
   Eigen::Vector3f background{0.62f, 0.72f, 0.85f};  ///< colour where no surface is hit (sky)
 };
 
 /// What one render produces, all width x height of the intrinsics.
 struct RenderBuffers {
-  ColorImage color;        ///< shaded RGB, no noise
-  FloatImage depth_m;      ///< true z along the optical axis (m); 0 where nothing is hit
+  ColorImage color;          ///< shaded RGB, no noise
+  FloatImage depth_m;        ///< true z along the optical axis (m); 0 where nothing is hit
   FloatImage cos_incidence;  ///< |cos| of the angle between ray and surface normal; 0 where no hit
-  FloatImage darkness;     ///< 1 - reflectance luminance of the surface (0 bright .. 1 black)
+  FloatImage darkness;       ///< 1 - reflectance luminance of the surface (0 bright .. 1 black)
   Image<std::int32_t, 1> object_id;  ///< id from AddMesh of the surface hit; -1 where no hit
 };
 

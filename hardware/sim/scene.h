@@ -18,7 +18,8 @@ Eigen::Isometry3d PipeFrame(const SceneConfig& scene);
 /// wMo of an object lying on top of the pipe `along_m` from its centre, its
 /// frame o's z up (the object's lowest point `half_height_m` below o) and its x
 /// along the pipe turned by `yaw_rad`.
-Eigen::Isometry3d ObjectOnPipe(const SceneConfig& scene, double half_height_m, double along_m, double yaw_rad);
+Eigen::Isometry3d ObjectOnPipe(const SceneConfig& scene, double half_height_m, double along_m,
+                               double yaw_rad);
 
 /// Render meshes of an arm's segments (frames as ArmModel::SegmentPoses), made
 /// from their collision shapes: black servos and brackets.

@@ -17,14 +17,16 @@ SimCamera::SimCamera(World* world)
     : world_(world),
       K_(world->platform().camera().Scaled(world->config().camera.image_scale)),
       rng_(world->seed() * 0x9E3779B97F4A7C15ull + kCameraStream) {
-  for (const RenderMesh& mesh : world->static_scene()) renderer_.AddMesh(mesh, RgbdRenderer::Motion::kStatic);
+  for (const RenderMesh& mesh : world->static_scene())
+    renderer_.AddMesh(mesh, RgbdRenderer::Motion::kStatic);
   object_id_ = renderer_.AddMesh(world->object_render_mesh());
   for (Side side : {Side::kLeft, Side::kRight}) {
     for (const RenderMesh& mesh : world->arm_render_meshes(side)) {
       arm_ids_[static_cast<int>(side)].push_back(renderer_.AddMesh(mesh));
     }
   }
-  if (world->config().occluder.enabled) occluder_id_ = renderer_.AddMesh(world->occluder_render_mesh());
+  if (world->config().occluder.enabled)
+    occluder_id_ = renderer_.AddMesh(world->occluder_render_mesh());
 }
 
 SimCamera::~SimCamera() = default;
@@ -52,8 +54,10 @@ bool SimCamera::Grab(RgbdFrame* frame) {
   const double t = world_->now_s();
   const double az = config.light_azimuth_deg * M_PI / 180.0;
   const double el = config.light_elevation_deg * M_PI / 180.0;
-  lighting_.to_light_w = Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), -std::sin(el));
-  lighting_.intensity = config.light_intensity * (1.0 + config.light_variation * std::sin(2.0 * M_PI * t / kLightPeriod_s));
+  lighting_.to_light_w =
+      Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), -std::sin(el));
+  lighting_.intensity = config.light_intensity *
+                        (1.0 + config.light_variation * std::sin(2.0 * M_PI * t / kLightPeriod_s));
   lighting_.ambient = config.ambient;
   const auto t0 = std::chrono::steady_clock::now();
   renderer_.Render(world_->wMc(), intrinsics(), lighting_, &truth_);
@@ -74,7 +78,9 @@ Eigen::VectorXd SimArmsDriver::JointPositions(Side side) const {
   return world_->arm(side).q_measured_rad();
 }
 
-void SimArmsDriver::SetGripper(Side side, GripperCommand command) { world_->SetGripper(side, command); }
+void SimArmsDriver::SetGripper(Side side, GripperCommand command) {
+  world_->SetGripper(side, command);
+}
 
 GripperState SimArmsDriver::Gripper(Side side) const { return world_->gripper(side); }
 
@@ -87,7 +93,9 @@ void SimArmsDriver::Stop() {
 VehicleState SimAutopilot::State() const { return world_->vehicle().State(); }
 CommandAck SimAutopilot::Arm() { return world_->vehicle().Arm(); }
 CommandAck SimAutopilot::Disarm() { return world_->vehicle().Disarm(); }
-CommandAck SimAutopilot::Takeoff(double altitude_m) { return world_->vehicle().Takeoff(altitude_m); }
+CommandAck SimAutopilot::Takeoff(double altitude_m) {
+  return world_->vehicle().Takeoff(altitude_m);
+}
 CommandAck SimAutopilot::Land() { return world_->vehicle().Land(); }
 CommandAck SimAutopilot::Hold() { return world_->vehicle().Hold(); }
 CommandAck SimAutopilot::SetPositionTarget(const Eigen::Vector3d& p_w, double yaw_rad) {

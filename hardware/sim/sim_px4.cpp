@@ -1,7 +1,6 @@
 #include "hardware/sim/sim_px4.h"
 
 #include <chrono>
-
 #include <cmath>
 
 #include "hardware/rgbd_camera.h"  // HardwareError
@@ -12,20 +11,28 @@ namespace {
 std::uint32_t CustomModeOf(FlightMode mode) {
   using namespace mavlink::px4;
   switch (mode) {
-    case FlightMode::kTakingOff: return CustomMode(kMainAuto, kAutoTakeoff);
-    case FlightMode::kOffboard: return CustomMode(kMainOffboard, 0);
-    case FlightMode::kLanding: return CustomMode(kMainAuto, kAutoLand);
-    default: return CustomMode(kMainAuto, kAutoLoiter);
+    case FlightMode::kTakingOff:
+      return CustomMode(kMainAuto, kAutoTakeoff);
+    case FlightMode::kOffboard:
+      return CustomMode(kMainOffboard, 0);
+    case FlightMode::kLanding:
+      return CustomMode(kMainAuto, kAutoLand);
+    default:
+      return CustomMode(kMainAuto, kAutoLoiter);
   }
 }
 
 std::uint8_t LandedStateOf(FlightMode mode) {
   switch (mode) {
     case FlightMode::kDisarmed:
-    case FlightMode::kLanded: return mavlink::kLandedOnGround;
-    case FlightMode::kTakingOff: return mavlink::kLandedTakeoff;
-    case FlightMode::kLanding: return mavlink::kLandedLanding;
-    default: return mavlink::kLandedInAir;
+    case FlightMode::kLanded:
+      return mavlink::kLandedOnGround;
+    case FlightMode::kTakingOff:
+      return mavlink::kLandedTakeoff;
+    case FlightMode::kLanding:
+      return mavlink::kLandedLanding;
+    default:
+      return mavlink::kLandedInAir;
   }
 }
 
@@ -35,7 +42,8 @@ SimPx4::SimPx4(World* world, const SimPx4Config& config)
     : world_(world),
       config_(config),
       link_("127.0.0.1", 0, "", 0, "simulated PX4"),
-      encoder_(static_cast<std::uint8_t>(config.system_id), static_cast<std::uint8_t>(config.component_id)) {
+      encoder_(static_cast<std::uint8_t>(config.system_id),
+               static_cast<std::uint8_t>(config.component_id)) {
   if (!config.signing_key_hex.empty()) {
     const auto key = mavlink::ParseKeyHex(config.signing_key_hex);
     if (!key) throw HardwareError("simulated PX4: signing key is not 64 hex digits");
@@ -53,7 +61,8 @@ SimPx4::~SimPx4() {
 
 std::int64_t SimPx4::frames_rejected() const { return frames_rejected_; }
 
-template <class M> void SimPx4::Send(const M& message) {
+template <class M>
+void SimPx4::Send(const M& message) {
   if (silent_) return;
   std::lock_guard<std::mutex> lock(send_mutex_);
   link_.Send(encoder_.Encode(M::kId, mavlink::Pack(message)));
@@ -91,13 +100,15 @@ void SimPx4::Handle(const mavlink::Frame& frame) {
     HandleCommand(command);
   } else if (frame.msgid == mavlink::SetPositionTargetLocalNed::kId) {
     const auto sp = mavlink::Unpack<mavlink::SetPositionTargetLocalNed>(frame);
-    if (sp.target_system != config_.system_id || sp.coordinate_frame != mavlink::kFrameLocalNed) return;
+    if (sp.target_system != config_.system_id || sp.coordinate_frame != mavlink::kFrameLocalNed)
+      return;
     {
       std::lock_guard<std::mutex> lock(world_mutex_);
       last_setpoint_s_ = world_->now_s();
       last_setpoint_ = sp;
       if (world_->vehicle().State().mode == FlightMode::kOffboard) {
-        world_->vehicle().SetPositionTarget(world_->now_s(), Eigen::Vector3d(sp.x, sp.y, sp.z), sp.yaw);
+        world_->vehicle().SetPositionTarget(world_->now_s(), Eigen::Vector3d(sp.x, sp.y, sp.z),
+                                            sp.yaw);
       }
     }
     ++setpoints_received_;  // after the world has it: WaitForSetpoints relies on this order
@@ -115,8 +126,8 @@ void SimPx4::HandleCommand(const mavlink::CommandLong& command) {
         result = command.param1 > 0.5f ? vehicle.Arm() : vehicle.Disarm();
         break;
       case mavlink::kCmdNavTakeoff: {
-        const double altitude =
-            std::isnan(command.param7) ? config_.default_takeoff_m : command.param7 - config_.home_amsl_m;
+        const double altitude = std::isnan(command.param7) ? config_.default_takeoff_m
+                                                           : command.param7 - config_.home_amsl_m;
         result = vehicle.Takeoff(altitude);
         break;
       }
@@ -130,7 +141,8 @@ void SimPx4::HandleCommand(const mavlink::CommandLong& command) {
             result = {false, "Switching to Offboard denied: no offboard signal"};
           } else {
             result = vehicle.SetPositionTarget(
-                world_->now_s(), Eigen::Vector3d(last_setpoint_.x, last_setpoint_.y, last_setpoint_.z),
+                world_->now_s(),
+                Eigen::Vector3d(last_setpoint_.x, last_setpoint_.y, last_setpoint_.z),
                 last_setpoint_.yaw);
           }
         } else if (main == mavlink::px4::kMainAuto && sub == mavlink::px4::kAutoLoiter) {
@@ -138,7 +150,8 @@ void SimPx4::HandleCommand(const mavlink::CommandLong& command) {
         } else if (main == mavlink::px4::kMainAuto && sub == mavlink::px4::kAutoLand) {
           result = vehicle.Land();
         } else {
-          result = {false, "mode " + std::to_string(main) + "." + std::to_string(sub) + " not simulated"};
+          result = {false,
+                    "mode " + std::to_string(main) + "." + std::to_string(sub) + " not simulated"};
           refusal = mavlink::kResultUnsupported;
         }
         break;
@@ -206,7 +219,8 @@ void SimPx4::SendTelemetry(bool slow, bool heartbeat) {
     hb.type = 13;       // MAV_TYPE_HEXAROTOR
     hb.autopilot = 12;  // MAV_AUTOPILOT_PX4
     const bool armed = state.mode != FlightMode::kDisarmed;
-    hb.base_mode = mavlink::kModeFlagCustomModeEnabled | (armed ? mavlink::kModeFlagSafetyArmed : 0);
+    hb.base_mode =
+        mavlink::kModeFlagCustomModeEnabled | (armed ? mavlink::kModeFlagSafetyArmed : 0);
     hb.custom_mode = CustomModeOf(state.mode);
     hb.system_status = armed ? 4 : 3;  // MAV_STATE_ACTIVE : MAV_STATE_STANDBY
     Send(hb);

@@ -33,13 +33,13 @@ namespace aerograsp {
 struct SimPx4Config {
   int system_id{1};
   int component_id{1};
-  double heartbeat_hz{2.0};           ///< (0, 100] Hz
-  double telemetry_hz{50.0};          ///< ATTITUDE and LOCAL_POSITION_NED, (0, 1000] Hz
-  double slow_telemetry_hz{5.0};      ///< EXTENDED_SYS_STATE and SYS_STATUS, (0, 100] Hz
-  double home_amsl_m{0.0};            ///< AMSL altitude of the world origin (NAV_TAKEOFF param7 is AMSL), m
-  double default_takeoff_m{2.5};      ///< take-off altitude when param7 is NaN (MIS_TAKEOFF_ALT), m
-  double offboard_signal_s{0.5};      ///< OFFBOARD needs a setpoint this recent, s
-  std::string signing_key_hex;        ///< when set: sign what it sends and accept only signed frames
+  double heartbeat_hz{2.0};       ///< (0, 100] Hz
+  double telemetry_hz{50.0};      ///< ATTITUDE and LOCAL_POSITION_NED, (0, 1000] Hz
+  double slow_telemetry_hz{5.0};  ///< EXTENDED_SYS_STATE and SYS_STATUS, (0, 100] Hz
+  double home_amsl_m{0.0};  ///< AMSL altitude of the world origin (NAV_TAKEOFF param7 is AMSL), m
+  double default_takeoff_m{2.5};  ///< take-off altitude when param7 is NaN (MIS_TAKEOFF_ALT), m
+  double offboard_signal_s{0.5};  ///< OFFBOARD needs a setpoint this recent, s
+  std::string signing_key_hex;    ///< when set: sign what it sends and accept only signed frames
 };
 
 class SimPx4 {
@@ -73,7 +73,8 @@ class SimPx4 {
   void Handle(const mavlink::Frame& frame);
   void HandleCommand(const mavlink::CommandLong& command);
   void SendTelemetry(bool slow, bool heartbeat);
-  template <class M> void Send(const M& message);
+  template <class M>
+  void Send(const M& message);
 
   World* world_;
   SimPx4Config config_;

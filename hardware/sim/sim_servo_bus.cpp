@@ -16,7 +16,9 @@ Clock::duration Seconds(double s) {
   return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
 }
 
-bool Contains(const std::vector<int>& ids, int id) { return std::find(ids.begin(), ids.end(), id) != ids.end(); }
+bool Contains(const std::vector<int>& ids, int id) {
+  return std::find(ids.begin(), ids.end(), id) != ids.end();
+}
 
 constexpr int kHoldingLoad = 600;  // PRESENT_LOAD of a gripper squeezing an object
 constexpr int kIdleLoad = 40;
@@ -24,16 +26,25 @@ constexpr int kIdleLoad = 40;
 }  // namespace
 
 SimServoBus::SimServoBus(World* world, const ScsArmsConfig& servos, const SimServoBusConfig& config)
-    : world_(world), servos_config_(servos), config_(config), rng_(config.seed), bus_free_(Clock::now()) {
+    : world_(world),
+      servos_config_(servos),
+      config_(config),
+      rng_(config.seed),
+      bus_free_(Clock::now()) {
   for (Side side : {Side::kLeft, Side::kRight}) {
     const int s = static_cast<int>(side);
     for (std::size_t i = 0; i < servos.joints[s].size(); ++i) {
-      servos_.push_back({servos.joints[s][i].id, side, static_cast<int>(i), servos.joints[s][i], {}});
+      servos_.push_back(
+          {servos.joints[s][i].id, side, static_cast<int>(i), servos.joints[s][i], {}});
     }
     const GripperServoConfig& g = servos.grippers[s];
     // The gripper's "calibration" maps raw to the fraction open (0 closed, 1 open).
     const double at_min = -double(g.raw_closed) / (g.raw_open - g.raw_closed);
-    servos_.push_back({g.id, side, -1, {g.id, at_min, at_min + double(kScsMaxRaw) / (g.raw_open - g.raw_closed)}, {}});
+    servos_.push_back({g.id,
+                       side,
+                       -1,
+                       {g.id, at_min, at_min + double(kScsMaxRaw) / (g.raw_open - g.raw_closed)},
+                       {}});
   }
   for (Servo& servo : servos_) {
     servo.regs.assign(scs::reg::kCount, 0);
@@ -100,7 +111,8 @@ void SimServoBus::SyncWithWorld() {
           world_->SetGripper(side, close ? GripperCommand::kClose : GripperCommand::kOpen);
         }
         const GripperState g = world_->gripper(side);
-        const double open_fraction = g.aperture_m / world_->platform().config().gripper.max_aperture_m;
+        const double open_fraction =
+            g.aperture_m / world_->platform().config().gripper.max_aperture_m;
         scs::PutU16(static_cast<std::uint16_t>(servo.calibration.RawFromAngle(open_fraction)),
                     &servo.regs[scs::reg::kPresentPosition]);
         scs::PutU16(g.holding ? kHoldingLoad : kIdleLoad, &servo.regs[scs::reg::kPresentLoad]);
@@ -158,7 +170,9 @@ void SimServoBus::Handle(const scs::Packet& packet, std::size_t wire_bytes) {
       const std::size_t address = packet.params[0], length = packet.params[1];
       for (std::size_t k = 2; k + 1 + length <= packet.params.size(); k += 1 + length) {
         Servo* servo = Find(packet.params[k]);
-        if (!servo || Contains(config_.silent_ids, servo->id) || address + length > scs::reg::kCount) continue;
+        if (!servo || Contains(config_.silent_ids, servo->id) ||
+            address + length > scs::reg::kCount)
+          continue;
         std::copy_n(packet.params.begin() + k + 1, length, servo->regs.begin() + address);
       }
     } else if (packet.code == scs::kWrite && !packet.params.empty()) {
@@ -191,7 +205,8 @@ void SimServoBus::Handle(const scs::Packet& packet, std::size_t wire_bytes) {
         Reply(*servo, scs::kErrorRange, {}, wire_bytes);
         return;
       }
-      std::copy(packet.params.begin() + 1, packet.params.end(), servo->regs.begin() + packet.params[0]);
+      std::copy(packet.params.begin() + 1, packet.params.end(),
+                servo->regs.begin() + packet.params[0]);
       Reply(*servo, 0, {}, wire_bytes);
       return;
     }
@@ -201,11 +216,12 @@ void SimServoBus::Handle(const scs::Packet& packet, std::size_t wire_bytes) {
   }
 }
 
-void SimServoBus::Reply(const Servo& servo, std::uint8_t error, const std::vector<std::uint8_t>& params,
-                        std::size_t /*request_bytes*/) {
+void SimServoBus::Reply(const Servo& servo, std::uint8_t error,
+                        const std::vector<std::uint8_t>& params, std::size_t /*request_bytes*/) {
   // Called with mutex_ held (from Handle): unlocks it while waiting for the
   // reply's due time and writing, and locks it again before returning.
-  std::vector<std::uint8_t> bytes = scs::Encode({static_cast<std::uint8_t>(servo.id), error, params});
+  std::vector<std::uint8_t> bytes =
+      scs::Encode({static_cast<std::uint8_t>(servo.id), error, params});
   double delay = config_.return_delay_s + config_.byte_time_s * bytes.size();
   if (Contains(config_.slow_ids, servo.id)) delay += config_.slow_extra_s;
   for (std::uint8_t& b : bytes) {

@@ -28,7 +28,8 @@
 namespace aerograsp {
 
 struct SimServoBusConfig {
-  double byte_time_s{10e-6};        ///< wire time of a byte (1 Mbaud, 8N1 = 10 bits), [0, 0.01] s; 0 = instant
+  double byte_time_s{
+      10e-6};  ///< wire time of a byte (1 Mbaud, 8N1 = 10 bits), [0, 0.01] s; 0 = instant
   double return_delay_s{20e-6};     ///< servo's delay before it replies, [0, 0.1] s
   std::vector<int> silent_ids;      ///< servos that never answer (nor obey)
   std::vector<int> slow_ids;        ///< servos that answer late
@@ -38,9 +39,9 @@ struct SimServoBusConfig {
 };
 
 struct SimServoBusCounters {
-  std::int64_t packets = 0;     ///< well-formed packets received
-  std::int64_t replies = 0;     ///< status packets sent
-  std::int64_t bad_packets = 0; ///< checksum or length errors received
+  std::int64_t packets = 0;      ///< well-formed packets received
+  std::int64_t replies = 0;      ///< status packets sent
+  std::int64_t bad_packets = 0;  ///< checksum or length errors received
   std::int64_t corrupted_bytes = 0;
 };
 

@@ -7,7 +7,7 @@ namespace {
 
 constexpr double kTakeoffTolerance_m = 0.05;  // take-off done within this of the altitude
 constexpr double kLandingSpeed_mps = 0.5;
-constexpr double kGustFrequency_hz = 0.5;     // the position loop's disturbance rejection
+constexpr double kGustFrequency_hz = 0.5;  // the position loop's disturbance rejection
 constexpr double kGustDamping = 0.7;
 constexpr double kSwayFadeIn_s = 2.0;
 
@@ -110,7 +110,8 @@ void SimVehicle::Step(double t_s, double dt_s) {
       target = p_nominal_w_;
       break;
     case FlightMode::kTakingOff:
-      if (std::abs(p_nominal_w_.z() - hold_w_.z()) < kTakeoffTolerance_m) state_.mode = FlightMode::kHold;
+      if (std::abs(p_nominal_w_.z() - hold_w_.z()) < kTakeoffTolerance_m)
+        state_.mode = FlightMode::kHold;
       break;
     case FlightMode::kLanding:
       max_speed = std::min(max_speed, kLandingSpeed_mps);
@@ -178,7 +179,8 @@ void SimVehicle::UpdatePose(double t_s, double dt_s) {
     // Drift: Ornstein-Uhlenbeck with the configured stationary spread.
     const double tau = config_.drift_time_constant_s;
     const Eigen::Vector3d noise(rng_.Normal(), rng_.Normal(), rng_.Normal());
-    drift_w_ += -drift_w_ * (dt_s / tau) + config_.drift_std_m * std::sqrt(2.0 * dt_s / tau) * noise;
+    drift_w_ +=
+        -drift_w_ * (dt_s / tau) + config_.drift_std_m * std::sqrt(2.0 * dt_s / tau) * noise;
   } else if (!Flying()) {
     gust_w_.setZero();
     gust_rate_w_.setZero();
@@ -188,7 +190,8 @@ void SimVehicle::UpdatePose(double t_s, double dt_s) {
   if (dt_s > 0.0) {
     state_.v_w = (p_w - state_.wMd.translation()) / dt_s;
     // Small tilts: body rates are the roll and pitch rates (yaw rate neglected).
-    state_.w_d = Eigen::Vector3d((roll - last_roll_rad_) / dt_s, (pitch - last_pitch_rad_) / dt_s, 0.0);
+    state_.w_d =
+        Eigen::Vector3d((roll - last_roll_rad_) / dt_s, (pitch - last_pitch_rad_) / dt_s, 0.0);
   }
   last_roll_rad_ = roll;
   last_pitch_rad_ = pitch;

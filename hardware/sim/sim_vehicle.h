@@ -39,7 +39,7 @@ class SimVehicle {
   Eigen::Vector3d p_nominal_w_;
   Eigen::Vector3d v_nominal_w_ = Eigen::Vector3d::Zero();
   double yaw_nominal_rad_;
-  Eigen::Vector3d hold_w_;        // target in hold / take-off / landing
+  Eigen::Vector3d hold_w_;  // target in hold / take-off / landing
   double hold_yaw_rad_;
   struct Setpoint {
     double stamp_s;

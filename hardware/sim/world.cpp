@@ -103,11 +103,13 @@ World::~World() = default;
 
 Eigen::Isometry3d World::ObjectOnPipe(double along_m) const {
   const double half_height = -object_.mesh_o.BoundsMin().z();  // o: z up
-  return aerograsp::ObjectOnPipe(config_.scene, half_height, along_m, config_.object.yaw_on_pipe_rad);
+  return aerograsp::ObjectOnPipe(config_.scene, half_height, along_m,
+                                 config_.object.yaw_on_pipe_rad);
 }
 
 Eigen::Isometry3d World::wMe(Side side) const {
-  return wMd() * platform_.dMb(side) * platform_.arm(side).ForwardKinematics(arm(side).q_true_rad());
+  return wMd() * platform_.dMb(side) *
+         platform_.arm(side).ForwardKinematics(arm(side).q_true_rad());
 }
 
 std::vector<Eigen::Isometry3d> World::ArmSegmentPoses(Side side) const {
@@ -115,7 +117,8 @@ std::vector<Eigen::Isometry3d> World::ArmSegmentPoses(Side side) const {
   platform_.arm(side).SegmentPoses(arm(side).q_true_rad(), &bMs);
   const Eigen::Isometry3d wMb = wMd() * platform_.dMb(side);
   std::vector<Eigen::Isometry3d> wMs;
-  for (std::size_t i = 0; i < arm_render_[static_cast<int>(side)].size(); ++i) wMs.push_back(wMb * bMs[i]);
+  for (std::size_t i = 0; i < arm_render_[static_cast<int>(side)].size(); ++i)
+    wMs.push_back(wMb * bMs[i]);
   return wMs;
 }
 
@@ -167,7 +170,8 @@ void World::SetGripper(Side side, GripperCommand command) {
       object_free_ = true;
       const SceneConfig& scene = config_.scene;
       const Eigen::Vector3d p_p = PipeFrame(scene).inverse() * wMo_.translation();  // z down
-      if (std::abs(p_p.x()) <= 0.5 * scene.pipe_length_m && std::abs(p_p.y()) <= scene.pipe_radius_m && p_p.z() < 0.0) {
+      if (std::abs(p_p.x()) <= 0.5 * scene.pipe_length_m &&
+          std::abs(p_p.y()) <= scene.pipe_radius_m && p_p.z() < 0.0) {
         wMo_ = ObjectOnPipe(p_p.x());
       } else {
         const double yaw = std::atan2(wMo_.linear()(1, 0), wMo_.linear()(0, 0));
@@ -193,7 +197,8 @@ double World::ClosingWidth(Side side, bool* spans) const {
   constexpr double kTipBeyondToolM = 0.02, kStepM = 0.005;
   *spans = false;
   double width = 0.0;
-  for (double along = kTipBeyondToolM; along >= kTipBeyondToolM - gc.finger_length_m; along -= kStepM) {
+  for (double along = kTipBeyondToolM; along >= kTipBeyondToolM - gc.finger_length_m;
+       along -= kStepM) {
     const Eigen::Vector3d start_o = oMe.translation() + along * z_o - 0.5 * open_m * x_o;
     const std::vector<double> hits = IntersectRay(object_.mesh_o, start_o, x_o);
     double first = -1.0, last = -1.0;

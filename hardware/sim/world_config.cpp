@@ -16,8 +16,8 @@ Eigen::Vector3d GetVector3Or(const ConfigNode& node, const std::string& key,
 
 WorldConfig WorldConfig::Load(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);
-  root.RequireOnlyKeys({"platform", "physics_step_s", "scene", "object", "vehicle", "arms", "camera",
-                     "occluder"});
+  root.RequireOnlyKeys(
+      {"platform", "physics_step_s", "scene", "object", "vehicle", "arms", "camera", "occluder"});
   WorldConfig c;
   c.source = path;
   if (root.Has("platform")) c.platform = root.GetPath("platform");
@@ -38,8 +38,8 @@ WorldConfig WorldConfig::Load(const std::string& path) {
   }
   if (root.Has("object")) {
     const ConfigNode n = root.Child("object");
-    n.RequireOnlyKeys({"name", "motion", "start_along_pipe_m", "speed_mps", "travel_m",
-                       "yaw_on_pipe_rad"});
+    n.RequireOnlyKeys(
+        {"name", "motion", "start_along_pipe_m", "speed_mps", "travel_m", "yaw_on_pipe_rad"});
     ObjectMotionConfig& o = c.object;
     o.name = n.GetString("name", o.name);
     o.motion = n.GetString("motion", o.motion);
@@ -82,8 +82,8 @@ WorldConfig WorldConfig::Load(const std::string& path) {
   }
   if (root.Has("camera")) {
     const ConfigNode n = root.Child("camera");
-    n.RequireOnlyKeys({"frame_rate_hz", "image_scale", "d435", "light_azimuth_deg", "light_elevation_deg",
-                       "light_intensity", "ambient", "light_variation"});
+    n.RequireOnlyKeys({"frame_rate_hz", "image_scale", "d435", "light_azimuth_deg",
+                       "light_elevation_deg", "light_intensity", "ambient", "light_variation"});
     CameraSimConfig& k = c.camera;
     k.frame_rate_hz = n.GetDouble("frame_rate_hz", k.frame_rate_hz);
     k.image_scale = n.GetDouble("image_scale", k.image_scale);
@@ -127,8 +127,8 @@ void WorldConfig::Validate() const {
   }
 
   CheckOneOf(src, "object.motion", object.motion, {"static", "crawl"});
-  CheckRange(src, "object.start_along_pipe_m", object.start_along_pipe_m, -0.5 * scene.pipe_length_m,
-             0.5 * scene.pipe_length_m, "m");
+  CheckRange(src, "object.start_along_pipe_m", object.start_along_pipe_m,
+             -0.5 * scene.pipe_length_m, 0.5 * scene.pipe_length_m, "m");
   CheckRange(src, "object.speed_mps", object.speed_mps, 0.0, 1.0, "m/s");
   CheckRange(src, "object.travel_m", object.travel_m, 0.0,
              0.5 * scene.pipe_length_m - object.start_along_pipe_m, "m");
@@ -143,7 +143,8 @@ void WorldConfig::Validate() const {
   CheckRange(src, "vehicle.gust_rate_hz", vehicle.gust_rate_hz, 0.0, 10.0, "Hz");
   CheckRange(src, "vehicle.gust_speed_mps", vehicle.gust_speed_mps, 0.0, 5.0, "m/s");
   CheckRange(src, "vehicle.drift_std_m", vehicle.drift_std_m, 0.0, 1.0, "m");
-  CheckRange(src, "vehicle.drift_time_constant_s", vehicle.drift_time_constant_s, 1e-3, 1000.0, "s");
+  CheckRange(src, "vehicle.drift_time_constant_s", vehicle.drift_time_constant_s, 1e-3, 1000.0,
+             "s");
   CheckRange(src, "vehicle.response_time_s", vehicle.response_time_s, 1e-3, 10.0, "s");
   CheckRange(src, "vehicle.delay_s", vehicle.delay_s, 0.0, 2.0, "s");
   CheckRange(src, "vehicle.max_speed_mps", vehicle.max_speed_mps, 1e-3, 20.0, "m/s");

@@ -1,5 +1,3 @@
-#include "app/bench_command.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -8,10 +6,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "app/bench_command.h"
 #include "core/config.h"
 #include "core/data_dir.h"
 #include "core/transforms.h"
-
 #include "tests/common/output_folder_test.h"
 
 namespace aerograsp {
@@ -44,7 +42,8 @@ TEST_F(BenchCommandTest, TagsAgreeWithTheTruthAndPerceptionWithTheTags) {
   EXPECT_LT(s["translation_rmse_m"].get<double>(), 0.005) << out.str();
   EXPECT_LT(s["rotation_rmse_deg"].get<double>(), 2.0);
   EXPECT_GT(s["translation_rmse_m"].get<double>(), 0.0);
-  for (const char* file : {"index.html", "pose_vs_tags.png", "servo_error.png", "frames.csv", "camera.png"}) {
+  for (const char* file :
+       {"index.html", "pose_vs_tags.png", "servo_error.png", "frames.csv", "camera.png"}) {
     EXPECT_TRUE(fs::exists(fs::path(folder_) / file)) << file;
   }
   EXPECT_THAT(out.str(), HasSubstr("perception vs tags: translation RMSE"));
@@ -53,7 +52,7 @@ TEST_F(BenchCommandTest, TagsAgreeWithTheTruthAndPerceptionWithTheTags) {
 TEST_F(BenchCommandTest, ArmsReachTheHoverPointOffTheGrasp) {
   BenchCommandOptions options;
   options.out_dir = folder_;
-  options.frames = 75;      // 2.5 s: the arms come from home
+  options.frames = 75;       // 2.5 s: the arms come from home
   options.path_scale = 0.0;  // the object held still at the mission's grasp point
   options.hover_m = 0.04;
   std::ostringstream out, progress;
@@ -110,8 +109,9 @@ TEST_F(BenchCommandTest, BadOptionsNameTheOptionAndTheBound) {
               ::testing::ThrowsMessage<ConfigError>(HasSubstr("--frames")));
   options.frames = 5;
   options.oMt = Eigen::Isometry3d(Eigen::Matrix4d::Constant(2.0));
-  EXPECT_THAT([&] { RunBenchCommand(options, out, progress); },
-              ::testing::ThrowsMessage<ConfigError>(HasSubstr("--board-pose: not a rigid transform")));
+  EXPECT_THAT(
+      [&] { RunBenchCommand(options, out, progress); },
+      ::testing::ThrowsMessage<ConfigError>(HasSubstr("--board-pose: not a rigid transform")));
   options.oMt.reset();
   fs::create_directories(folder_);
   options.perception_config = (fs::path(folder_) / "perception.yaml").string();

@@ -1,5 +1,3 @@
-#include "app/calibrate_command.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -8,8 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "app/calibrate_command.h"
 #include "core/data_dir.h"
-
 #include "tests/common/output_folder_test.h"
 
 namespace aerograsp {
@@ -43,7 +41,8 @@ TEST_F(CalibrateCommandTest, SimulatedCalibrationIsWithinAMillimetreAndBeatsOpen
   EXPECT_LT(s["error_to_truth_deg"].get<double>(), 0.1);
   for (const auto& [name, method] : s["opencv"].items()) {
     ASSERT_TRUE(method["ok"].get<bool>()) << name;
-    EXPECT_LT(s["error_to_truth_mm"].get<double>(), method["error_to_truth_mm"].get<double>()) << name;
+    EXPECT_LT(s["error_to_truth_mm"].get<double>(), method["error_to_truth_mm"].get<double>())
+        << name;
   }
 
   // Solving again from the saved samples gives the same residuals (no truth offline).
@@ -82,9 +81,10 @@ TEST_F(CalibrateCommandTest, TheRealDriversAgainstSimulatedDevicesCalibrateAsWel
 TEST_F(CalibrateCommandTest, AHardwareConfigWithRealArmsIsRefusedWithTheReason) {
   fs::create_directories(folder_);
   const std::string path = (fs::path(folder_) / "hw.yaml").string();
-  std::ofstream(path) << "platform: " << DataPath("config/platform_4dof.yaml") << "\nworld: "
-                      << DataPath("config/world_default.yaml")
-                      << "\narms: {backend: scs}\nautopilot: {backend: sim}\ncamera: {backend: sim}\n";
+  std::ofstream(path)
+      << "platform: " << DataPath("config/platform_4dof.yaml")
+      << "\nworld: " << DataPath("config/world_default.yaml")
+      << "\narms: {backend: scs}\nautopilot: {backend: sim}\ncamera: {backend: sim}\n";
   CalibrateCommandOptions options;
   options.out_dir = folder_;
   options.hardware_path = path;

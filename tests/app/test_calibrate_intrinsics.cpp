@@ -1,5 +1,3 @@
-#include "app/calibrate_intrinsics.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -9,9 +7,9 @@
 #include <sstream>
 
 #include "app/calibrate_command.h"
+#include "app/calibrate_intrinsics.h"
 #include "core/camera_model.h"
 #include "core/data_dir.h"
-
 #include "tests/common/output_folder_test.h"
 
 namespace aerograsp {
@@ -35,7 +33,8 @@ TEST_F(CalibrateIntrinsicsTest, RecoversTheSimulatedCamerasIntrinsics) {
   RunCalibrateCommand(options, out, progress);
   EXPECT_THAT(out.str(), HasSubstr("planned 15 views"));
   const nlohmann::json s = Summary();
-  const CameraIntrinsics truth;  // the D435 colour stream of data/camera (640 x 480, 615, 615, 320, 240)
+  const CameraIntrinsics
+      truth;  // the D435 colour stream of data/camera (640 x 480, 615, 615, 320, 240)
   ASSERT_EQ(s["factory"]["fx"].get<double>(), truth.fx);
   EXPECT_GE(s["views_used"].get<int>(), 12);
   EXPECT_EQ(s["views_used"].get<int>() + s["views_rejected"].get<int>(), 15);
@@ -48,13 +47,15 @@ TEST_F(CalibrateIntrinsicsTest, RecoversTheSimulatedCamerasIntrinsics) {
   EXPECT_NEAR(s["cx"].get<double>(), truth.cx, 3.0);
   EXPECT_NEAR(s["cy"].get<double>(), truth.cy, 3.0);
   EXPECT_LT(s["rms_px"].get<double>(), 0.5);
-  EXPECT_NEAR(s["factory"]["difference_px"]["fx"].get<double>(), s["fx"].get<double>() - truth.fx, 1e-9);
+  EXPECT_NEAR(s["factory"]["difference_px"]["fx"].get<double>(), s["fx"].get<double>() - truth.fx,
+              1e-9);
   ASSERT_EQ(s["dist"].size(), 5u);
   EXPECT_EQ(s["per_view_rms_px"].size(), s["views_used"].get<std::size_t>());
   EXPECT_TRUE(fs::exists(fs::path(folder_) / "views" / "014.png"));
   EXPECT_TRUE(fs::exists(fs::path(folder_) / "intrinsics.yaml"));
   // camera.xml reads back as the platform reads its camera (by the platform's camera name).
-  const CameraIntrinsics K = LoadCameraXml((fs::path(folder_) / "camera.xml").string(), "d435_color");
+  const CameraIntrinsics K =
+      LoadCameraXml((fs::path(folder_) / "camera.xml").string(), "d435_color");
   EXPECT_NEAR(K.fx, s["fx"].get<double>(), 1e-3);
   EXPECT_NEAR(K.cy, s["cy"].get<double>(), 1e-3);
 
@@ -94,7 +95,8 @@ TEST_F(CalibrateIntrinsicsTest, ABoardNeverSeenSaysSoAndKeepsTheViews) {
     RunCalibrateCommand(options, out, progress);
     FAIL() << "expected an error";
   } catch (const std::exception& e) {
-    EXPECT_THAT(e.what(), HasSubstr("only 0 usable views of the board (at least 4 needed; 4 rejected"));
+    EXPECT_THAT(e.what(),
+                HasSubstr("only 0 usable views of the board (at least 4 needed; 4 rejected"));
     EXPECT_THAT(e.what(), HasSubstr("views.yaml"));
   }
   EXPECT_TRUE(fs::exists(fs::path(options.out_dir) / "views.yaml"));
@@ -121,9 +123,10 @@ TEST_F(CalibrateIntrinsicsTest, AHardwareConfigWithARealCameraIsRefusedWithTheRe
 
 TEST_F(CalibrateIntrinsicsTest, AMalformedViewsFileNamesTheField) {
   fs::create_directories(folder_);
-  std::ofstream(fs::path(folder_) / "views.yaml") << "kind: intrinsics\nfactory: {width: 640, height: 480, fx_px: "
-                                                     "615, fy_px: 615, cx_px: 320, cy_px: 240}\nboard: {}\nviews:\n"
-                                                     "  - {image: a.png, accepted: true, corners: [[1, 2, 3]]}\n";
+  std::ofstream(fs::path(folder_) / "views.yaml")
+      << "kind: intrinsics\nfactory: {width: 640, height: 480, fx_px: "
+         "615, fy_px: 615, cx_px: 320, cy_px: 240}\nboard: {}\nviews:\n"
+         "  - {image: a.png, accepted: true, corners: [[1, 2, 3]]}\n";
   CalibrateCommandOptions options;
   options.resolve_dir = folder_;
   std::ostringstream out, progress;

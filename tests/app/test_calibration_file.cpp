@@ -1,12 +1,11 @@
 // The calibration file `calibrate` writes and the mission config that loads it.
-#include "app/calibration_file.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
+#include "app/calibration_file.h"
 #include "app/mission_config.h"
 #include "core/config.h"
 #include "core/data_dir.h"
@@ -21,12 +20,14 @@ class CalibrationFileTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           (std::string("aerograsp_calibration_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+           (std::string("aerograsp_calibration_") +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     calibration_.side = Side::kLeft;
     calibration_.method = "refined";
-    calibration_.cMb = MakeTransform(Eigen::Vector3d(-0.15, 0.3, 0.1), Eigen::Vector3d(0.3, -0.2, 1.4));
+    calibration_.cMb =
+        MakeTransform(Eigen::Vector3d(-0.15, 0.3, 0.1), Eigen::Vector3d(0.3, -0.2, 1.4));
     calibration_.dMb = MakeTransform(Eigen::Vector3d(0.0, -0.1525, 0.04), Eigen::Vector3d::Zero());
     calibration_.residual_mm = 0.4;
   }
@@ -62,8 +63,10 @@ TEST_F(CalibrationFileTest, WrittenThenLoadedGivesTheSameTransforms) {
 
 TEST_F(CalibrationFileTest, AMissionConfigLoadsItsArmsCalibrations) {
   calibration_.Write((dir_ / "calibration_left.yaml").string());
-  const MissionConfig config = MissionConfig::Load(WriteMission("calibration_left: calibration_left.yaml\n"));
-  EXPECT_EQ(config.calibration_left, (dir_ / "calibration_left.yaml").string());  // relative to the mission file
+  const MissionConfig config =
+      MissionConfig::Load(WriteMission("calibration_left: calibration_left.yaml\n"));
+  EXPECT_EQ(config.calibration_left,
+            (dir_ / "calibration_left.yaml").string());  // relative to the mission file
   ASSERT_TRUE(config.calibrated_cMb[0].has_value());
   EXPECT_TRUE(config.calibrated_cMb[0]->isApprox(calibration_.cMb, 1e-10));
   EXPECT_FALSE(config.calibrated_cMb[1].has_value());  // the right arm keeps its nominal mount
@@ -78,13 +81,16 @@ TEST_F(CalibrationFileTest, BadCalibrationFilesAreNamedWithTheMissionField) {
 
   std::ofstream(dir_ / "short.yaml") << "arm: left\ncMb: [1, 0, 0]\n";
   EXPECT_THAT(MissionError("calibration_left: short.yaml\n"),
-              HasSubstr("calibration_left: " + (dir_ / "short.yaml").string() + ": cMb: expected 16 numbers"));
+              HasSubstr("calibration_left: " + (dir_ / "short.yaml").string() +
+                        ": cMb: expected 16 numbers"));
 
   std::ofstream(dir_ / "broken.yaml") << "arm: left\ncMb: [1, 0, 0, 0,\n";  // not YAML
   EXPECT_THAT(MissionError("calibration_left: broken.yaml\n"), HasSubstr("broken.yaml"));
 
-  std::ofstream(dir_ / "scaled.yaml") << "arm: left\ncMb: [2, 0, 0, 0.1, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]\n";
-  EXPECT_THAT(MissionError("calibration_left: scaled.yaml\n"), HasSubstr("cMb: not a rigid transform"));
+  std::ofstream(dir_ / "scaled.yaml")
+      << "arm: left\ncMb: [2, 0, 0, 0.1, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]\n";
+  EXPECT_THAT(MissionError("calibration_left: scaled.yaml\n"),
+              HasSubstr("cMb: not a rigid transform"));
 
   calibration_.side = Side::kRight;
   calibration_.Write((dir_ / "calibration_right.yaml").string());
@@ -94,8 +100,9 @@ TEST_F(CalibrationFileTest, BadCalibrationFilesAreNamedWithTheMissionField) {
 
 TEST(PlatformWithArmBaseTest, MovesOneArmsBaseAndRefusesANonRigidOne) {
   const Platform nominal = Platform::Load(DataPath("config/platform_4dof.yaml"));
-  const Eigen::Isometry3d dMb = nominal.dMb(Side::kLeft) * MakeTransform(Eigen::Vector3d(0.002, -0.001, 0.003),
-                                                                         Eigen::Vector3d(0.01, 0.0, -0.02));
+  const Eigen::Isometry3d dMb =
+      nominal.dMb(Side::kLeft) *
+      MakeTransform(Eigen::Vector3d(0.002, -0.001, 0.003), Eigen::Vector3d(0.01, 0.0, -0.02));
   const Platform calibrated = nominal.WithArmBase(Side::kLeft, dMb);
   EXPECT_TRUE(calibrated.dMb(Side::kLeft).isApprox(dMb, 1e-12));
   EXPECT_TRUE(calibrated.dMb(Side::kRight).isApprox(nominal.dMb(Side::kRight), 1e-12));

@@ -1,5 +1,3 @@
-#include "app/dataset_command.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -9,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "app/dataset_command.h"
 #include "tests/common/output_folder_test.h"
 
 namespace aerograsp {
@@ -49,8 +48,8 @@ class DatasetCommandTest : public testing::OutputFolderTest {
     while (std::getline(in, line)) {
       Label l;
       int index = 0, visible = 0;
-      EXPECT_EQ(std::sscanf(line.c_str(), "%d,%d,%lf,%lf,%lf,%lf,%d,%lf", &index, &visible, &l.x0, &l.y0, &l.x1,
-                            &l.y1, &l.pixels, &l.coverage),
+      EXPECT_EQ(std::sscanf(line.c_str(), "%d,%d,%lf,%lf,%lf,%lf,%d,%lf", &index, &visible, &l.x0,
+                            &l.y0, &l.x1, &l.y1, &l.pixels, &l.coverage),
                 8)
           << line;
       l.visible = visible != 0;
@@ -82,7 +81,8 @@ TEST_F(DatasetCommandTest, OnSupportShowsTheObjectOnItsPipeFromTheVehicle) {
   for (const Label& l : support) {
     EXPECT_GE(l.coverage, 0.0);
     EXPECT_LE(l.coverage, 1.0);
-    if (l.pixels == 0) EXPECT_EQ(l.coverage, 0.0);  // out of view or hidden: the depth shows none of it
+    if (l.pixels == 0)
+      EXPECT_EQ(l.coverage, 0.0);  // out of view or hidden: the depth shows none of it
     if (!l.visible) continue;
     ++visible;
     covered += l.coverage >= 0.3;  // replay's test for "visible"

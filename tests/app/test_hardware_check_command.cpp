@@ -28,7 +28,8 @@ TEST(HardwareCheckCommandTest, AMissingDeviceIsNamedWithItsPort) {
   options.config_path = path;
   std::ostringstream out;
   EXPECT_EQ(RunHardwareCheck(options, out), 1);
-  EXPECT_NE(out.str().find("arms       FAILED: servo bus: cannot open /dev/aerograsp-no-bus"), std::string::npos)
+  EXPECT_NE(out.str().find("arms       FAILED: servo bus: cannot open /dev/aerograsp-no-bus"),
+            std::string::npos)
       << out.str();
 }
 

@@ -22,7 +22,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("aerograsp_mission_" + name + "_" + std::to_string(getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("aerograsp_mission_" + name + "_" + std::to_string(getpid()));
   fs::remove_all(dir);
   return dir;
 }
@@ -45,13 +46,14 @@ TEST(MissionCommandTest, TakesOffFindsTheObjectAndWritesTheReport) {
   options.out_dir = dir.string();
   std::ostringstream out, err;
   RunMissionCommand(options, out, err);
-  for (const char* file : {"index.html", "summary.json", "mission.log", "pose.png", "timeline.png", "joints.png"}) {
+  for (const char* file :
+       {"index.html", "summary.json", "mission.log", "pose.png", "timeline.png", "joints.png"}) {
     EXPECT_TRUE(fs::exists(dir / file)) << file;
   }
   std::ifstream in(dir / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(in);
-  for (const char* key : {"success", "time_to_grasp_s", "pose_rmse_m", "grasp_switches", "safe_volume_entries",
-                          "realtime_factor"}) {
+  for (const char* key : {"success", "time_to_grasp_s", "pose_rmse_m", "grasp_switches",
+                          "safe_volume_entries", "realtime_factor"}) {
     EXPECT_TRUE(summary.contains(key)) << key;
   }
   EXPECT_FALSE(summary["success"].get<bool>());  // stopped by the 12 s limit
@@ -69,7 +71,9 @@ TEST(MissionCommandTest, TakesOffFindsTheObjectAndWritesTheReport) {
   EXPECT_LT(at("vehicle idle -> take-off"), at("vehicle take-off -> hover"));
   EXPECT_LT(at("vehicle take-off -> hover"), at("global  approaching -> grasping"));
   // The time limit ends in the safe state: arms stopped, vehicle holding.
-  EXPECT_NE(at("arms    idle -> emergency stop: the mission took longer than 12 s"), std::string::npos) << log;
+  EXPECT_NE(at("arms    idle -> emergency stop: the mission took longer than 12 s"),
+            std::string::npos)
+      << log;
   fs::remove_all(dir);
 }
 
@@ -94,7 +98,8 @@ TEST(MissionCommandTest, SeveralRunsWriteTheirTableRateAndSpeedsAndOneLogEach) {
   EXPECT_GE(median, slowest);
   EXPECT_TRUE(median == summary["runs"][0]["realtime_factor"].get<double>() ||
               median == summary["runs"][1]["realtime_factor"].get<double>());
-  for (const char* log : {"seed_3.log", "seed_4.log"}) EXPECT_TRUE(fs::exists(dir / "logs" / log)) << log;
+  for (const char* log : {"seed_3.log", "seed_4.log"})
+    EXPECT_TRUE(fs::exists(dir / "logs" / log)) << log;
   EXPECT_THAT(out.str(), ::testing::HasSubstr("0 of 2 succeeded"));
   EXPECT_THAT(out.str(), ::testing::HasSubstr("x real time median"));
   fs::remove_all(dir);
@@ -144,7 +149,8 @@ TEST(MissionConfigTest, TheShippedConfigLoadsAndBadFieldsAreNamed) {
   EXPECT_NE(message("approach_w_m: [1, 2]\n").find("approach_w_m"), std::string::npos);
   EXPECT_NE(message("servo_rate: 100\n").find("servo_rate"), std::string::npos);  // unknown key
   EXPECT_NE(message("max_attempts: 0\n").find("max_attempts"), std::string::npos);
-  EXPECT_NE(message("perception: no_such_perception.yaml\n").find("no_such_perception.yaml"), std::string::npos);
+  EXPECT_NE(message("perception: no_such_perception.yaml\n").find("no_such_perception.yaml"),
+            std::string::npos);
   EXPECT_EQ(shipped.perception, DataDir() + "/config/perception_mission.yaml");
   const PerceptionOptions perception = LoadPerceptionOptions(shipped.perception);
   EXPECT_EQ(perception.track.frames_to_refind, 2);  // the mission's three changes from the defaults
@@ -167,7 +173,6 @@ TEST(MissionRunnerTest, ABadArmTypeOrObjectIsAClearError) {
   }
 }
 
-
 // The simulator against the planner: a planned dual grasp, put on the arms by
 // its joints with the vehicle still, holds the object when the grippers close.
 TEST(MissionRunnerTest, APlannedGraspSetByItsJointsHoldsTheObjectInTheSimulator) {
@@ -187,9 +192,10 @@ TEST(MissionRunnerTest, APlannedGraspSetByItsJointsHoldsTheObjectInTheSimulator)
   GraspPlannerConfig planner_config;
   planner_config.depth_min_m = 0.025;
   const ObjectModel& object = world.object();
-  GraspPlanner planner(platform, GraspObject{object.name, object.mesh_o, object.mass_kg, object.center_of_mass_o},
-                       ComputeContactPairs(object.mesh_o, platform.config().gripper, planner_config.contacts),
-                       planner_config);
+  GraspPlanner planner(
+      platform, GraspObject{object.name, object.mesh_o, object.mass_kg, object.center_of_mass_o},
+      ComputeContactPairs(object.mesh_o, platform.config().gripper, planner_config.contacts),
+      planner_config);
   PlanQuery query;
   query.dMo = dMo;
   query.q_left = platform.home(Side::kLeft);

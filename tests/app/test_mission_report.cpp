@@ -1,5 +1,3 @@
-#include "app/mission_report.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -11,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
+#include "app/mission_report.h"
 #include "core/shape_mesh.h"
 
 namespace aerograsp {

@@ -1,5 +1,3 @@
-#include "app/plan_command.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -8,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "app/plan_command.h"
 #include "core/mesh.h"
 #include "tests/common/test_meshes.h"
 
@@ -48,8 +47,8 @@ TEST_F(PlanCommandTest, ShippedObjectGivesTableSummaryPngAndCache) {
   EXPECT_THAT(first, HasSubstr("rank"));
   EXPECT_THAT(first, HasSubstr("cache missing"));
   const nlohmann::json j = Summary();
-  for (const char* key : {"contacts_ms", "candidates", "feasible_left", "feasible_right", "dual_pairs",
-                          "feasibility_us_per_grasp", "quality_us_per_grasp"}) {
+  for (const char* key : {"contacts_ms", "candidates", "feasible_left", "feasible_right",
+                          "dual_pairs", "feasibility_us_per_grasp", "quality_us_per_grasp"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_GT(j["dual_pairs"].get<int>(), 0);

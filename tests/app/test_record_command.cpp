@@ -1,11 +1,10 @@
-#include "app/record_command.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <sstream>
 
+#include "app/record_command.h"
 #include "core/data_dir.h"
 #include "hardware/sequence.h"
 #include "hardware/sim/sim_devices.h"
@@ -19,7 +18,8 @@ class RecordCommandTest : public ::testing::Test {
  protected:
   void SetUp() override {
     folder_ = (fs::temp_directory_path() /
-               (std::string("aerograsp_record_") + ::testing::UnitTest::GetInstance()->current_test_info()->name()))
+               (std::string("aerograsp_record_") +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name()))
                   .string();  // one folder per test: ctest runs them in parallel
     fs::remove_all(folder_);
     options_.out_dir = folder_;
@@ -66,7 +66,8 @@ TEST_F(RecordCommandTest, ReplayMatchesTheSimulatorFrameForFrame) {
   }
   EXPECT_FALSE(replay.Grab(&replayed));
   // The object crawls: its pose changes from frame to frame.
-  EXPECT_GT((replay.extras(3).cMo->translation() - replay.extras(0).cMo->translation()).norm(), 1e-3);
+  EXPECT_GT((replay.extras(3).cMo->translation() - replay.extras(0).cMo->translation()).norm(),
+            1e-3);
 }
 
 TEST_F(RecordCommandTest, RefusesToOverwriteUnlessAsked) {
@@ -81,7 +82,8 @@ TEST_F(RecordCommandTest, RefusesToOverwriteUnlessAsked) {
   options_.frames = 2;
   Run();
   EXPECT_EQ(ReplayCamera(folder_).info().frame_count, 2);
-  EXPECT_FALSE(fs::exists(fs::path(folder_) / "color" / "000003.png"));  // nothing left of the old one
+  EXPECT_FALSE(
+      fs::exists(fs::path(folder_) / "color" / "000003.png"));  // nothing left of the old one
 }
 
 TEST_F(RecordCommandTest, UnknownObjectListsTheShippedOnes) {

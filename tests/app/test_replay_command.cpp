@@ -1,15 +1,14 @@
-#include "app/replay_command.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <unistd.h>
 
 #include "app/record_command.h"
+#include "app/replay_command.h"
 #include "core/config.h"
 #include "core/transforms.h"
 #include "hardware/rgbd_camera.h"
@@ -24,7 +23,9 @@ class ReplayCommandTest : public ::testing::Test {
  protected:
   // Folders named by process: ctest runs each test in its own process, in parallel.
   static void SetUpTestSuite() {
-    sequence_ = (fs::temp_directory_path() / ("aerograsp_replay_test_seq_" + std::to_string(getpid()))).string();
+    sequence_ =
+        (fs::temp_directory_path() / ("aerograsp_replay_test_seq_" + std::to_string(getpid())))
+            .string();
     fs::remove_all(sequence_);
     RecordCommandOptions record;
     record.out_dir = sequence_;
@@ -36,7 +37,9 @@ class ReplayCommandTest : public ::testing::Test {
   }
   static void TearDownTestSuite() { fs::remove_all(sequence_); }
   void SetUp() override {
-    out_dir_ = (fs::temp_directory_path() / ("aerograsp_replay_test_out_" + std::to_string(getpid()))).string();
+    out_dir_ =
+        (fs::temp_directory_path() / ("aerograsp_replay_test_out_" + std::to_string(getpid())))
+            .string();
     fs::remove_all(out_dir_);
     options_.sequence = sequence_;
     options_.out_dir = out_dir_;
@@ -58,8 +61,9 @@ TEST_F(ReplayCommandTest, TracksTheRecordedObjectAndWritesTheReport) {
   const nlohmann::json s = Run();
   EXPECT_EQ(s["frames"], 8);
   EXPECT_EQ(s["object"], "crawler");
-  for (const char* key : {"detection_recall", "translation_rmse_m", "rotation_rmse_deg", "add_s_recall",
-                          "frame_ms_median", "frame_ms_p95", "stage_ms", "visp_peer"}) {
+  for (const char* key :
+       {"detection_recall", "translation_rmse_m", "rotation_rmse_deg", "add_s_recall",
+        "frame_ms_median", "frame_ms_p95", "stage_ms", "visp_peer"}) {
     EXPECT_TRUE(s.contains(key)) << key;
   }
   EXPECT_GE(s["frames_found"].get<int>(), 6);  // found from the second frame (hysteresis)
@@ -89,7 +93,8 @@ TEST_F(ReplayCommandTest, AKnownFirstPoseNeedsNoGlobalRegistration) {
 
 TEST_F(ReplayCommandTest, ATruncatedSequenceIsReportedNotFatal) {
   const std::string copy =
-      (fs::temp_directory_path() / ("aerograsp_replay_test_trunc_" + std::to_string(getpid()))).string();
+      (fs::temp_directory_path() / ("aerograsp_replay_test_trunc_" + std::to_string(getpid())))
+          .string();
   fs::remove_all(copy);
   fs::copy(sequence_, copy, fs::copy_options::recursive);
   // Frame 3's colour image cut short, as by a full disk.
@@ -116,21 +121,25 @@ TEST_F(ReplayCommandTest, TheFilterRunsInTheWorldWithTheRecordedVehicleStates) {
   EXPECT_LT(s["translation_rmse_m"].get<double>(), 0.01);
   // Without vehicle states the world frame cannot be had: said, not guessed.
   const std::string copy =
-      (fs::temp_directory_path() / ("aerograsp_replay_test_novehicle_" + std::to_string(getpid()))).string();
+      (fs::temp_directory_path() / ("aerograsp_replay_test_novehicle_" + std::to_string(getpid())))
+          .string();
   fs::remove_all(copy);
   fs::copy(sequence_, copy, fs::copy_options::recursive);
   fs::remove(fs::path(copy) / "vehicle.csv");
   options_.sequence = copy;
-  EXPECT_THAT([&] { Run(); }, ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("vehicle.csv")));
+  EXPECT_THAT([&] { Run(); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("vehicle.csv")));
   options_.filter_frame = "body";
-  EXPECT_THAT([&] { Run(); }, ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("--filter-frame")));
+  EXPECT_THAT([&] { Run(); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("--filter-frame")));
   fs::remove_all(copy);
 }
 
 TEST_F(ReplayCommandTest, AnObjectFullyHiddenIsFoundAgainWithinFiveFramesOfReappearing) {
   // Frames 6-11 hidden by a panel in front of the camera, then 10 frames in view.
   const std::string hidden =
-      (fs::temp_directory_path() / ("aerograsp_replay_test_hidden_" + std::to_string(getpid()))).string();
+      (fs::temp_directory_path() / ("aerograsp_replay_test_hidden_" + std::to_string(getpid())))
+          .string();
   fs::remove_all(hidden);
   RecordCommandOptions record;
   record.out_dir = hidden;
@@ -142,7 +151,8 @@ TEST_F(ReplayCommandTest, AnObjectFullyHiddenIsFoundAgainWithinFiveFramesOfReapp
   std::ostringstream record_out, progress;
   RunRecordCommand(record, record_out, progress);
   options_.sequence = hidden;
-  const nlohmann::json s = Run();  // with ViSP's tracker beside ours: it must survive the hidden frames too
+  const nlohmann::json s =
+      Run();  // with ViSP's tracker beside ours: it must survive the hidden frames too
   fs::remove_all(hidden);
   EXPECT_EQ(s["reacquisitions"], 1);
   EXPECT_EQ(s["never_reacquired"], 0);
@@ -157,18 +167,20 @@ TEST_F(ReplayCommandTest, AMissingOrCorruptModelIsAClearError) {
   EXPECT_THAT([&] { Run(); }, ::testing::Throws<std::exception>());
   options_.object = "";
   options_.detector =
-      (fs::temp_directory_path() / ("aerograsp_bad_detector_" + std::to_string(getpid()) + ".onnx")).string();
+      (fs::temp_directory_path() / ("aerograsp_bad_detector_" + std::to_string(getpid()) + ".onnx"))
+          .string();
   std::ofstream(options_.detector) << "garbage";
-  EXPECT_THAT([&] { Run(); },
-              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("cannot load the detector model")));
+  EXPECT_THAT([&] { Run(); }, ::testing::ThrowsMessage<std::runtime_error>(
+                                  HasSubstr("cannot load the detector model")));
   fs::remove(options_.detector);
 }
 
 TEST_F(ReplayCommandTest, APerceptionFileTunesThePipeline) {
   options_.init_from_truth = true;
   options_.run_peer = false;
-  options_.perception_config =
-      (fs::temp_directory_path() / ("aerograsp_replay_perception_" + std::to_string(getpid()) + ".yaml")).string();
+  options_.perception_config = (fs::temp_directory_path() / ("aerograsp_replay_perception_" +
+                                                             std::to_string(getpid()) + ".yaml"))
+                                   .string();
   std::ofstream(options_.perception_config) << "track:\n  frames_to_find: 5\n";
   const nlohmann::json s = Run();
   EXPECT_EQ(s["perception"], options_.perception_config);
@@ -176,8 +188,9 @@ TEST_F(ReplayCommandTest, APerceptionFileTunesThePipeline) {
   // A bad file is named with the key and its bound before the sequence is read.
   std::ofstream(options_.perception_config) << "icp:\n  max_iterations: 0\n";
   options_.sequence = "/no/such/sequence";
-  EXPECT_THAT([&] { Run(); }, ::testing::ThrowsMessage<ConfigError>(HasSubstr(
-                                  options_.perception_config + ": icp.max_iterations: must be in [1, 100]")));
+  EXPECT_THAT([&] { Run(); },
+              ::testing::ThrowsMessage<ConfigError>(HasSubstr(
+                  options_.perception_config + ": icp.max_iterations: must be in [1, 100]")));
   fs::remove(options_.perception_config);
 }
 

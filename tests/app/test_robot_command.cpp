@@ -1,10 +1,9 @@
-#include "app/robot_command.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <sstream>
 
+#include "app/robot_command.h"
 #include "core/config.h"
 
 namespace aerograsp {

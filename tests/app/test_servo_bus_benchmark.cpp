@@ -21,7 +21,8 @@ TEST(ServoBusBenchmarkTest, WritesCycleRateToSummary) {
   const nlohmann::json summary = nlohmann::json::parse(file);
   EXPECT_EQ(summary["stage"], "servo-bus");
   EXPECT_EQ(summary["servos"], 10);
-  EXPECT_GT(summary["cycle_hz"].get<double>(), 0.0);  // speed is the benchmark's business, not the test's
+  EXPECT_GT(summary["cycle_hz"].get<double>(),
+            0.0);  // speed is the benchmark's business, not the test's
 }
 
 }  // namespace

@@ -16,27 +16,32 @@ class HandEyeTest : public ::testing::Test {
  protected:
   HandEyeTest()
       : cMb_(MakeTransform(Eigen::Vector3d(0.12, 0.25, 0.08), Eigen::Vector3d(-2.3, 0.1, 1.4))),
-        eMt_(MakeTransform(Eigen::Vector3d(0.0, 0.0205, -0.16), Eigen::Vector3d(-M_PI / 2, 0.0, 0.0))) {}
+        eMt_(MakeTransform(Eigen::Vector3d(0.0, 0.0205, -0.16),
+                           Eigen::Vector3d(-M_PI / 2, 0.0, 0.0))) {}
 
-  std::vector<HandEyeSample> Samples(int n, double corner_noise_px, std::uint64_t seed, bool one_axis = false) {
+  std::vector<HandEyeSample> Samples(int n, double corner_noise_px, std::uint64_t seed,
+                                     bool one_axis = false) {
     FastRandom rng(seed);
     std::vector<HandEyeSample> samples;
     const std::vector<BoardTag> tags = BoardTags(TagBoardConfig{});
     while (static_cast<int>(samples.size()) < n) {
       HandEyeSample s;
-      const Eigen::Vector3d rpy = one_axis ? Eigen::Vector3d(0, 0, rng.Uniform(-1.0, 1.0))
-                                           : Eigen::Vector3d(rng.Uniform(-0.6, 0.6), rng.Uniform(-0.6, 0.6),
-                                                             rng.Uniform(-1.0, 1.0));
+      const Eigen::Vector3d rpy =
+          one_axis ? Eigen::Vector3d(0, 0, rng.Uniform(-1.0, 1.0))
+                   : Eigen::Vector3d(rng.Uniform(-0.6, 0.6), rng.Uniform(-0.6, 0.6),
+                                     rng.Uniform(-1.0, 1.0));
       // Board 0.35-0.5 m in front of the camera, tool placed to match.
       const Eigen::Isometry3d cMt_wanted =
-          MakeTransform(Eigen::Vector3d(rng.Uniform(-0.08, 0.08), rng.Uniform(-0.06, 0.06), rng.Uniform(0.35, 0.5)),
+          MakeTransform(Eigen::Vector3d(rng.Uniform(-0.08, 0.08), rng.Uniform(-0.06, 0.06),
+                                        rng.Uniform(0.35, 0.5)),
                         Eigen::Vector3d(M_PI, 0, 0) + rpy);
       s.bMe = cMb_.inverse() * cMt_wanted * eMt_.inverse();
       s.cMt = cMb_ * s.bMe * eMt_;
       for (const BoardTag& tag : tags) {
         for (const Eigen::Vector3d& p_t : tag.corners_t) {
           const Eigen::Vector2d px = K_.Project(s.cMt * p_t);
-          s.corners.emplace_back(p_t, px + corner_noise_px * Eigen::Vector2d(rng.Normal(), rng.Normal()));
+          s.corners.emplace_back(
+              p_t, px + corner_noise_px * Eigen::Vector2d(rng.Normal(), rng.Normal()));
         }
       }
       // The measured board pose: a pose fit to the noisy corners.

@@ -1,10 +1,9 @@
-#include "calib/intrinsics_calibration.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "calib/intrinsics_calibration.h"
 #include "core/transforms.h"
 
 namespace aerograsp {
@@ -24,7 +23,8 @@ std::vector<IntrinsicsView> ExactViews(const CameraIntrinsics& K, int count) {
                       0.5 * Eigen::Vector3d(std::cos(axis), std::sin(axis), 0.1));
     IntrinsicsView view;
     for (const BoardTag& tag : BoardTags(board)) {
-      for (const Eigen::Vector3d& p_t : tag.corners_t) view.corners.emplace_back(p_t, K.Project(cMt * p_t));
+      for (const Eigen::Vector3d& p_t : tag.corners_t)
+        view.corners.emplace_back(p_t, K.Project(cMt * p_t));
     }
     views.push_back(view);
   }

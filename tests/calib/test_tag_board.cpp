@@ -14,7 +14,8 @@ namespace aerograsp {
 namespace {
 
 /// Renders the board at cMt with the D435 colour noise.
-ColorImage RenderBoardAt(const TagBoardConfig& board, const Eigen::Isometry3d& cMt, std::uint64_t seed) {
+ColorImage RenderBoardAt(const TagBoardConfig& board, const Eigen::Isometry3d& cMt,
+                         std::uint64_t seed) {
   RgbdRenderer renderer;
   const int id = renderer.AddMesh(MakeBoardRenderMesh(board));
   renderer.SetPose(id, cMt);  // world = camera frame here
@@ -48,7 +49,8 @@ TEST(TagBoardTest, BadConfigNamesTheKey) {
     board.Validate("calib.yaml", "board.");
     FAIL();
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("calib.yaml: board.first_id"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("calib.yaml: board.first_id"), std::string::npos)
+        << e.what();
   }
 }
 

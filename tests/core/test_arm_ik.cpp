@@ -1,10 +1,9 @@
-#include "core/arm_ik.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
+#include "core/arm_ik.h"
 #include "core/transforms.h"
 
 namespace aerograsp {
@@ -21,7 +20,8 @@ ArmModel Arm(const std::string& file) {
 Eigen::VectorXd RandomWithinLimits(const ArmModel& arm, std::mt19937* rng) {
   Eigen::VectorXd q(arm.dof());
   for (int i = 0; i < arm.dof(); ++i) {
-    q[i] = std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(*rng);
+    q[i] =
+        std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(*rng);
   }
   return q;
 }
@@ -39,7 +39,8 @@ TEST(ArmIkTest, PositionSolutionsReproduceForwardKinematics) {
   for (int trial = 0; trial < 500; ++trial) {
     const Eigen::VectorXd q = RandomWithinLimits(arm, &rng);
     const Eigen::Isometry3d bMe = arm.ForwardKinematics(q);
-    ASSERT_GT(ik.SolvePosition(bMe.translation(), bMe.linear().col(0), q, &sols), 0) << q.transpose();
+    ASSERT_GT(ik.SolvePosition(bMe.translation(), bMe.linear().col(0), q, &sols), 0)
+        << q.transpose();
     // Sorted by distance to the seed: the first is the configuration FK came from.
     EXPECT_LT((sols[0] - q).norm(), 1e-6) << q.transpose() << " vs " << sols[0].transpose();
     for (const Eigen::VectorXd& s : sols) {

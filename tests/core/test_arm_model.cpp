@@ -1,11 +1,10 @@
-#include "core/arm_model.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
+#include "core/arm_model.h"
 #include "core/transforms.h"
 
 namespace aerograsp {
@@ -20,7 +19,8 @@ std::string Robot(const std::string& name) {
 Eigen::VectorXd RandomWithinLimits(const ArmModel& arm, std::mt19937* rng) {
   Eigen::VectorXd q(arm.dof());
   for (int i = 0; i < arm.dof(); ++i) {
-    q[i] = std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(*rng);
+    q[i] =
+        std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(*rng);
   }
   return q;
 }
@@ -115,8 +115,8 @@ TEST(ArmModelTest, SegmentsCarryTheGripperAndFingers) {
   const ArmModel arm = ArmModel::FromUrdfFile(Robot("arm4.urdf"), "base_link", "tool");
   ASSERT_EQ(arm.segments().size(), 5u);
   const ArmSegment& last = arm.segments().back();
-  EXPECT_THAT(last.link_names, ::testing::IsSupersetOf({"wrist", "gripper_base", "finger_a",
-                                                        "finger_b", "tool"}));
+  EXPECT_THAT(last.link_names,
+              ::testing::IsSupersetOf({"wrist", "gripper_base", "finger_a", "finger_b", "tool"}));
   EXPECT_EQ(last.collision.size(), 4u);  // wrist, housing, two fingers
   double mass = 0.0;
   for (const ArmSegment& s : arm.segments()) mass += s.mass_kg;
@@ -136,16 +136,19 @@ TEST(ArmModelTest, LimitsHelpers) {
 }
 
 // A two-joint URDF with a placeholder to break in each test.
-std::string TwoJointUrdf(const std::string& j2_type = "revolute",
-                         const std::string& j2_limit = R"(<limit lower="-1" upper="1" effort="1" velocity="2"/>)",
-                         const std::string& j2_axis = "0 0 1") {
+std::string TwoJointUrdf(
+    const std::string& j2_type = "revolute",
+    const std::string& j2_limit = R"(<limit lower="-1" upper="1" effort="1" velocity="2"/>)",
+    const std::string& j2_axis = "0 0 1") {
   return R"(<robot name="t">
   <link name="a"/><link name="b"/><link name="c"/><link name="side"/>
   <joint name="j1" type="revolute"><parent link="a"/><child link="b"/>
     <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/>
     <limit lower="-1" upper="1" effort="1" velocity="2"/></joint>
-  <joint name="j2" type=")" + j2_type + R"("><parent link="b"/><child link="c"/>
-    <origin xyz="0.2 0 0"/><axis xyz=")" + j2_axis + R"("/>)" + j2_limit + R"(</joint>
+  <joint name="j2" type=")" +
+         j2_type + R"("><parent link="b"/><child link="c"/>
+    <origin xyz="0.2 0 0"/><axis xyz=")" +
+         j2_axis + R"("/>)" + j2_limit + R"(</joint>
   <joint name="js" type="fixed"><parent link="a"/><child link="side"/></joint>
 </robot>)";
 }
@@ -242,10 +245,12 @@ TEST(ArmModelTest, RejectsMissingFile) {
 TEST(StaticFrameTreeTest, VehicleMountsMatchFacts) {
   const StaticFrameTree tree = StaticFrameTree::FromUrdfFile(Robot("vehicle.urdf"));
   EXPECT_EQ(tree.root(), "body");
-  EXPECT_TRUE(tree.Get("arm_left_mount").rootMlink.translation().isApprox(
-      Eigen::Vector3d(0, -0.1525, 0.04)));
-  EXPECT_TRUE(tree.Get("arm_right_mount").rootMlink.translation().isApprox(
-      Eigen::Vector3d(0, 0.1525, 0.04)));
+  EXPECT_TRUE(tree.Get("arm_left_mount")
+                  .rootMlink.translation()
+                  .isApprox(Eigen::Vector3d(0, -0.1525, 0.04)));
+  EXPECT_TRUE(tree.Get("arm_right_mount")
+                  .rootMlink.translation()
+                  .isApprox(Eigen::Vector3d(0, 0.1525, 0.04)));
   EXPECT_EQ(tree.Get("safe_volume").collision.size(), 1u);
   EXPECT_EQ(tree.Find("nope"), nullptr);
   EXPECT_THROW(tree.Get("nope"), UrdfError);

@@ -1,10 +1,10 @@
-#include "core/config.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+
+#include "core/config.h"
 
 namespace aerograsp {
 namespace {
@@ -52,7 +52,8 @@ TEST(ConfigNodeTest, MissingKeyNamesFileAndFullKeyPath) {
 TEST(ConfigNodeTest, WrongTypeSaysWhatWasFound) {
   const ConfigNode c = ConfigNode::Parse(kText, "test.yaml");
   EXPECT_CONFIG_ERROR(c.GetDouble("name"), "test.yaml: name: expected a number, got 'crawler'");
-  EXPECT_CONFIG_ERROR(c.GetInt("speed_m_s"), "test.yaml: speed_m_s: expected an integer, got '1.5'");
+  EXPECT_CONFIG_ERROR(c.GetInt("speed_m_s"),
+                      "test.yaml: speed_m_s: expected an integer, got '1.5'");
   EXPECT_CONFIG_ERROR(c.GetDouble("list"), "list: expected a number, got a list");
   EXPECT_CONFIG_ERROR(c.Child("name"), "name: expected a map, got a scalar");
   EXPECT_CONFIG_ERROR(c.Child("nested").GetDoubles("words"),
@@ -107,7 +108,8 @@ TEST(ConfigNodeTest, PathsResolveAgainstTheFilesFolder) {
 TEST(CheckTest, RangeMessagesCarryBoundAndUnit) {
   EXPECT_CONFIG_ERROR(CheckRange("p.yaml", "gripper.max_aperture_m", 0.5, 0.001, 0.3, "m"),
                       "p.yaml: gripper.max_aperture_m: 0.5 m is above the upper bound 0.3 m");
-  EXPECT_CONFIG_ERROR(CheckRange("p.yaml", "k", -2, 0, 1, ""), "p.yaml: k: -2 is below the lower bound 0");
+  EXPECT_CONFIG_ERROR(CheckRange("p.yaml", "k", -2, 0, 1, ""),
+                      "p.yaml: k: -2 is below the lower bound 0");
   EXPECT_CONFIG_ERROR(CheckPositive("p.yaml", "t_s", 0, "s"), "p.yaml: t_s: 0 s must be positive");
   EXPECT_CONFIG_ERROR(CheckOneOf("p.yaml", "arm_type", "5dof", {"4dof", "6dof"}),
                       "p.yaml: arm_type: '5dof' is not one of: 4dof, 6dof");

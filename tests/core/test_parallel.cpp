@@ -53,7 +53,8 @@ TEST(ParallelForTest, UsesAnotherThreadWhenTheMachineHasOne) {
     // Each call waits (up to 5 s) for the other: with two threads they meet.
     ++arrived;
     const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-    while (arrived.load() < 2 && std::chrono::steady_clock::now() < give_up) std::this_thread::yield();
+    while (arrived.load() < 2 && std::chrono::steady_clock::now() < give_up)
+      std::this_thread::yield();
   });
   EXPECT_EQ(seen.size(), 2u);
 }

@@ -1,13 +1,12 @@
-#include "core/platform.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 #include "core/config.h"
+#include "core/platform.h"
 
 namespace aerograsp {
 namespace {
@@ -128,16 +127,14 @@ INSTANTIATE_TEST_SUITE_P(
                       "arms.left.home_rad[2]", "2.9 rad is above the upper bound 2.61799 rad"},
         BadConfigCase{"HomeWrongSize", kHome, "home_rad: [0.0]   #", "arms.left.home_rad",
                       "expected 4 values, got 1"},
-        BadConfigCase{"MountLinkMissing", "mount_link: arm_left_mount",
-                      "mount_link: arm_lft_mount", "arms.left.mount_link",
-                      "no link named 'arm_lft_mount'"},
+        BadConfigCase{"MountLinkMissing", "mount_link: arm_left_mount", "mount_link: arm_lft_mount",
+                      "arms.left.mount_link", "no link named 'arm_lft_mount'"},
         BadConfigCase{"ArmUrdfMissing", "urdf: ../robots/arm4.urdf", "urdf: ../robots/nope.urdf",
                       "arms.left.urdf", "nope.urdf' does not exist"},
         BadConfigCase{"UnknownTopLevelKey", "gripper:", "griper:", "griper",
                       "unknown key (expected one of: arm_type, vehicle, camera, arms, gripper)"},
         BadConfigCase{"CameraXmlNotACamera", "xml: ../camera/d435_color_640x480.xml",
-                      "xml: ../robots/vehicle.urdf", "camera.xml",
-                      "no camera named 'd435_color'"}),
+                      "xml: ../robots/vehicle.urdf", "camera.xml", "no camera named 'd435_color'"}),
     [](const ::testing::TestParamInfo<BadConfigCase>& info) { return info.param.name; });
 
 }  // namespace

@@ -17,10 +17,12 @@ TEST(ShapeMeshTest, PrimitivesAreClosedWithTheirVolumes) {
   const TriangleMesh cylinder = MakeCylinderMesh(0.1, 0.5, 64);
   EXPECT_TRUE(CheckMesh(cylinder).IsClosed()) << CheckMesh(cylinder).Describe();
   // An inscribed 64-gon prism: (64 / 2) r^2 sin(2 pi / 64) h.
-  EXPECT_NEAR(ComputeMassProperties(cylinder).volume_m3, 32 * 0.01 * std::sin(2 * M_PI / 64) * 0.5, 1e-12);
+  EXPECT_NEAR(ComputeMassProperties(cylinder).volume_m3, 32 * 0.01 * std::sin(2 * M_PI / 64) * 0.5,
+              1e-12);
   const TriangleMesh sphere = MakeSphereMesh(0.1, 16, 32);
   EXPECT_TRUE(CheckMesh(sphere).IsClosed()) << CheckMesh(sphere).Describe();
-  EXPECT_NEAR(ComputeMassProperties(sphere).volume_m3, 4.0 / 3.0 * M_PI * 1e-3, 0.03 * 4.0 / 3.0 * M_PI * 1e-3);
+  EXPECT_NEAR(ComputeMassProperties(sphere).volume_m3, 4.0 / 3.0 * M_PI * 1e-3,
+              0.03 * 4.0 / 3.0 * M_PI * 1e-3);
 }
 
 TEST(ShapeMeshTest, MeshFromShapeAppliesTheShapeFrame) {
@@ -31,20 +33,24 @@ TEST(ShapeMeshTest, MeshFromShapeAppliesTheShapeFrame) {
   const TriangleMesh mesh = MeshFromShape(shape);
   // The cylinder's axis (z) turned onto -y: 0.2 m long along y around (1, 2, 3).
   EXPECT_NEAR(mesh.BoundsMax().y() - mesh.BoundsMin().y(), 0.2, 1e-9);
-  EXPECT_TRUE((0.5 * (mesh.BoundsMax() + mesh.BoundsMin())).isApprox(Eigen::Vector3d(1, 2, 3), 1e-9));
+  EXPECT_TRUE(
+      (0.5 * (mesh.BoundsMax() + mesh.BoundsMin())).isApprox(Eigen::Vector3d(1, 2, 3), 1e-9));
 }
 
 TEST(IntersectRayTest, ABoxIsEnteredAndLeft) {
   const TriangleMesh box = MakeBoxMesh(Eigen::Vector3d(2, 2, 2));
-  const std::vector<double> hits = IntersectRay(box, Eigen::Vector3d(-5, 0.3, 0.2), Eigen::Vector3d(1, 0, 0));
+  const std::vector<double> hits =
+      IntersectRay(box, Eigen::Vector3d(-5, 0.3, 0.2), Eigen::Vector3d(1, 0, 0));
   ASSERT_EQ(hits.size(), 2u);
   EXPECT_NEAR(hits[0], 4.0, 1e-12);
   EXPECT_NEAR(hits[1], 6.0, 1e-12);
   EXPECT_TRUE(IntersectRay(box, Eigen::Vector3d(-5, 3, 0), Eigen::Vector3d(1, 0, 0)).empty());
-  EXPECT_EQ(IntersectRay(box, Eigen::Vector3d(0, 0.3, 0.2), Eigen::Vector3d(0, 0, 1)).size(), 1u);  // from inside
+  EXPECT_EQ(IntersectRay(box, Eigen::Vector3d(0, 0.3, 0.2), Eigen::Vector3d(0, 0, 1)).size(),
+            1u);  // from inside
   // Through the diagonal each x face is split along, and through a corner: one
   // crossing each, not one per triangle.
-  const std::vector<double> diagonal = IntersectRay(box, Eigen::Vector3d(-5, 0.3, 0.3), Eigen::Vector3d(1, 0, 0));
+  const std::vector<double> diagonal =
+      IntersectRay(box, Eigen::Vector3d(-5, 0.3, 0.3), Eigen::Vector3d(1, 0, 0));
   ASSERT_EQ(diagonal.size(), 2u);
   EXPECT_NEAR(diagonal[0], 4.0, 1e-12);
   EXPECT_NEAR(diagonal[1], 6.0, 1e-12);
@@ -62,7 +68,8 @@ TEST(ObjectModelTest, ShippedNamesAndErrors) {
     ObjectModel::Load("teapot");
     FAIL();
   } catch (const std::exception& e) {
-    EXPECT_NE(std::string(e.what()).find("shipped: crawler, pipe, u_shape"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("shipped: crawler, pipe, u_shape"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -1,5 +1,3 @@
-#include "core/transforms.h"
-
 #include <gtest/gtest.h>
 #include <visp3/core/vpHomogeneousMatrix.h>
 
@@ -7,6 +5,7 @@
 #include <random>
 
 #include "core/conversions.h"
+#include "core/transforms.h"
 
 namespace aerograsp {
 namespace {

@@ -1,12 +1,12 @@
-#include "detection/box_detector.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
+
+#include "detection/box_detector.h"
 
 namespace aerograsp {
 namespace {
@@ -24,7 +24,8 @@ CenterNetMaps EmptyMaps(int w = 40, int h = 30) {
   return m;
 }
 
-void SetPeak(CenterNetMaps* m, int x, int y, float logit, float ox, float oy, float w_cells, float h_cells) {
+void SetPeak(CenterNetMaps* m, int x, int y, float logit, float ox, float oy, float w_cells,
+             float h_cells) {
   const std::size_t i = std::size_t(y) * m->width + x;
   m->heat_logit[i] = logit;
   m->offset_x[i] = ox;
@@ -51,9 +52,9 @@ TEST(BoxDecodingTest, OnePeakGivesItsBoxInImagePixels) {
 
 TEST(BoxDecodingTest, PeaksBestFirstThresholdAndLimit) {
   CenterNetMaps m = EmptyMaps();
-  SetPeak(&m, 5, 5, 0.5f, 0, 0, 2, 2);    // 0.62
-  SetPeak(&m, 20, 20, 3.0f, 0, 0, 2, 2);  // 0.95
-  SetPeak(&m, 30, 10, -1.0f, 0, 0, 2, 2); // 0.27: below 0.3
+  SetPeak(&m, 5, 5, 0.5f, 0, 0, 2, 2);     // 0.62
+  SetPeak(&m, 20, 20, 3.0f, 0, 0, 2, 2);   // 0.95
+  SetPeak(&m, 30, 10, -1.0f, 0, 0, 2, 2);  // 0.27: below 0.3
   std::vector<Detection> d = DecodeCenterNet(m, 640, 480, 0.3f);
   ASSERT_EQ(d.size(), 2u);
   EXPECT_GT(d[0].score, d[1].score);
@@ -87,19 +88,23 @@ TEST(BoxDecodingTest, BadMapsGiveNothing) {
 }
 
 TEST(BoxDetectorTest, MissingOrCorruptModelIsAClearError) {
-  EXPECT_THAT([] { BoxDetector d("/nonexistent/detector.onnx"); },
-              ::testing::ThrowsMessage<std::runtime_error>(::testing::HasSubstr("no such detector model")));
-  const std::string path =
-      (std::filesystem::temp_directory_path() / ("aerograsp_corrupt_" + std::to_string(getpid()) + ".onnx")).string();
+  EXPECT_THAT(
+      [] { BoxDetector d("/nonexistent/detector.onnx"); },
+      ::testing::ThrowsMessage<std::runtime_error>(::testing::HasSubstr("no such detector model")));
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("aerograsp_corrupt_" + std::to_string(getpid()) + ".onnx"))
+                               .string();
   std::ofstream(path) << "not an onnx file";
   EXPECT_THAT([&] { BoxDetector d(path); },
-              ::testing::ThrowsMessage<std::runtime_error>(::testing::HasSubstr("cannot load the detector model")));
+              ::testing::ThrowsMessage<std::runtime_error>(
+                  ::testing::HasSubstr("cannot load the detector model")));
   std::filesystem::remove(path);
 }
 
 TEST(BoxDetectorTest, ShippedModelsLoadAndFindNothingInABlankImage) {
   for (const char* name : {"crawler", "u_shape", "pipe"}) {
-    const std::string path = std::string(AEROGRASP_DATA_DIR) + "/objects/" + name + "/detector.onnx";
+    const std::string path =
+        std::string(AEROGRASP_DATA_DIR) + "/objects/" + name + "/detector.onnx";
     if (!std::filesystem::exists(path)) continue;
     BoxDetector detector(path);
     EXPECT_TRUE(detector.Detect(ColorImage(640, 480, 0), 0.5f).empty()) << name;

@@ -37,7 +37,8 @@ inline ModelLength CrawlerLength() {
 /// A typical view: the crawler 0.7 m ahead, seen from above and the side.
 inline Eigen::Isometry3d TypicalCMo() {
   Eigen::Isometry3d cMo = Eigen::Isometry3d::Identity();
-  cMo.linear() = (Eigen::AngleAxisd(2.3, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()))
+  cMo.linear() = (Eigen::AngleAxisd(2.3, Eigen::Vector3d::UnitX()) *
+                  Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()))
                      .toRotationMatrix();
   cMo.translation() = Eigen::Vector3d(0.02, -0.01, 0.7);
   return cMo;
@@ -45,7 +46,8 @@ inline Eigen::Isometry3d TypicalCMo() {
 
 /// Every `stride`-th model point that faces the camera at cMo, in frame c,
 /// with its normal and colour.
-inline SceneCloud VisibleScene(const ModelCloud& model, const Eigen::Isometry3d& cMo, int stride = 3) {
+inline SceneCloud VisibleScene(const ModelCloud& model, const Eigen::Isometry3d& cMo,
+                               int stride = 3) {
   SceneCloud scene;
   const Eigen::Isometry3f T = cMo.cast<float>();
   for (std::size_t i = 0; i < model.points_o.size(); i += stride) {
@@ -64,7 +66,8 @@ inline Eigen::Isometry3d Perturbed(const Eigen::Isometry3d& cMo, const Eigen::Ve
                                    const Eigen::Vector3d& rotvec_rad) {
   Eigen::Isometry3d out = cMo;
   out.translation() += dt_m;
-  out.linear() = Eigen::AngleAxisd(rotvec_rad.norm(), rotvec_rad.normalized()).toRotationMatrix() * cMo.linear();
+  out.linear() = Eigen::AngleAxisd(rotvec_rad.norm(), rotvec_rad.normalized()).toRotationMatrix() *
+                 cMo.linear();
   return out;
 }
 

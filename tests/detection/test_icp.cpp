@@ -1,11 +1,10 @@
-#include "detection/icp.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
 #include "core/data_dir.h"
 #include "core/transforms.h"
+#include "detection/icp.h"
 #include "detection/pose_support.h"
 #include "hardware/sim/sim_devices.h"
 #include "hardware/sim/world.h"
@@ -23,8 +22,10 @@ const Eigen::Vector3f kUp(0, 0, 1), kYellow(230, 180, 20), kGrey(40, 40, 40);
 TEST(IcpRejectorTest, DistanceRejectsFarPairsOnly) {
   RejectorThresholds t;
   t.max_distance_m = 0.01;
-  EXPECT_EQ(ClassifyPair({0, 0, 0.009f}, kUp, kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kNone);
-  EXPECT_EQ(ClassifyPair({0, 0, 0.011f}, kUp, kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kDistance);
+  EXPECT_EQ(ClassifyPair({0, 0, 0.009f}, kUp, kYellow, {0, 0, 0}, kUp, kYellow, t),
+            Rejection::kNone);
+  EXPECT_EQ(ClassifyPair({0, 0, 0.011f}, kUp, kYellow, {0, 0, 0}, kUp, kYellow, t),
+            Rejection::kDistance);
 }
 
 TEST(IcpRejectorTest, DistanceAlongThePixelRayAllowsTheDepthNoise) {
@@ -32,11 +33,16 @@ TEST(IcpRejectorTest, DistanceAlongThePixelRayAllowsTheDepthNoise) {
   t.max_distance_m = 0.008;
   t.ray = Eigen::Vector3f::UnitZ();
   t.max_along_ray_m = 0.03;
-  EXPECT_EQ(ClassifyPair({0, 0, 0.029f}, kUp, kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kNone);
-  EXPECT_EQ(ClassifyPair({0, 0, -0.029f}, kUp, kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kNone);
-  EXPECT_EQ(ClassifyPair({0, 0, 0.031f}, kUp, kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kDistance);
-  EXPECT_EQ(ClassifyPair({0.007f, 0, 0.02f}, kUp, kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kNone);
-  EXPECT_EQ(ClassifyPair({0.009f, 0, 0}, kUp, kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kDistance);
+  EXPECT_EQ(ClassifyPair({0, 0, 0.029f}, kUp, kYellow, {0, 0, 0}, kUp, kYellow, t),
+            Rejection::kNone);
+  EXPECT_EQ(ClassifyPair({0, 0, -0.029f}, kUp, kYellow, {0, 0, 0}, kUp, kYellow, t),
+            Rejection::kNone);
+  EXPECT_EQ(ClassifyPair({0, 0, 0.031f}, kUp, kYellow, {0, 0, 0}, kUp, kYellow, t),
+            Rejection::kDistance);
+  EXPECT_EQ(ClassifyPair({0.007f, 0, 0.02f}, kUp, kYellow, {0, 0, 0}, kUp, kYellow, t),
+            Rejection::kNone);
+  EXPECT_EQ(ClassifyPair({0.009f, 0, 0}, kUp, kYellow, {0, 0, 0}, kUp, kYellow, t),
+            Rejection::kDistance);
 }
 
 TEST(IcpRejectorTest, NormalRejectsDisagreeingNormalsOnly) {
@@ -44,10 +50,13 @@ TEST(IcpRejectorTest, NormalRejectsDisagreeingNormalsOnly) {
   t.min_normal_cos = 0.7;  // 45.6 deg
   const Eigen::Vector3f tilted40 = Eigen::AngleAxisf(0.70f, Eigen::Vector3f::UnitX()) * kUp;
   const Eigen::Vector3f tilted50 = Eigen::AngleAxisf(0.87f, Eigen::Vector3f::UnitX()) * kUp;
-  EXPECT_EQ(ClassifyPair({0, 0, 0}, tilted40, kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kNone);
-  EXPECT_EQ(ClassifyPair({0, 0, 0}, tilted50, kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kNormal);
+  EXPECT_EQ(ClassifyPair({0, 0, 0}, tilted40, kYellow, {0, 0, 0}, kUp, kYellow, t),
+            Rejection::kNone);
+  EXPECT_EQ(ClassifyPair({0, 0, 0}, tilted50, kYellow, {0, 0, 0}, kUp, kYellow, t),
+            Rejection::kNormal);
   // A scene normal that could not be fitted (zero) is not judged.
-  EXPECT_EQ(ClassifyPair({0, 0, 0}, Eigen::Vector3f::Zero(), kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kNone);
+  EXPECT_EQ(ClassifyPair({0, 0, 0}, Eigen::Vector3f::Zero(), kYellow, {0, 0, 0}, kUp, kYellow, t),
+            Rejection::kNone);
   t.min_normal_cos = -1.0;  // disabled
   EXPECT_EQ(ClassifyPair({0, 0, 0}, -kUp, kYellow, {0, 0, 0}, kUp, kYellow, t), Rejection::kNone);
 }
@@ -56,7 +65,8 @@ TEST(IcpRejectorTest, ColorRejectsOtherHuesButNotShading) {
   RejectorThresholds t;
   t.max_color_distance = 150;
   // The same yellow at half the light is the same colour.
-  EXPECT_EQ(ClassifyPair({0, 0, 0}, kUp, kYellow * 0.5f, {0, 0, 0}, kUp, kYellow, t), Rejection::kNone);
+  EXPECT_EQ(ClassifyPair({0, 0, 0}, kUp, kYellow * 0.5f, {0, 0, 0}, kUp, kYellow, t),
+            Rejection::kNone);
   EXPECT_EQ(ClassifyPair({0, 0, 0}, kUp, kGrey, {0, 0, 0}, kUp, kYellow, t), Rejection::kColor);
   EXPECT_GT(ColorDistance(kGrey, kYellow), 150.0f);
   EXPECT_NEAR(ColorDistance(kYellow, kYellow * 0.3f), 0.0f, 1e-3f);
@@ -76,7 +86,8 @@ TEST(IcpTest, ConvergesFromAPerturbedPose) {
   const ModelCloud& model = CrawlerModel();
   const Eigen::Isometry3d truth = TypicalCMo();
   const SceneCloud scene = VisibleScene(model, truth);
-  const IcpResult r = RefinePoseIcp(model, scene, Perturbed(truth, {0.01, -0.008, 0.006}, {0.05, -0.04, 0.06}));
+  const IcpResult r =
+      RefinePoseIcp(model, scene, Perturbed(truth, {0.01, -0.008, 0.006}, {0.05, -0.04, 0.06}));
   ASSERT_TRUE(r.ok);
   const PoseError e = ComparePoses(truth, r.cMo);
   EXPECT_LT(e.translation_m, 0.001);
@@ -129,7 +140,8 @@ struct TruthAndIcp {
 
 /// ICP started at the truth on `frames` simulated frames 0.2 s apart of the
 /// world `config` (seed 7), on the crop around the true pose.
-std::vector<TruthAndIcp> IcpFromTheTruth(const ModelCloud& model, const WorldConfig& config, int frames) {
+std::vector<TruthAndIcp> IcpFromTheTruth(const ModelCloud& model, const WorldConfig& config,
+                                         int frames) {
   World world(config, 7);
   SimCamera camera(&world);
   RgbdFrame frame;
@@ -138,10 +150,10 @@ std::vector<TruthAndIcp> IcpFromTheTruth(const ModelCloud& model, const WorldCon
     world.StepTo(0.2 * k);
     if (!camera.Grab(&frame)) break;
     const Eigen::Isometry3d truth = world.wMc().inverse() * world.wMo();
-    const PoseSupport support =
-        ScorePoseSupport(model, truth, frame.color, frame.depth, camera.depth_scale_m(), camera.intrinsics());
-    const SceneCloud scene = BuildSceneCloud(frame.color, frame.depth, camera.depth_scale_m(), camera.intrinsics(),
-                                             support.box.Grown(0.15));
+    const PoseSupport support = ScorePoseSupport(model, truth, frame.color, frame.depth,
+                                                 camera.depth_scale_m(), camera.intrinsics());
+    const SceneCloud scene = BuildSceneCloud(frame.color, frame.depth, camera.depth_scale_m(),
+                                             camera.intrinsics(), support.box.Grown(0.15));
     out.push_back({truth, RefinePoseIcp(model, scene, truth)});
   }
   return out;
@@ -153,8 +165,8 @@ std::vector<TruthAndIcp> IcpFromTheTruth(const ModelCloud& model, const WorldCon
 // into a roll of 3.6 deg about the long axis, on average over the frames.
 TEST(IcpTest, DepthNoiseAlongTheRaysDoesNotTiltThePose) {
   const int frames = 6;
-  const std::vector<TruthAndIcp> runs =
-      IcpFromTheTruth(CrawlerModel(), WorldConfig::Load(DataPath("config/world_distance_1.5m.yaml")), frames);
+  const std::vector<TruthAndIcp> runs = IcpFromTheTruth(
+      CrawlerModel(), WorldConfig::Load(DataPath("config/world_distance_1.5m.yaml")), frames);
   ASSERT_EQ(runs.size(), frames);
   double roll_sum_rad = 0.0;
   for (const TruthAndIcp& run : runs) {
@@ -184,7 +196,8 @@ TEST(IcpTest, DepthNoiseBehindAThinWallDoesNotPullThePoseNearer) {
     const Eigen::Vector3d ray = run.truth.translation().normalized();
     depth_error_sum_m += (run.icp.cMo.translation() - run.truth.translation()).dot(ray);
   }
-  EXPECT_LT(std::abs(depth_error_sum_m / frames), 0.002) << "mean error along the ray " << depth_error_sum_m / frames;
+  EXPECT_LT(std::abs(depth_error_sum_m / frames), 0.002)
+      << "mean error along the ray " << depth_error_sum_m / frames;
 }
 
 // Points on the surface whose normals are turned 90 deg (a bristle of wrong
@@ -229,18 +242,22 @@ TEST(IcpTest, DistanceRejectorRunsOnBackground) {
     const Eigen::Vector3f p = oMc * scene.points_c[i];
     const int j = model.Nearest(p);
     const double z = scene.points_c[i].z();
-    const double max_distance = std::max(options.end_distance_m, 3.0 * options.depth_noise_per_m2 * z * z);
-    on_surface += j >= 0 && (model.points_o[j] - p).norm() <= max_distance &&
-                  model.normals_o[j].dot(oMc.linear() * scene.normals_c[i]) >= options.min_normal_cos;
+    const double max_distance =
+        std::max(options.end_distance_m, 3.0 * options.depth_noise_per_m2 * z * z);
+    on_surface +=
+        j >= 0 && (model.points_o[j] - p).norm() <= max_distance &&
+        model.normals_o[j].dot(oMc.linear() * scene.normals_c[i]) >= options.min_normal_cos;
   }
   ASSERT_LT(on_surface, background / 5);
-  const IcpResult r = RefinePoseIcp(model, scene, Perturbed(truth, {0.004, 0, 0}, {0, 0, 0.03}), options);
+  const IcpResult r =
+      RefinePoseIcp(model, scene, Perturbed(truth, {0.004, 0, 0}, {0, 0, 0.03}), options);
   ASSERT_TRUE(r.ok);
   // Behind the front faces some land near the object's inner faces, where the
   // normals (Eq. 2) catch them; the rest is too far (Eq. 1): all but 1 % of
   // those off the object's surface.
   EXPECT_GT(r.rejected_distance + r.rejected_no_model, background * 4 / 10);
-  EXPECT_GE(r.rejected_distance + r.rejected_no_model + r.rejected_normal, (background - on_surface) * 99 / 100)
+  EXPECT_GE(r.rejected_distance + r.rejected_no_model + r.rejected_normal,
+            (background - on_surface) * 99 / 100)
       << background << " background points, " << on_surface << " on the object's surface";
   EXPECT_LT(ComparePoses(truth, r.cMo).translation_m, 0.0015);
 }

@@ -1,9 +1,8 @@
-#include "detection/model_cloud.h"
-
 #include <gtest/gtest.h>
 
 #include "core/object_model.h"
 #include "core/shape_mesh.h"
+#include "detection/model_cloud.h"
 #include "test_helpers.h"
 
 namespace aerograsp {
@@ -36,18 +35,23 @@ TEST(ModelCloudTest, FindsTheCrawlersHalfTurnsAndThePipesAxis) {
   ASSERT_TRUE(pipe.symmetry.continuous_axis_o.has_value());
   EXPECT_GT(std::abs(pipe.symmetry.continuous_axis_o->x()), 0.99);
   const ModelCloud u = BuildModelCloud(ObjectModel::Load("u_shape").mesh_o);
-  EXPECT_EQ(u.symmetry.rotations.size(), 2u);  // identity and the half turn about z (open at the top)
+  EXPECT_EQ(u.symmetry.rotations.size(),
+            2u);  // identity and the half turn about z (open at the top)
   EXPECT_FALSE(u.symmetry.continuous_axis_o.has_value());
 }
 
 TEST(ModelCloudTest, SymmetricRotationErrorIgnoresSymmetriesOnly) {
   const ObjectSymmetry& crawler = testing::CrawlerModel().symmetry;
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
-  const Eigen::Matrix3d half_z = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d half_z =
+      Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   EXPECT_NEAR(SymmetricRotationError(R * half_z, R, crawler), 0.0, 1e-9);
-  const Eigen::Matrix3d small = Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Eigen::Matrix3d small =
+      Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitY()).toRotationMatrix();
   EXPECT_NEAR(SymmetricRotationError(R * half_z * small, R, crawler), 0.05, 1e-9);
-  const Eigen::Matrix3d quarter_z = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d quarter_z =
+      Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   EXPECT_NEAR(SymmetricRotationError(R * quarter_z, R, crawler), M_PI / 2, 1e-9);
 
   ObjectSymmetry axis;
@@ -61,8 +65,10 @@ TEST(ModelCloudTest, SymmetricRotationErrorIgnoresSymmetriesOnly) {
 
 TEST(ModelCloudTest, ClosestSymmetricRotationUndoesAFlipAndASpin) {
   const ObjectSymmetry& crawler = testing::CrawlerModel().symmetry;
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
-  const Eigen::Matrix3d half_x = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d half_x =
+      Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
   EXPECT_TRUE(ClosestSymmetricRotation(R * half_x, R, crawler).isApprox(R, 1e-9));
   ObjectSymmetry axis;
   axis.rotations = {Eigen::Matrix3d::Identity()};

@@ -1,5 +1,3 @@
-#include "detection/object_tracker.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,9 +6,10 @@
 #include <string>
 
 #include "core/data_dir.h"
-#include "detection/box_detector.h"
 #include "core/shape_mesh.h"
 #include "core/transforms.h"
+#include "detection/box_detector.h"
+#include "detection/object_tracker.h"
 #include "hardware/sim/d435_model.h"
 #include "hardware/sim/rgbd_renderer.h"
 #include "test_helpers.h"
@@ -27,7 +26,8 @@ class RenderedScene {
     RenderMesh wall;
     wall.mesh = MakeBoxMesh(Eigen::Vector3d(4.0, 4.0, 0.05));
     wall.material.albedo = Eigen::Vector3f(0.3f, 0.6f, 0.25f);
-    for (Eigen::Vector3d& v : wall.mesh.vertices) v.z() += 1.3;  // static meshes are given in w (= c here)
+    for (Eigen::Vector3d& v : wall.mesh.vertices)
+      v.z() += 1.3;  // static meshes are given in w (= c here)
     renderer_.AddMesh(wall, RgbdRenderer::Motion::kStatic);
     RenderMesh object;
     object.mesh = ObjectModel::Load("crawler").mesh_o;
@@ -83,7 +83,8 @@ TEST(ObjectTrackerTest, FindsAndTracksWithoutADetector) {
   ASSERT_EQ(state, TrackState::kFound);
   EXPECT_FALSE(r.global_init);
   EXPECT_LT(ComparePoses(TruthAt(5), r.estimate.cMo).translation_m, 0.005);
-  EXPECT_LT(SymmetricRotationError(r.estimate.cMo.linear(), TruthAt(5).linear(), tracker.model().symmetry),
+  EXPECT_LT(SymmetricRotationError(r.estimate.cMo.linear(), TruthAt(5).linear(),
+                                   tracker.model().symmetry),
             2.0 * M_PI / 180);
   EXPECT_GT(r.estimate.confidence, 0.6);
 }
@@ -97,7 +98,8 @@ TEST(ObjectTrackerTest, WithTheCameraPoseTheFilterRunsInTheWorld) {
   const auto wMc_at = [](int k) {
     Eigen::Isometry3d wMc = Eigen::Isometry3d::Identity();
     const double phase = 2.0 * M_PI * 0.5 * k / 30.0;
-    wMc.translation() = Eigen::Vector3d(0.03 * std::sin(phase), 0.02 * std::cos(phase), 0.01 * std::sin(phase));
+    wMc.translation() =
+        Eigen::Vector3d(0.03 * std::sin(phase), 0.02 * std::cos(phase), 0.01 * std::sin(phase));
     return wMc;
   };
   ObjectTracker tracker(ObjectModel::Load("crawler"), PerceptionOptions{}, nullptr);
@@ -178,11 +180,13 @@ TEST(ObjectTrackerTest, AHalfResolutionFrameGetsTwiceTheDepthNoiseTolerance) {
   // noise; one frame's share varies by a few %.)
   PoseSupportOptions at_640;
   at_640.depth_noise_per_m2 = PerceptionOptions{}.icp.depth_noise_per_m2;
-  PoseSupport pooled = ScorePoseSupport(tracker.model(), cMo, frame.color, frame.depth, 0.001, K, at_640);
+  PoseSupport pooled =
+      ScorePoseSupport(tracker.model(), cMo, frame.color, frame.depth, 0.001, K, at_640);
   for (int k = 0; k < 3; ++k) {
     RgbdFrame other;
     SimulateD435(D435Config{}, K, truth, &rng, &other);
-    const PoseSupport s = ScorePoseSupport(tracker.model(), cMo, other.color, other.depth, 0.001, K, at_640);
+    const PoseSupport s =
+        ScorePoseSupport(tracker.model(), cMo, other.color, other.depth, 0.001, K, at_640);
     pooled.agree += s.agree;
     pooled.see_through += s.see_through;
   }
@@ -243,7 +247,8 @@ TEST(ObjectTrackerTest, NoGlobalRegistrationForAnObjectOutsideItsRange) {
   // The object 0.7 m away, the wall behind it 1.3 m (without a detector the
   // search looks at cells all over the frame): searched with the default range
   // (0.35-1.6 m), not with one that ends at 0.5 m or starts beyond the wall.
-  for (const auto& [min_m, max_m] : {std::pair{0.35, 1.6}, std::pair{0.1, 0.5}, std::pair{2.0, 3.0}}) {
+  for (const auto& [min_m, max_m] :
+       {std::pair{0.35, 1.6}, std::pair{0.1, 0.5}, std::pair{2.0, 3.0}}) {
     PerceptionOptions options;
     options.min_global_range_m = min_m;
     options.max_global_range_m = max_m;
@@ -270,9 +275,10 @@ TEST(ObjectTrackerTest, WhileTrackedTheDetectorRunsOnEveryNthFrame) {
   const ObjectModel object = ObjectModel::Load("crawler");
   PerceptionOptions options;
   options.detect_every_frames = 3;
-  ObjectTracker tracker(object, options,
-                        std::make_unique<BoxDetector>(
-                            (std::filesystem::path(object.source).parent_path() / "detector.onnx").string()));
+  ObjectTracker tracker(
+      object, options,
+      std::make_unique<BoxDetector>(
+          (std::filesystem::path(object.source).parent_path() / "detector.onnx").string()));
   ColorImage color;
   DepthImage depth;
   std::string ran;  // per frame: D detector ran, - it did not
@@ -293,7 +299,8 @@ TEST(ObjectTrackerTest, WhileTrackedTheDetectorRunsOnEveryNthFrame) {
     const FrameReport r = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001);
     ran += r.times.detect_ms > 0.0 ? 'D' : '-';
   }
-  EXPECT_EQ(ran.substr(12), "-DD");  // the first hidden frame is still tracked (the last one was measured)
+  EXPECT_EQ(ran.substr(12),
+            "-DD");  // the first hidden frame is still tracked (the last one was measured)
 }
 
 TEST(ObjectTrackerTest, LosesAHiddenObjectAndReacquiresItWithinFiveFrames) {

@@ -1,5 +1,3 @@
-#include "detection/perception_config.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -9,6 +7,7 @@
 
 #include "core/config.h"
 #include "core/data_dir.h"
+#include "detection/perception_config.h"
 #include "tests/common/output_folder_test.h"
 
 namespace aerograsp {
@@ -102,7 +101,8 @@ class PerceptionConfigTest : public testing::OutputFolderTest {
 };
 
 TEST_F(PerceptionConfigTest, TheShippedDefaultFileIsTheCodeDefaults) {
-  ExpectSameOptions(LoadPerceptionOptions(DataPath("config/perception_default.yaml")), PerceptionOptions{});
+  ExpectSameOptions(LoadPerceptionOptions(DataPath("config/perception_default.yaml")),
+                    PerceptionOptions{});
 }
 
 TEST_F(PerceptionConfigTest, AnEmptyMapKeepsTheDefaults) {
@@ -110,8 +110,8 @@ TEST_F(PerceptionConfigTest, AnEmptyMapKeepsTheDefaults) {
 }
 
 TEST_F(PerceptionConfigTest, SetValuesChangeExactlyThoseFields) {
-  const PerceptionOptions loaded =
-      LoadPerceptionOptions(Write("min_coverage: 0.5\nicp:\n  max_iterations: 20\ntrack:\n  frames_to_lose: 5\n"));
+  const PerceptionOptions loaded = LoadPerceptionOptions(
+      Write("min_coverage: 0.5\nicp:\n  max_iterations: 20\ntrack:\n  frames_to_lose: 5\n"));
   PerceptionOptions expected;
   expected.min_coverage = 0.5;
   expected.icp.max_iterations = 20;
@@ -123,13 +123,16 @@ TEST_F(PerceptionConfigTest, AbsentKeysKeepTheGivenDefaults) {
   PerceptionOptions defaults;
   defaults.weak_direction_std_m = 0.02;
   EXPECT_EQ(LoadPerceptionOptions(Write("box_margin: 0.2\n"), defaults).weak_direction_std_m, 0.02);
-  EXPECT_EQ(LoadPerceptionOptions(Write("weak_direction_std_m: 0.0\n"), defaults).weak_direction_std_m, 0.0);
+  EXPECT_EQ(
+      LoadPerceptionOptions(Write("weak_direction_std_m: 0.0\n"), defaults).weak_direction_std_m,
+      0.0);
 }
 
 TEST_F(PerceptionConfigTest, AMissingFileIsNamed) {
   const std::string path = folder_ + "/absent.yaml";
-  EXPECT_THAT([&] { LoadPerceptionOptions(path); },
-              ::testing::ThrowsMessage<ConfigError>(AllOf(HasSubstr(path), HasSubstr("cannot open file"))));
+  EXPECT_THAT(
+      [&] { LoadPerceptionOptions(path); },
+      ::testing::ThrowsMessage<ConfigError>(AllOf(HasSubstr(path), HasSubstr("cannot open file"))));
 }
 
 TEST_F(PerceptionConfigTest, MalformedYamlNamesTheFileAndLine) {
@@ -138,18 +141,22 @@ TEST_F(PerceptionConfigTest, MalformedYamlNamesTheFileAndLine) {
 }
 
 TEST_F(PerceptionConfigTest, UnknownKeysAreNamedWithTheirPath) {
-  EXPECT_THAT(ErrorOf("box_margins: 0.2\n"), AllOf(HasSubstr("perception.yaml: box_margins: unknown key"),
-                                                   HasSubstr("box_margin")));
+  EXPECT_THAT(
+      ErrorOf("box_margins: 0.2\n"),
+      AllOf(HasSubstr("perception.yaml: box_margins: unknown key"), HasSubstr("box_margin")));
   EXPECT_THAT(ErrorOf("icp:\n  max_iteration: 20\n"),
-              AllOf(HasSubstr("perception.yaml: icp.max_iteration: unknown key"), HasSubstr("max_iterations")));
+              AllOf(HasSubstr("perception.yaml: icp.max_iteration: unknown key"),
+                    HasSubstr("max_iterations")));
   EXPECT_THAT(ErrorOf("ekf:\n  gate: 10\n"), HasSubstr("perception.yaml: ekf.gate: unknown key"));
 }
 
 TEST_F(PerceptionConfigTest, WrongTypesAreNamedWithTheirPath) {
   EXPECT_THAT(ErrorOf("icp:\n  max_iterations: 12.5\n"),
               HasSubstr("perception.yaml: icp.max_iterations: expected an integer, got '12.5'"));
-  EXPECT_THAT(ErrorOf("box_margin: wide\n"), HasSubstr("perception.yaml: box_margin: expected a number, got 'wide'"));
-  EXPECT_THAT(ErrorOf("track: 3\n"), HasSubstr("perception.yaml: track: expected a map, got a scalar"));
+  EXPECT_THAT(ErrorOf("box_margin: wide\n"),
+              HasSubstr("perception.yaml: box_margin: expected a number, got 'wide'"));
+  EXPECT_THAT(ErrorOf("track: 3\n"),
+              HasSubstr("perception.yaml: track: expected a map, got a scalar"));
 }
 
 TEST_F(PerceptionConfigTest, ValuesOutOfRangeAreNamedWithTheirPathAndBound) {

@@ -1,9 +1,8 @@
-#include "detection/pose_ekf.h"
-
 #include <gtest/gtest.h>
 
 #include "core/random.h"
 #include "core/transforms.h"
+#include "detection/pose_ekf.h"
 
 namespace aerograsp {
 namespace {
@@ -12,8 +11,9 @@ namespace {
 Eigen::Isometry3d MovingPose(double t) {
   Eigen::Isometry3d cMo = Eigen::Isometry3d::Identity();
   cMo.translation() = Eigen::Vector3d(0.05, -0.02, 0.8) + t * Eigen::Vector3d(0.06, 0.03, -0.04);
-  cMo.linear() = Eigen::AngleAxisd(0.3 * t, Eigen::Vector3d(0.2, 1.0, 0.1).normalized()).toRotationMatrix() *
-                 RotationFromRpy(Eigen::Vector3d(2.0, 0.1, 0.5));
+  cMo.linear() =
+      Eigen::AngleAxisd(0.3 * t, Eigen::Vector3d(0.2, 1.0, 0.1).normalized()).toRotationMatrix() *
+      RotationFromRpy(Eigen::Vector3d(2.0, 0.1, 0.5));
   return cMo;
 }
 
@@ -24,7 +24,8 @@ Eigen::Matrix<double, 6, 6> Noise(double sp, double sr) {
 }
 
 TEST(PoseEkfTest, LearnsConstantVelocityAndPredictsAhead) {
-  PoseEkfOptions options;  // the truth has no acceleration: trust the model more than the default does
+  PoseEkfOptions
+      options;  // the truth has no acceleration: trust the model more than the default does
   options.accel_noise_mps2 = 0.02;
   options.angular_accel_noise_radps2 = 0.05;
   PoseEkf ekf(options);
@@ -68,7 +69,8 @@ TEST(PoseEkfTest, GatesAnOutlierAndLeavesTheStateAlone) {
   EXPECT_TRUE(ekf.cMo().isApprox(before));
   // A rotation outlier is gated too.
   Eigen::Isometry3d turned = MovingPose(31 * dt);
-  turned.linear() = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix() * turned.linear();
+  turned.linear() =
+      Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix() * turned.linear();
   EXPECT_FALSE(ekf.Update(turned, Noise(0.001, 0.01)).accepted);
   // The right measurement passes with a small innovation.
   const EkfUpdate good = ekf.Update(MovingPose(31 * dt), Noise(0.001, 0.01));

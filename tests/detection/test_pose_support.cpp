@@ -1,8 +1,7 @@
-#include "detection/pose_support.h"
-
 #include <gtest/gtest.h>
 
 #include "core/data_dir.h"
+#include "detection/pose_support.h"
 #include "hardware/sim/sim_devices.h"
 #include "hardware/sim/world.h"
 #include "test_helpers.h"
@@ -38,8 +37,8 @@ TEST(PoseSupportTest, TheTruePoseAt1_5mIsNotContradictedByItsOwnEdges) {
   ASSERT_TRUE(camera.Grab(&frame));
   const Eigen::Isometry3d truth = world.wMc().inverse() * world.wMo();
   auto score = [&](const ColorImage& color) {
-    return ScorePoseSupport(testing::CrawlerModel(), truth, color, frame.depth, camera.depth_scale_m(),
-                            camera.intrinsics());
+    return ScorePoseSupport(testing::CrawlerModel(), truth, color, frame.depth,
+                            camera.depth_scale_m(), camera.intrinsics());
   };
   const PoseSupport aligned = score(frame.color);
   ASSERT_GT(aligned.projected, 200);
@@ -76,8 +75,8 @@ class SlideTest : public ::testing::Test {
     slid_.translation() += truth_.linear() * (0.03 * length_o_);
   }
   SlideFit Slide(const DepthImage& depth, double range_m) const {
-    return SlideToBestSupport(testing::CrawlerModel(), slid_, length_o_, frame_.color, depth, scale_m_, K_, {},
-                              range_m);
+    return SlideToBestSupport(testing::CrawlerModel(), slid_, length_o_, frame_.color, depth,
+                              scale_m_, K_, {}, range_m);
   }
   double ErrorAlongM(const Eigen::Isometry3d& cMo) const {
     return length_o_.dot(truth_.linear().transpose() * (cMo.translation() - truth_.translation()));
@@ -111,7 +110,8 @@ TEST_F(SlideTest, WithBothEndsHiddenTheSlideIsAGuess) {
       if (d == 0) continue;
       const Eigen::Vector3d p_o = truth_.inverse() * K_.Unproject(u, v, d * scale_m_);
       const double along_m = length_o_.dot(p_o) - centre_along_m_;
-      if (std::abs(along_m) > 0.06 && std::abs(along_m) < half_length_m_ + 0.02 && p_o.norm() < 0.3) {
+      if (std::abs(along_m) > 0.06 && std::abs(along_m) < half_length_m_ + 0.02 &&
+          p_o.norm() < 0.3) {
         depth.at(u, v) = static_cast<std::uint16_t>(d - 0.2 / scale_m_);
       }
     }

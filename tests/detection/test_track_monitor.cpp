@@ -1,8 +1,8 @@
-#include "detection/track_monitor.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
+
+#include "detection/track_monitor.h"
 
 namespace aerograsp {
 namespace {
@@ -20,7 +20,8 @@ TEST(TrackMonitorTest, HysteresisKeepsATrackThroughWobbles) {
   m.Update(1.0);
   m.Update(1.0);
   ASSERT_EQ(m.state(), TrackState::kFound);
-  for (int i = 0; i < 10; ++i) EXPECT_EQ(m.Update(i % 2 ? 0.35 : 0.1), TrackState::kFound);  // never 3 bad in a row
+  for (int i = 0; i < 10; ++i)
+    EXPECT_EQ(m.Update(i % 2 ? 0.35 : 0.1), TrackState::kFound);  // never 3 bad in a row
   EXPECT_EQ(m.Update(0.2), TrackState::kFound);
   EXPECT_EQ(m.Update(0.0), TrackState::kFound);
   EXPECT_EQ(m.Update(0.29), TrackState::kLost);

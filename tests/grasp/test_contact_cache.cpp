@@ -1,8 +1,7 @@
-#include "grasp/contact_cache.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "grasp/contact_cache.h"
 #include "tests/common/test_meshes.h"
 
 namespace aerograsp {
@@ -50,7 +49,8 @@ TEST_F(ContactCacheTest, OtherResolutionOrGripperOrMeshIsStale) {
   TriangleMesh moved = mesh_;
   moved.vertices[0].x() += 1e-9;
   EXPECT_NE(HashMesh(moved), key_.mesh_hash);
-  EXPECT_EQ(DeserializeContacts(bytes_, MakeContactCacheKey(moved, GripperConfig{}, ContactOptions{}), &read)
+  EXPECT_EQ(DeserializeContacts(
+                bytes_, MakeContactCacheKey(moved, GripperConfig{}, ContactOptions{}), &read)
                 .status,
             CacheStatus::kStale);
   EXPECT_TRUE(read.pairs.empty());  // never filled from a rejected blob
@@ -74,7 +74,8 @@ TEST_F(ContactCacheTest, FlippedByteTruncationAndGarbageAreCorrupt) {
   EXPECT_THAT(r.reason, HasSubstr("checksum"));
   EXPECT_EQ(DeserializeContacts(bytes_.substr(0, bytes_.size() - 20), key_, &read).status,
             CacheStatus::kCorrupt);
-  EXPECT_EQ(DeserializeContacts("ply\nformat ascii 1.0\n", key_, &read).status, CacheStatus::kCorrupt);
+  EXPECT_EQ(DeserializeContacts("ply\nformat ascii 1.0\n", key_, &read).status,
+            CacheStatus::kCorrupt);
   EXPECT_EQ(DeserializeContacts("", key_, &read).status, CacheStatus::kCorrupt);
   EXPECT_TRUE(read.pairs.empty());
 }

@@ -1,9 +1,8 @@
-#include "grasp/contacts.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "core/config.h"
+#include "grasp/contacts.h"
 #include "tests/common/test_meshes.h"
 
 namespace aerograsp {
@@ -64,7 +63,8 @@ TEST(ContactsTest, RayThroughThreeFoldsGivesSixPairs) {
   EXPECT_EQ(CountAxis(set, 0), 4 * 6);
   std::vector<double> widths;
   for (const ContactPair& p : set.pairs) {
-    if (p.axis == 0 && p.a.p_o.y() == set.pairs[0].a.p_o.y() && p.a.p_o.z() == set.pairs[0].a.p_o.z()) {
+    if (p.axis == 0 && p.a.p_o.y() == set.pairs[0].a.p_o.y() &&
+        p.a.p_o.z() == set.pairs[0].a.p_o.z()) {
       widths.push_back(p.width_m());
     }
   }
@@ -113,8 +113,9 @@ TEST(ContactsTest, BadResolutionIsRejectedWithItsKey) {
     EXPECT_THAT(e.what(), ::testing::HasSubstr("plan.yaml: contacts.resolution_m"));
     EXPECT_THAT(e.what(), ::testing::HasSubstr("above the upper bound"));
   }
-  EXPECT_THROW(ComputeContactPairs(BoxMesh(Eigen::Vector3d::Constant(0.05)), GripperConfig{}, options),
-               std::invalid_argument);
+  EXPECT_THROW(
+      ComputeContactPairs(BoxMesh(Eigen::Vector3d::Constant(0.05)), GripperConfig{}, options),
+      std::invalid_argument);
 }
 
 TEST(ContactsTest, PairsNearAFacesEdgeAreNotClearOfEdges) {

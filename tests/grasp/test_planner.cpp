@@ -1,11 +1,10 @@
-#include "grasp/planner.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "core/collision.h"
 #include "core/config.h"
 #include "core/transforms.h"
+#include "grasp/planner.h"
 #include "tests/common/test_meshes.h"
 
 namespace aerograsp {
@@ -37,7 +36,8 @@ Eigen::Isometry3d PlaceAtTool(const Platform& p, const Eigen::VectorXd& q_left, 
 TEST(GraspPlannerTest, ArmReachesABoxPlacedAtItsOwnTool) {
   const Platform platform = LoadPlatform();
   const GraspObject box = Box(Eigen::Vector3d(0.05, 0.05, 0.05));
-  ContactSet contacts = ComputeContactPairs(box.mesh_o, platform.config().gripper, ContactOptions{});
+  ContactSet contacts =
+      ComputeContactPairs(box.mesh_o, platform.config().gripper, ContactOptions{});
   const GraspPlanner planner(platform, box, contacts, GraspPlannerConfig{});
   Eigen::VectorXd q(4);
   q << 0.3, -0.9, 0.6, 0.2;
@@ -68,12 +68,13 @@ TEST(GraspPlannerTest, ArmReachesABoxPlacedAtItsOwnTool) {
 class ShippedPlanTest : public ::testing::Test {
  protected:
   ShippedPlanTest()
-      : platform_(LoadPlatform()), object_(UShape()),
+      : platform_(LoadPlatform()),
+        object_(UShape()),
         planner_(platform_, object_,
                  ComputeContactPairs(object_.mesh_o, platform_.config().gripper, ContactOptions{}),
                  GraspPlannerConfig{}) {
-    query_.dMo = MakeTransform(Eigen::Vector3d(0.10, 0.0, 0.46),
-                               Eigen::Vector3d(M_PI, 0.0, M_PI / 2));
+    query_.dMo =
+        MakeTransform(Eigen::Vector3d(0.10, 0.0, 0.46), Eigen::Vector3d(M_PI, 0.0, M_PI / 2));
     query_.q_left = platform_.home(Side::kLeft);
     query_.q_right = platform_.home(Side::kRight);
   }
@@ -139,7 +140,8 @@ TEST_F(ShippedPlanTest, ObjectOutOfReachHasNoGraspAndSaysWhy) {
   EXPECT_TRUE(plan.ranked.empty());
   EXPECT_EQ(plan.left_stats.by_reason[static_cast<int>(Infeasibility::kUnreachable)],
             plan.left_stats.candidates);
-  EXPECT_EQ(DescribeReasons(plan.left_stats), std::to_string(plan.left_stats.candidates) + " unreachable");
+  EXPECT_EQ(DescribeReasons(plan.left_stats),
+            std::to_string(plan.left_stats.candidates) + " unreachable");
   EXPECT_EQ(DescribeReasons(ArmStats{}), "");
   const SwitchDecision d = planner_.Reevaluate(far, SwitchState{});
   EXPECT_EQ(d.status, SwitchDecision::Status::kNoGrasp);
@@ -211,7 +213,8 @@ TEST_F(ShippedPlanTest, RobustGraspsStayFeasibleWhenTheObjectMovesAndRankFirst) 
   GraspPlannerConfig config;
   config.reach_margin_m = 0.01;
   const GraspPlanner robust_planner(
-      platform_, object_, ComputeContactPairs(object_.mesh_o, platform_.config().gripper, ContactOptions{}), config);
+      platform_, object_,
+      ComputeContactPairs(object_.mesh_o, platform_.config().gripper, ContactOptions{}), config);
   const PlanResult plan = robust_planner.Plan(query_);
   const PlanResult plain = planner_.Plan(query_);
   // Robustness only orders and marks: the same pairs are feasible either way.
@@ -253,7 +256,8 @@ TEST_F(ShippedPlanTest, RobustGraspsStayFeasibleWhenTheObjectMovesAndRankFirst) 
 TEST_F(ShippedPlanTest, GraspsClearOfEdgesRankFirstAndGetTheExactEpsilon) {
   GraspPlannerConfig config;
   config.edge_margin_m = 0.015;
-  const ContactSet contacts = ComputeContactPairs(object_.mesh_o, platform_.config().gripper, ContactOptions{});
+  const ContactSet contacts =
+      ComputeContactPairs(object_.mesh_o, platform_.config().gripper, ContactOptions{});
   const GraspPlanner edge_planner(platform_, object_, contacts, config);
   const PlanResult plan = edge_planner.Plan(query_);
   const PlanResult plain = planner_.Plan(query_);
@@ -264,7 +268,8 @@ TEST_F(ShippedPlanTest, GraspsClearOfEdgesRankFirstAndGetTheExactEpsilon) {
   bool seen_near_edge = false;
   for (const DualGrasp& d : plan.ranked) {
     // The flag is the contacts' own test, for both arms' pairs.
-    EXPECT_EQ(d.left.clear_of_edges, ContactsClearOfEdges(object_.mesh_o, contacts.pairs[d.left.pair], 0.015));
+    EXPECT_EQ(d.left.clear_of_edges,
+              ContactsClearOfEdges(object_.mesh_o, contacts.pairs[d.left.pair], 0.015));
     EXPECT_EQ(d.clear_of_edges, d.left.clear_of_edges && d.right.clear_of_edges);
     (d.clear_of_edges ? clear : near_edge)++;
     if (!d.clear_of_edges) seen_near_edge = true;

@@ -1,11 +1,10 @@
-#include "grasp/quality.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "core/config.h"
+#include "grasp/quality.h"
 
 namespace aerograsp {
 namespace {
@@ -17,9 +16,11 @@ const Eigen::Vector3d kCom = Eigen::Vector3d::Zero();
 std::vector<Wrench> TiltedPair(double tilt, const FrictionConfig& friction, double r = 0.05) {
   std::vector<Wrench> w;
   AppendContactWrenches(Eigen::Vector3d(0, 0, r),
-                        Eigen::Vector3d(std::sin(tilt), 0, -std::cos(tilt)), kCom, 0.05, friction, &w);
+                        Eigen::Vector3d(std::sin(tilt), 0, -std::cos(tilt)), kCom, 0.05, friction,
+                        &w);
   AppendContactWrenches(Eigen::Vector3d(0, 0, -r),
-                        Eigen::Vector3d(std::sin(tilt), 0, std::cos(tilt)), kCom, 0.05, friction, &w);
+                        Eigen::Vector3d(std::sin(tilt), 0, std::cos(tilt)), kCom, 0.05, friction,
+                        &w);
   return w;
 }
 
@@ -153,10 +154,10 @@ TEST(QualityTest, WeightShareIsEvenWithTheCentreOfMassBetweenTheGrasps) {
   s = ComputeWeightShare(left, right, Eigen::Vector3d(0.2, 0, 0), down, 0.1);
   EXPECT_EQ(s.term, 0.0);
   // Both grasps above each other on the gravity line: no share.
-  EXPECT_EQ(ComputeWeightShare(Eigen::Vector3d(0, 0, 0.05), Eigen::Vector3d(0, 0, -0.05), kCom, down,
-                               0.1)
-                .term,
-            0.0);
+  EXPECT_EQ(
+      ComputeWeightShare(Eigen::Vector3d(0, 0, 0.05), Eigen::Vector3d(0, 0, -0.05), kCom, down, 0.1)
+          .term,
+      0.0);
 }
 
 TEST(QualityTest, FrictionConfigValidationNamesTheKey) {

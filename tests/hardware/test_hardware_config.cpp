@@ -48,11 +48,14 @@ TEST(HardwareConfigTest, ShippedFilesAreValid) {
 
 TEST(HardwareConfigTest, BadValuesNameTheFileTheKeyAndTheBound) {
   std::string path = WriteConfig("hw_backend.yaml", "arms: {backend: usb}\n");
-  EXPECT_NE(ErrorOf(path).find("hw_backend.yaml: arms.backend"), std::string::npos) << ErrorOf(path);
+  EXPECT_NE(ErrorOf(path).find("hw_backend.yaml: arms.backend"), std::string::npos)
+      << ErrorOf(path);
   path = WriteConfig("hw_rate.yaml", "autopilot: {setpoint_hz: 5}\n");
-  EXPECT_NE(ErrorOf(path).find("hw_rate.yaml: autopilot.setpoint_hz: 5"), std::string::npos) << ErrorOf(path);
+  EXPECT_NE(ErrorOf(path).find("hw_rate.yaml: autopilot.setpoint_hz: 5"), std::string::npos)
+      << ErrorOf(path);
   path = WriteConfig("hw_key.yaml", "autopilot: {signing_key_hex: abc}\n");
-  EXPECT_NE(ErrorOf(path).find("autopilot.signing_key_hex: must be 64 hex digits"), std::string::npos);
+  EXPECT_NE(ErrorOf(path).find("autopilot.signing_key_hex: must be 64 hex digits"),
+            std::string::npos);
   path = WriteConfig("hw_baud.yaml", "arms: {baud: 1234}\n");
   EXPECT_NE(ErrorOf(path).find("arms.baud: 1234 is not a standard baud rate"), std::string::npos);
   path = WriteConfig("hw_replay.yaml", "camera: {backend: replay}\n");
@@ -67,7 +70,8 @@ TEST(HardwareConfigTest, ServoIdsMustBeUniqueAndCalibrationsMustSpan) {
       "    right:\n      j1: {id: 11, deg_at_raw_0: -90, deg_at_raw_1023: 130}\n"
       "      gripper: {id: 27}\n";
   std::string path = WriteConfig("hw_ids.yaml", servos);
-  EXPECT_NE(ErrorOf(path).find("arms.servos.right.j1.id: 11 is used twice"), std::string::npos) << ErrorOf(path);
+  EXPECT_NE(ErrorOf(path).find("arms.servos.right.j1.id: 11 is used twice"), std::string::npos)
+      << ErrorOf(path);
   path = WriteConfig("hw_span.yaml",
                      "arms:\n  servos:\n"
                      "    left:\n      j1: {id: 11, deg_at_raw_0: 10, deg_at_raw_1023: 10}\n"
@@ -85,19 +89,21 @@ TEST(HardwareConfigTest, UnknownKeysAreRejected) {
 }
 
 TEST(HardwareFactoryTest, AMissingDeviceNamesItsPortBeforeAnythingMoves) {
-  const std::string path =
-      WriteConfig("hw_missing.yaml", "arms: {backend: scs, port: /dev/aerograsp-no-bus}\n"
-                                     "autopilot: {backend: sim}\ncamera: {backend: sim}\n");
+  const std::string path = WriteConfig("hw_missing.yaml",
+                                       "arms: {backend: scs, port: /dev/aerograsp-no-bus}\n"
+                                       "autopilot: {backend: sim}\ncamera: {backend: sim}\n");
   try {
     Hardware::Open(HardwareConfig::Load(path), 1);
     FAIL() << "expected a HardwareError";
   } catch (const HardwareError& e) {
-    EXPECT_EQ(std::string(e.what()), "servo bus: cannot open /dev/aerograsp-no-bus: No such file or directory");
+    EXPECT_EQ(std::string(e.what()),
+              "servo bus: cannot open /dev/aerograsp-no-bus: No such file or directory");
   }
 }
 
 TEST(HardwareFactoryTest, TheSimulatedRunGoesThroughTheRealDrivers) {
-  std::unique_ptr<Hardware> hw = Hardware::Open(HardwareConfig::Load(DataPath("config/hardware_sim.yaml")), 1);
+  std::unique_ptr<Hardware> hw =
+      Hardware::Open(HardwareConfig::Load(DataPath("config/hardware_sim.yaml")), 1);
   ASSERT_NE(hw->scs_arms(), nullptr);
   ASSERT_NE(hw->px4(), nullptr);
   ASSERT_NE(hw->world(), nullptr);

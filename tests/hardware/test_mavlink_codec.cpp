@@ -23,7 +23,8 @@ std::vector<Parser::Result> FeedAll(Parser* parser, const std::vector<std::uint8
   return results;
 }
 
-template <class M> M RoundTrip(const M& message) {
+template <class M>
+M RoundTrip(const M& message) {
   Encoder encoder(1, 191);
   Parser parser;
   std::vector<Frame> frames;
@@ -46,8 +47,10 @@ TEST(MavlinkCodecTest, PayloadLengthsMatchTheMessageDefinitions) {
   EXPECT_EQ(Pack(LocalPositionNed{}).size(), FindMessage(LocalPositionNed::kId)->length);
   EXPECT_EQ(Pack(CommandLong{}).size(), FindMessage(CommandLong::kId)->length);
   EXPECT_EQ(Pack(CommandAck{}).size(), FindMessage(CommandAck::kId)->length);
-  EXPECT_EQ(Pack(SetPositionTargetLocalNed{}).size(), FindMessage(SetPositionTargetLocalNed::kId)->length);
-  EXPECT_EQ(Pack(PositionTargetLocalNed{}).size(), FindMessage(PositionTargetLocalNed::kId)->length);
+  EXPECT_EQ(Pack(SetPositionTargetLocalNed{}).size(),
+            FindMessage(SetPositionTargetLocalNed::kId)->length);
+  EXPECT_EQ(Pack(PositionTargetLocalNed{}).size(),
+            FindMessage(PositionTargetLocalNed::kId)->length);
   EXPECT_EQ(Pack(ExtendedSysState{}).size(), FindMessage(ExtendedSysState::kId)->length);
   EXPECT_EQ(Pack(StatusText{}).size(), FindMessage(StatusText::kId)->length);
 }
@@ -99,7 +102,8 @@ TEST(MavlinkCodecTest, EveryMessageSurvivesARoundTrip) {
 
   CommandLong cmd;
   cmd.param1 = 1.0f, cmd.param7 = std::nanf("");
-  cmd.command = kCmdComponentArmDisarm, cmd.target_system = 1, cmd.target_component = 1, cmd.confirmation = 2;
+  cmd.command = kCmdComponentArmDisarm, cmd.target_system = 1, cmd.target_component = 1,
+  cmd.confirmation = 2;
   const auto cmd2 = RoundTrip(cmd);
   EXPECT_EQ(cmd2.param1, 1.0f);
   EXPECT_TRUE(std::isnan(cmd2.param7));
@@ -165,11 +169,14 @@ TEST(MavlinkCodecTest, ParserRejectsACorruptedFrameAndReadsTheNext) {
 
 TEST(MavlinkCodecTest, UnknownMessagesAndFlagsAreDropped) {
   // A frame of message 9999 (its CRC cannot be checked without CRC_EXTRA).
-  std::vector<std::uint8_t> unknown = {kStxV2, 1, 0, 0, 0, 1, 1, 0x0F, 0x27, 0x00, 0x55, 0x00, 0x00};
+  std::vector<std::uint8_t> unknown = {kStxV2, 1,    0,    0,    0,    1,   1,
+                                       0x0F,   0x27, 0x00, 0x55, 0x00, 0x00};
   Parser parser;
-  EXPECT_EQ(FeedAll(&parser, unknown), std::vector<Parser::Result>{Parser::Result::kUnknownMessage});
+  EXPECT_EQ(FeedAll(&parser, unknown),
+            std::vector<Parser::Result>{Parser::Result::kUnknownMessage});
   std::vector<std::uint8_t> flags = {kStxV2, 1, 0x02, 0, 0, 1, 1, 0, 0, 0};
-  EXPECT_EQ(FeedAll(&parser, flags), std::vector<Parser::Result>{Parser::Result::kUnsupportedFlags});
+  EXPECT_EQ(FeedAll(&parser, flags),
+            std::vector<Parser::Result>{Parser::Result::kUnsupportedFlags});
 }
 
 TEST(MavlinkCodecTest, SignedFramesVerifyAndOthersAreRefused) {
@@ -185,7 +192,8 @@ TEST(MavlinkCodecTest, SignedFramesVerifyAndOthersAreRefused) {
   Parser verifier;
   verifier.RequireSigning(*key);
   std::vector<Frame> frames;
-  EXPECT_EQ(FeedAll(&verifier, frame1, &frames), std::vector<Parser::Result>{Parser::Result::kFrame});
+  EXPECT_EQ(FeedAll(&verifier, frame1, &frames),
+            std::vector<Parser::Result>{Parser::Result::kFrame});
   EXPECT_TRUE(frames[0].is_signed);
   EXPECT_EQ(frames[0].link_id, 3);
   EXPECT_EQ(frames[0].timestamp, 1000u);

@@ -33,7 +33,8 @@ std::vector<std::uint8_t> Mutate(std::vector<std::uint8_t> bytes, std::mt19937_6
   std::uniform_int_distribution<int> kind(0, 3), byte(0, 255);
   switch (kind(*rng)) {
     case 0:  // flip bytes
-      for (int k = 0; k < 3 && !bytes.empty(); ++k) bytes[(*rng)() % bytes.size()] = static_cast<std::uint8_t>(byte(*rng));
+      for (int k = 0; k < 3 && !bytes.empty(); ++k)
+        bytes[(*rng)() % bytes.size()] = static_cast<std::uint8_t>(byte(*rng));
       break;
     case 1:  // truncate
       if (!bytes.empty()) bytes.resize((*rng)() % bytes.size());

@@ -145,7 +145,9 @@ TEST_F(Px4AutopilotTest, NoAckAtAllGivesUpAfterTheAttempts) {
   peer_->DropNextCommands(100);
   const CommandAck ack = client_->Arm();
   EXPECT_FALSE(ack.accepted);
-  EXPECT_NE(ack.reason.find("arm: no COMMAND_ACK after 3 attempts (udp 127.0.0.1:"), std::string::npos) << ack.reason;
+  EXPECT_NE(ack.reason.find("arm: no COMMAND_ACK after 3 attempts (udp 127.0.0.1:"),
+            std::string::npos)
+      << ack.reason;
   EXPECT_EQ(peer_->commands_received(), 3);
 }
 
@@ -188,7 +190,9 @@ TEST_F(Px4AutopilotTest, SignedLinkWorksAndUnsignedPeersAreIgnored) {
     client_->Connect();
     FAIL() << "expected a HardwareError";
   } catch (const HardwareError& e) {
-    EXPECT_NE(std::string(e.what()).find("no heartbeat from system 1 component 1"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no heartbeat from system 1 component 1"),
+              std::string::npos)
+        << e.what();
   }
   EXPECT_GT(client_->parser_counters().bad_signature, 0);
 }
@@ -196,14 +200,17 @@ TEST_F(Px4AutopilotTest, SignedLinkWorksAndUnsignedPeersAreIgnored) {
 TEST_F(Px4AutopilotTest, NobodyThereNamesTheLink) {
   config_.connect_timeout_s = 0.2;
   UdpLink silent("127.0.0.1", 0, "", 0, "nobody");
-  Px4Autopilot client(std::make_unique<UdpLink>("127.0.0.1", 0, "127.0.0.1", silent.local_port(), "autopilot"),
-                      config_, [] { return 0.0; });
+  Px4Autopilot client(
+      std::make_unique<UdpLink>("127.0.0.1", 0, "127.0.0.1", silent.local_port(), "autopilot"),
+      config_, [] { return 0.0; });
   try {
     client.Connect();
     FAIL() << "expected a HardwareError";
   } catch (const HardwareError& e) {
-    EXPECT_NE(std::string(e.what()).find("autopilot (udp 127.0.0.1:"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("-> 127.0.0.1:" + std::to_string(silent.local_port())), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("autopilot (udp 127.0.0.1:"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("-> 127.0.0.1:" + std::to_string(silent.local_port())),
+              std::string::npos)
         << e.what();
   }
 }

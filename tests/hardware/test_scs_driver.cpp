@@ -30,7 +30,8 @@ class ScsDriverTest : public ::testing::Test {
   }
 
   std::unique_ptr<ScsArmsDriver> Open() {
-    return std::make_unique<ScsArmsDriver>(world_.platform(), servos_, [this] { return world_.now_s(); });
+    return std::make_unique<ScsArmsDriver>(world_.platform(), servos_,
+                                           [this] { return world_.now_s(); });
   }
 
   /// The closed loop: a bus cycle, the world's turn, the clock.
@@ -67,7 +68,8 @@ TEST_F(ScsDriverTest, OpensWithEveryServoAtItsPresentPositionAndTorqueOn) {
   auto driver = Open();
   const double quantum = world_.arm(Side::kLeft).quantum_rad();
   for (Side side : {Side::kLeft, Side::kRight}) {
-    EXPECT_LE((driver->JointPositions(side) - world_.arm(side).q_true_rad()).cwiseAbs().maxCoeff(), quantum);
+    EXPECT_LE((driver->JointPositions(side) - world_.arm(side).q_true_rad()).cwiseAbs().maxCoeff(),
+              quantum);
   }
   Run(driver.get(), 0.02);
   EXPECT_EQ(bus_->Registers(11)[scs::reg::kTorqueEnable], 1);
@@ -97,7 +99,8 @@ TEST_F(ScsDriverTest, TargetsOutsideTheLimitsAreClamped) {
   auto driver = Open();
   driver->SetJointTargets(Side::kLeft, Moved(*driver, Side::kLeft, 2, 10.0));
   for (int i = 0; i < 20; ++i) driver->Cycle();
-  EXPECT_DOUBLE_EQ(driver->last_command(Side::kLeft)[2], world_.platform().arm(Side::kLeft).upper_limits()[2]);
+  EXPECT_DOUBLE_EQ(driver->last_command(Side::kLeft)[2],
+                   world_.platform().arm(Side::kLeft).upper_limits()[2]);
 }
 
 TEST_F(ScsDriverTest, WatchdogHoldsTheLastCommandWhenTargetsGoStale) {
@@ -145,7 +148,8 @@ TEST_F(ScsDriverTest, AMissingPortIsNamed) {
     Open();
     FAIL() << "expected a HardwareError";
   } catch (const HardwareError& e) {
-    EXPECT_NE(std::string(e.what()).find("servo bus: cannot open /dev/aerograsp-no-such-port"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("servo bus: cannot open /dev/aerograsp-no-such-port"),
+              std::string::npos)
         << e.what();
   }
 }
@@ -161,7 +165,8 @@ TEST_F(ScsDriverTest, AServoFallingSilentKeepsItsLastPositionAndIsCounted) {
   const CycleReport report = driver->Cycle();
   EXPECT_EQ(report.failed_reads, 1);
   EXPECT_EQ(driver->JointPositions(Side::kRight)[1], before);
-  for (const ScsServoStatus& s : driver->servo_statuses()) EXPECT_EQ(s.failed_reads, s.id == 22 ? 1 : 0) << s.name;
+  for (const ScsServoStatus& s : driver->servo_statuses())
+    EXPECT_EQ(s.failed_reads, s.id == 22 ? 1 : 0) << s.name;
 }
 
 TEST_F(ScsDriverTest, CorruptedRepliesAreRejectedNotBelieved) {
@@ -173,7 +178,9 @@ TEST_F(ScsDriverTest, CorruptedRepliesAreRejectedNotBelieved) {
   bus_->SetFaults(faults);
   const Eigen::VectorXd held = driver->last_command(Side::kLeft);
   Run(driver.get(), 0.2);
-  EXPECT_GT(driver->counters().bad_checksums + driver->counters().timeouts + driver->counters().bad_replies, 0);
+  EXPECT_GT(driver->counters().bad_checksums + driver->counters().timeouts +
+                driver->counters().bad_replies,
+            0);
   // Whatever got through is the truth: the arm holds still, readings stay on it.
   EXPECT_LE((driver->JointPositions(Side::kLeft) - held).cwiseAbs().maxCoeff(),
             2.0 * world_.arm(Side::kLeft).quantum_rad());
@@ -211,7 +218,8 @@ TEST_F(ScsDriverTest, TorqueOffLeavesTheServosLimp) {
   EXPECT_EQ(driver->SetTorque(false), BusStatus::kOk);
   Track(driver.get(), Side::kLeft, Moved(*driver, Side::kLeft, 0, 0.4), 0.3);
   EXPECT_EQ(bus_->Registers(11)[scs::reg::kTorqueEnable], 0);
-  EXPECT_NEAR(world_.arm(Side::kLeft).q_true_rad()[0], world_.platform().home(Side::kLeft)[0], 0.01);
+  EXPECT_NEAR(world_.arm(Side::kLeft).q_true_rad()[0], world_.platform().home(Side::kLeft)[0],
+              0.01);
 }
 
 TEST_F(ScsDriverTest, StatusRegistersArriveRoundRobin) {

@@ -8,7 +8,8 @@
 namespace aerograsp {
 namespace {
 
-std::vector<scs::PacketParser::Result> Feed(scs::PacketParser* parser, const std::vector<std::uint8_t>& bytes) {
+std::vector<scs::PacketParser::Result> Feed(scs::PacketParser* parser,
+                                            const std::vector<std::uint8_t>& bytes) {
   std::vector<scs::PacketParser::Result> out;
   for (std::uint8_t b : bytes) {
     const auto r = parser->Push(b);
@@ -25,7 +26,7 @@ TEST(ScsProtocolTest, PingOfServoOneIsTheDocumentedPacket) {
 TEST(ScsProtocolTest, ReadAndWriteCarryAddressLengthAndBigEndianData) {
   const auto read = scs::EncodeRead(12, scs::reg::kPresentPosition, 2);
   EXPECT_EQ(read, (std::vector<std::uint8_t>{0xFF, 0xFF, 12, 4, 0x02, 56, 2,
-                                              static_cast<std::uint8_t>(~(12 + 4 + 2 + 56 + 2))}));
+                                             static_cast<std::uint8_t>(~(12 + 4 + 2 + 56 + 2))}));
   std::uint8_t be[2];
   scs::PutU16(0x03FF, be);
   EXPECT_EQ(be[0], 0x03);
@@ -38,7 +39,8 @@ TEST(ScsProtocolTest, ReadAndWriteCarryAddressLengthAndBigEndianData) {
 }
 
 TEST(ScsProtocolTest, SyncWriteLaysOutIdThenDataPerServo) {
-  const auto bytes = scs::EncodeSyncWrite(42, 6, {{11, {1, 2, 3, 4, 5, 6}}, {12, {7, 8, 9, 10, 11, 12}}});
+  const auto bytes =
+      scs::EncodeSyncWrite(42, 6, {{11, {1, 2, 3, 4, 5, 6}}, {12, {7, 8, 9, 10, 11, 12}}});
   ASSERT_EQ(bytes.size(), 4u + 1 + 2 + 2 * 7 + 1);
   EXPECT_EQ(bytes[2], scs::kBroadcastId);
   EXPECT_EQ(bytes[3], 2 + 2 + 2 * 7);  // LEN = params + 2

@@ -32,13 +32,16 @@ class SequenceTest : public ::testing::Test {
     f.stamp_s = 0.1 * i + 1.0 / 3.0;
     f.color = ColorImage(32, 24);
     f.depth = DepthImage(32, 24);
-    for (std::size_t k = 0; k < f.color.data.size(); ++k) f.color.data[k] = static_cast<std::uint8_t>(k * 7 + i);
-    for (std::size_t k = 0; k < f.depth.data.size(); ++k) f.depth.data[k] = static_cast<std::uint16_t>(k * 97 + i);
+    for (std::size_t k = 0; k < f.color.data.size(); ++k)
+      f.color.data[k] = static_cast<std::uint8_t>(k * 7 + i);
+    for (std::size_t k = 0; k < f.depth.data.size(); ++k)
+      f.depth.data[k] = static_cast<std::uint16_t>(k * 97 + i);
     return f;
   }
   SequenceExtras MakeExtras(int i) const {
     SequenceExtras e;
-    e.cMo = MakeTransform(Eigen::Vector3d(0.1 * i, -0.2, 0.7 + 1e-7 * i), Eigen::Vector3d(0.1, 0.2 * i, -0.3));
+    e.cMo = MakeTransform(Eigen::Vector3d(0.1 * i, -0.2, 0.7 + 1e-7 * i),
+                          Eigen::Vector3d(0.1, 0.2 * i, -0.3));
     VehicleState v;
     v.wMd = MakeTransform(Eigen::Vector3d(1, 2, -3), Eigen::Vector3d(0.01, -0.02, 0.5 + i));
     v.v_w = Eigen::Vector3d(0.1, 0.2, 1.0 / 3.0);
@@ -116,7 +119,8 @@ TEST_F(SequenceTest, WriterRefusesToOverwriteAndInconsistentExtras) {
   ExpectThrowsWith([&] { SequenceWriter again(folder_, info_); }, "already holds a sequence");
   SequenceWriter writer(folder_, info_, /*overwrite=*/true);
   writer.Write(MakeFrame(0), MakeExtras(0));
-  ExpectThrowsWith([&] { writer.Write(MakeFrame(1)); }, "lacks this kind of data but frame 0 had it");
+  ExpectThrowsWith([&] { writer.Write(MakeFrame(1)); },
+                   "lacks this kind of data but frame 0 had it");
   RgbdFrame wrong = MakeFrame(1);
   wrong.depth = DepthImage(16, 24);
   ExpectThrowsWith([&] { writer.Write(wrong, MakeExtras(1)); }, "the intrinsics say 32x24");
@@ -131,7 +135,8 @@ TEST_F(SequenceTest, AFolderWithoutSequenceYamlIsNotASequence) {
 TEST_F(SequenceTest, MissingFrameIsNamed) {
   WriteSequence(4);
   fs::remove(fs::path(folder_) / "depth" / "000002.png");
-  ExpectThrowsWith([&] { ReplayCamera r(folder_); }, "depth/000002.png: missing (sequence.yaml says 4 frames)");
+  ExpectThrowsWith([&] { ReplayCamera r(folder_); },
+                   "depth/000002.png: missing (sequence.yaml says 4 frames)");
 }
 
 TEST_F(SequenceTest, ImageOfTheWrongSizeIsNamedWhenRead) {
@@ -149,14 +154,15 @@ TEST_F(SequenceTest, ImageOfTheWrongSizeIsNamedWhenRead) {
       f.depth = DepthImage(64, 24);
       w.Write(f);
     }
-    fs::copy_file(fs::path(elsewhere) / "color" / "000000.png", fs::path(folder_) / "color" / "000001.png",
-                  fs::copy_options::overwrite_existing);
+    fs::copy_file(fs::path(elsewhere) / "color" / "000000.png",
+                  fs::path(folder_) / "color" / "000001.png", fs::copy_options::overwrite_existing);
     fs::remove_all(elsewhere);
   }
   ReplayCamera replay(folder_);
   RgbdFrame frame;
   ASSERT_TRUE(replay.Grab(&frame));
-  ExpectThrowsWith([&] { replay.Grab(&frame); }, "color/000001.png: is 64x24, sequence.yaml says 32x24");
+  ExpectThrowsWith([&] { replay.Grab(&frame); },
+                   "color/000001.png: is 64x24, sequence.yaml says 32x24");
 }
 
 TEST_F(SequenceTest, CorruptImageIsNamed) {
@@ -178,7 +184,8 @@ TEST_F(SequenceTest, TruncatedAndGarbledCsvAreNamedWithTheLine) {
   // Drop the last row: a truncated recording.
   const std::string truncated = text.substr(0, text.rfind('\n', text.size() - 2) + 1);
   std::ofstream(gt, std::ios::trunc) << truncated;
-  ExpectThrowsWith([&] { ReplayCamera r(folder_); }, "groundtruth.csv: 2 rows but sequence.yaml says 3 frames");
+  ExpectThrowsWith([&] { ReplayCamera r(folder_); },
+                   "groundtruth.csv: 2 rows but sequence.yaml says 3 frames");
   // A garbage number on line 3.
   std::string garbled = text;
   garbled.replace(garbled.find(",", garbled.find('\n', garbled.find('\n') + 1)) + 1, 1, "x");

@@ -40,7 +40,8 @@ TEST(WorldConfigTest, BadValuesNameFileKeyAndBound) {
     c.Validate();
     FAIL() << "expected a ConfigError";
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("world_default.yaml: vehicle.delay_s"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("world_default.yaml: vehicle.delay_s"), std::string::npos)
+        << e.what();
   }
   c = DefaultConfig();
   c.object.motion = "fly";
@@ -60,13 +61,15 @@ TEST(WorldConfigTest, UnknownKeysAreRejected) {
   const std::string path = ::testing::TempDir() + "/world_typo.yaml";
   {
     std::ofstream out(path);
-    out << "platform: " << DataPath("config/platform_4dof.yaml") << "\nvehicle:\n  sway_amplitud_m: [0, 0, 0]\n";
+    out << "platform: " << DataPath("config/platform_4dof.yaml")
+        << "\nvehicle:\n  sway_amplitud_m: [0, 0, 0]\n";
   }
   try {
     WorldConfig::Load(path);
     FAIL() << "expected a ConfigError";
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("vehicle.sway_amplitud_m: unknown key"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("vehicle.sway_amplitud_m: unknown key"), std::string::npos)
+        << e.what();
   }
 }
 
@@ -95,7 +98,8 @@ TEST(WorldTest, HoverSwaysWithinTheConfiguredEnvelope) {
   const Eigen::Vector3d span = hi - lo;
   for (int a = 0; a < 3; ++a) {
     EXPECT_LE(span[a], 2.0 * config.vehicle.sway_amplitude_m[a] + 1e-9) << a;
-    EXPECT_GE(span[a], 1.5 * config.vehicle.sway_amplitude_m[a]) << a;  // 20 s covers several periods
+    EXPECT_GE(span[a], 1.5 * config.vehicle.sway_amplitude_m[a])
+        << a;  // 20 s covers several periods
   }
   EXPECT_EQ(world.vehicle().State().mode, FlightMode::kHold);
 }
@@ -183,7 +187,8 @@ TEST(WorldTest, NaNJointTargetsAreIgnored) {
   arms.SetJointTargets(Side::kRight, bad);
   world.Step(0.5);
   EXPECT_TRUE(world.arm(Side::kRight).q_true_rad().allFinite());
-  EXPECT_TRUE(world.arm(Side::kRight).q_true_rad().isApprox(world.platform().home(Side::kRight), 1e-9));
+  EXPECT_TRUE(
+      world.arm(Side::kRight).q_true_rad().isApprox(world.platform().home(Side::kRight), 1e-9));
 }
 
 /// The crawler placed so that the left tool point is in the middle of one of
@@ -246,9 +251,11 @@ TEST(GripperReleaseTest, AnObjectReleasedAboveItsPipeLandsOnThePipe) {
   // The pipe moved under the held object: its resting place on the pipe 2 cm
   // below and 1 cm aside of where the gripper holds it.
   const double half_height_m = -ObjectModel::Load(config.object.name).mesh_o.BoundsMin().z();
-  const Eigen::Vector3d aside_w(-std::sin(config.scene.pipe_yaw_rad), std::cos(config.scene.pipe_yaw_rad), 0.0);
+  const Eigen::Vector3d aside_w(-std::sin(config.scene.pipe_yaw_rad),
+                                std::cos(config.scene.pipe_yaw_rad), 0.0);
   config.scene.pipe_center_w_m =
-      held_w + 0.01 * aside_w + Eigen::Vector3d(0.0, 0.0, 0.02 + config.scene.pipe_radius_m + half_height_m);
+      held_w + 0.01 * aside_w +
+      Eigen::Vector3d(0.0, 0.0, 0.02 + config.scene.pipe_radius_m + half_height_m);
   World world(config, 1);
   SimArmsDriver arms(&world);
   world.PlaceObject(world.wMe(Side::kLeft) * eMo);
@@ -306,7 +313,8 @@ TEST(SimCameraTest, TheObjectIsWhereTheGroundTruthSaysItIs) {
     EXPECT_DOUBLE_EQ(frame.stamp_s, world.now_s());
     const Eigen::Isometry3d cMo = world.wMc().inverse() * world.wMo();
     // The top of the crawler's track (o z up) is on the object in the image.
-    const Eigen::Vector3d top_c = cMo * Eigen::Vector3d(0, kTrackCentre_m, 0.5 * world.object().dimensions_m.z());
+    const Eigen::Vector3d top_c =
+        cMo * Eigen::Vector3d(0, kTrackCentre_m, 0.5 * world.object().dimensions_m.z());
     const Eigen::Vector2d uv = camera.intrinsics().Project(top_c);
     const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
     ASSERT_TRUE(u >= 0 && u < 640 && v >= 0 && v < 480) << uv.transpose();
@@ -315,7 +323,8 @@ TEST(SimCameraTest, TheObjectIsWhereTheGroundTruthSaysItIs) {
     // The measured depth there agrees within 4 sigma of the noise model, or is a hole.
     const std::uint16_t d = frame.depth.at(u, v);
     if (d != 0) {
-      EXPECT_NEAR(d * 0.001, top_c.z(), 4.0 * config.camera.d435.DepthNoiseStdM(top_c.z(), 640) + 1e-3);
+      EXPECT_NEAR(d * 0.001, top_c.z(),
+                  4.0 * config.camera.d435.DepthNoiseStdM(top_c.z(), 640) + 1e-3);
     }
   }
 }
@@ -325,13 +334,16 @@ TEST(SimCameraTest, AMeshOnTheObjectMovesWithItAndIsRendered) {
   SimCamera camera(&world);
   // A 4 cm white square 1 mm above the middle of the crawler's top, facing up (+z_o).
   RenderMesh square;
-  square.mesh.vertices = {{-0.02, -0.02, 0.0}, {0.02, -0.02, 0.0}, {0.02, 0.02, 0.0}, {-0.02, 0.02, 0.0}};
+  square.mesh.vertices = {
+      {-0.02, -0.02, 0.0}, {0.02, -0.02, 0.0}, {0.02, 0.02, 0.0}, {-0.02, 0.02, 0.0}};
   square.mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
   square.material.albedo = {1.0f, 1.0f, 1.0f};
-  const Eigen::Isometry3d oMm = MakeTransform(Eigen::Vector3d(0, 0, 0.5 * world.object().dimensions_m.z() + 0.001),
-                                              Eigen::Vector3d::Zero());
+  const Eigen::Isometry3d oMm =
+      MakeTransform(Eigen::Vector3d(0, 0, 0.5 * world.object().dimensions_m.z() + 0.001),
+                    Eigen::Vector3d::Zero());
   world.AttachToObject(square, oMm);
-  const Eigen::Isometry3d wMo = world.wMo() * MakeTransform(Eigen::Vector3d(0.05, 0.02, 0), Eigen::Vector3d(0, 0, 0.3));
+  const Eigen::Isometry3d wMo =
+      world.wMo() * MakeTransform(Eigen::Vector3d(0.05, 0.02, 0), Eigen::Vector3d(0, 0, 0.3));
   world.PlaceObject(wMo);
   ASSERT_EQ(world.attachments().size(), 1u);
   EXPECT_TRUE(world.wMattachment(world.attachments()[0]).isApprox(wMo * oMm, 1e-12));
@@ -341,7 +353,8 @@ TEST(SimCameraTest, AMeshOnTheObjectMovesWithItAndIsRendered) {
   const Eigen::Vector2d uv = camera.intrinsics().Project(centre_c);
   const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
   ASSERT_TRUE(u >= 0 && u < 640 && v >= 0 && v < 480) << uv.transpose();
-  EXPECT_NE(camera.last_truth().object_id.at(u, v), camera.object_render_id());  // the square hides the object
+  EXPECT_NE(camera.last_truth().object_id.at(u, v),
+            camera.object_render_id());  // the square hides the object
   EXPECT_NEAR(camera.last_truth().depth_m.at(u, v), centre_c.z(), 2e-3);
 }
 
@@ -349,10 +362,12 @@ TEST(SimCameraTest, AMeshHeldInFrontOfTheCameraStaysInPlaceInTheImageAndMoves) {
   World world(DefaultConfig(), 3);  // the vehicle sways: the mesh follows the camera
   SimCamera camera(&world);
   RenderMesh square;  // 4 cm, facing the camera (-z_m towards it)
-  square.mesh.vertices = {{-0.02, -0.02, 0.0}, {0.02, -0.02, 0.0}, {0.02, 0.02, 0.0}, {-0.02, 0.02, 0.0}};
+  square.mesh.vertices = {
+      {-0.02, -0.02, 0.0}, {0.02, -0.02, 0.0}, {0.02, 0.02, 0.0}, {-0.02, 0.02, 0.0}};
   square.mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
   square.material.albedo = {1.0f, 1.0f, 1.0f};
-  const Eigen::Isometry3d cMm = MakeTransform(Eigen::Vector3d(0.1, -0.05, 0.3), Eigen::Vector3d::Zero());
+  const Eigen::Isometry3d cMm =
+      MakeTransform(Eigen::Vector3d(0.1, -0.05, 0.3), Eigen::Vector3d::Zero());
   const std::size_t index = world.AttachToCamera(square, cMm);
   RgbdFrame frame;
   for (double t_s : {0.0, 0.7}) {
@@ -360,13 +375,16 @@ TEST(SimCameraTest, AMeshHeldInFrontOfTheCameraStaysInPlaceInTheImageAndMoves) {
     EXPECT_TRUE(world.wMattachment(world.attachments()[index]).isApprox(world.wMc() * cMm, 1e-12));
     ASSERT_TRUE(camera.Grab(&frame));
     const Eigen::Vector2d uv = camera.intrinsics().Project(cMm.translation());
-    EXPECT_NEAR(camera.last_truth().depth_m.at(static_cast<int>(uv.x()), static_cast<int>(uv.y())), 0.3, 1e-3);
+    EXPECT_NEAR(camera.last_truth().depth_m.at(static_cast<int>(uv.x()), static_cast<int>(uv.y())),
+                0.3, 1e-3);
   }
-  const Eigen::Isometry3d moved = MakeTransform(Eigen::Vector3d(-0.1, 0.05, 0.4), Eigen::Vector3d::Zero());
+  const Eigen::Isometry3d moved =
+      MakeTransform(Eigen::Vector3d(-0.1, 0.05, 0.4), Eigen::Vector3d::Zero());
   world.MoveAttachment(index, moved);
   ASSERT_TRUE(camera.Grab(&frame));
   const Eigen::Vector2d uv = camera.intrinsics().Project(moved.translation());
-  EXPECT_NEAR(camera.last_truth().depth_m.at(static_cast<int>(uv.x()), static_cast<int>(uv.y())), 0.4, 1e-3);
+  EXPECT_NEAR(camera.last_truth().depth_m.at(static_cast<int>(uv.x()), static_cast<int>(uv.y())),
+              0.4, 1e-3);
   EXPECT_THROW(world.MoveAttachment(index + 1, moved), std::out_of_range);
 }
 

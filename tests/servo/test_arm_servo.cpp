@@ -1,5 +1,3 @@
-#include "servo/arm_servo.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -8,6 +6,7 @@
 
 #include "core/config.h"
 #include "core/transforms.h"
+#include "servo/arm_servo.h"
 
 namespace aerograsp {
 namespace {
@@ -54,11 +53,13 @@ TEST_P(ArmServoConvergenceTest, ReachesRandomReachableTargets) {
   for (int trial = 0; trial < trials; ++trial) {
     Eigen::VectorXd q_goal(arm.dof()), q(arm.dof());
     for (int i = 0; i < arm.dof(); ++i) {
-      q_goal[i] = std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(rng);
+      q_goal[i] =
+          std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(rng);
     }
     for (int i = 0; i < arm.dof(); ++i) {
       const double near = q_goal[i] + std::uniform_real_distribution<double>(-0.5, 0.5)(rng);
-      const double far = std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(rng);
+      const double far =
+          std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(rng);
       q[i] = std::clamp(trial % 2 == 0 ? near : far, arm.lower_limits()[i], arm.upper_limits()[i]);
     }
     ArmServo servo(arm, ServoConfig{});
@@ -68,7 +69,8 @@ TEST_P(ArmServoConvergenceTest, ReachesRandomReachableTargets) {
   std::cout << GetParam() << ": reached " << reached << " of " << trials << " targets\n";
 }
 
-INSTANTIATE_TEST_SUITE_P(Arms, ArmServoConvergenceTest, ::testing::Values("arm4.urdf", "arm6.urdf"));
+INSTANTIATE_TEST_SUITE_P(Arms, ArmServoConvergenceTest,
+                         ::testing::Values("arm4.urdf", "arm6.urdf"));
 
 TEST(ArmServoTest, VelocitiesStayBoundedAtTheStretchedSingularity) {
   const ArmModel arm = Arm("arm4.urdf");
@@ -190,7 +192,8 @@ TEST(ArmServoTest, ForbiddenRegionShortensOrRefusesTheStep) {
   // The region appears in the way after the goal was chosen (as the other arm
   // moving in): beyond j0 = 0.1 nothing is allowed. Steps shorten, then hold.
   double wall_rad = 10.0;
-  ArmServo servo(arm, ServoConfig{}, [&](const Eigen::VectorXd& q_try) { return q_try[0] > wall_rad; });
+  ArmServo servo(arm, ServoConfig{},
+                 [&](const Eigen::VectorXd& q_try) { return q_try[0] > wall_rad; });
   int held = 0;
   for (int k = 0; k < 100; ++k) {
     servo.SetTarget(arm.ForwardKinematics(q_goal), 0.01 * k);

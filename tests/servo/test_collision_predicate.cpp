@@ -1,8 +1,8 @@
-#include "servo/collision_predicate.h"
-
 #include <gtest/gtest.h>
 
 #include <random>
+
+#include "servo/collision_predicate.h"
 
 namespace aerograsp {
 namespace {
@@ -54,7 +54,8 @@ TEST(CollisionPredicateTest, ServoNeverEntersTheSafeVolume) {
     auto random_q = [&] {
       Eigen::VectorXd q(arm.dof());
       for (int i = 0; i < arm.dof(); ++i) {
-        q[i] = std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(rng);
+        q[i] = std::uniform_real_distribution<double>(arm.lower_limits()[i],
+                                                      arm.upper_limits()[i])(rng);
       }
       return q;
     };

@@ -1,9 +1,9 @@
-#include "servo/dls.h"
-
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 #include <random>
+
+#include "servo/dls.h"
 
 namespace aerograsp {
 namespace {
@@ -29,8 +29,8 @@ TEST(DlsTest, NearASingularityMatchesTheClosedForm) {
   EXPECT_GT(s.damping, 0.0);
   EXPECT_NEAR(s.min_singular, 1e-4, 1e-12);
   const Eigen::MatrixXd closed =
-      J.transpose() * (J * J.transpose() + s.damping * s.damping * Eigen::MatrixXd::Identity(3, 3))
-                          .inverse();
+      J.transpose() *
+      (J * J.transpose() + s.damping * s.damping * Eigen::MatrixXd::Identity(3, 3)).inverse();
   EXPECT_TRUE(s.dq.isApprox(closed * e, 1e-9));
   // Bounded: the damped gain along the weak direction is at most 1 / (2 lambda).
   EXPECT_LT(std::abs(s.dq[2]), 0.1 / (2 * s.damping) + 1e-12);

@@ -1,11 +1,10 @@
-#include "servo/grasp_sequence.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <vector>
 
 #include "core/config.h"
+#include "servo/grasp_sequence.h"
 
 namespace aerograsp {
 namespace {
@@ -29,7 +28,7 @@ Eigen::Isometry3d Grasp(const ArmModel& arm) {
 }
 
 struct SequenceRun {
-  std::vector<GraspPhase> phases;     // after each step
+  std::vector<GraspPhase> phases;  // after each step
   std::vector<GripperCommand> gripper;
   Eigen::VectorXd q;
   double precatch_reached_s = -1.0;
@@ -38,7 +37,7 @@ struct SequenceRun {
 
 // Runs the sequence on an ideal arm for `steps` cycles of 0.01 s.
 SequenceRun RunSequence(const ArmModel& arm, GraspSequence* sequence, const Eigen::Isometry3d& bMg,
-                int steps, bool fresh_targets = true) {
+                        int steps, bool fresh_targets = true) {
   SequenceRun run;
   run.q = Home6();
   sequence->Start(0.0);

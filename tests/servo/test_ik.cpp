@@ -1,8 +1,8 @@
-#include "servo/ik.h"
-
 #include <gtest/gtest.h>
 
 #include <random>
+
+#include "servo/ik.h"
 
 namespace aerograsp {
 namespace {
@@ -74,14 +74,16 @@ TEST_P(ArmIkTest, SolvesTheForwardKinematicsOfRandomJointsFromFarSeeds) {
   for (int trial = 0; trial < 200; ++trial) {
     Eigen::VectorXd q_goal(arm.dof());
     for (int i = 0; i < arm.dof(); ++i) {
-      q_goal[i] = std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(rng);
+      q_goal[i] =
+          std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(rng);
     }
-    const ApproachIkResult r = ik.Search(arm.ForwardKinematics(q_goal), {Eigen::VectorXd::Zero(arm.dof())},
-                                 7u, nullptr);
+    const ApproachIkResult r =
+        ik.Search(arm.ForwardKinematics(q_goal), {Eigen::VectorXd::Zero(arm.dof())}, 7u, nullptr);
     if (!r.converged) continue;
     ++solved;
     EXPECT_TRUE(arm.WithinLimits(r.q));
-    const ApproachError e = ComputeApproachError(arm.ForwardKinematics(r.q), arm.ForwardKinematics(q_goal));
+    const ApproachError e =
+        ComputeApproachError(arm.ForwardKinematics(r.q), arm.ForwardKinematics(q_goal));
     EXPECT_LE(e.position_b.norm(), 1e-4);
     EXPECT_LE(e.approach_rad, 1e-3);
   }
@@ -113,10 +115,11 @@ TEST(ArmIkTest, AcceptRejectsSolutionsAndTheSearchGoesOn) {
   Eigen::VectorXd q(4);
   q << 0.2, -0.6, 1.4, 0.3;
   int asked = 0;
-  const ApproachIkResult r = ik.Search(arm.ForwardKinematics(q), {q}, 7u, [&](const Eigen::VectorXd&) {
-    ++asked;
-    return false;
-  });
+  const ApproachIkResult r =
+      ik.Search(arm.ForwardKinematics(q), {q}, 7u, [&](const Eigen::VectorXd&) {
+        ++asked;
+        return false;
+      });
   EXPECT_FALSE(r.converged);
   EXPECT_GT(asked, 1);
 }

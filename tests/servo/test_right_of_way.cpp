@@ -1,5 +1,3 @@
-#include "servo/right_of_way.h"
-
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -9,6 +7,7 @@
 #include "core/platform.h"
 #include "servo/arm_servo.h"
 #include "servo/collision_predicate.h"
+#include "servo/right_of_way.h"
 
 namespace aerograsp {
 namespace {
@@ -20,11 +19,11 @@ TEST(RightOfWayTest, OnlyTheArmFartherFromItsTargetMakesWayWhenBothAreHeld) {
   row.Post(1, 0.0, /*held=*/false, 0.1);
   EXPECT_FALSE(row.ShouldYield(0, 0.0, 0.3, fresh_s));  // the other arm is moving: wait
   row.Post(1, 0.0, /*held=*/true, 0.1);
-  EXPECT_TRUE(row.ShouldYield(0, 0.01, 0.3, fresh_s));   // both held, seat 0 is farther
-  EXPECT_FALSE(row.ShouldYield(0, 0.01, 0.05, fresh_s)); // both held, seat 0 is nearer
-  EXPECT_FALSE(row.ShouldYield(0, 0.5, 0.3, fresh_s));   // the other arm's post is stale
+  EXPECT_TRUE(row.ShouldYield(0, 0.01, 0.3, fresh_s));    // both held, seat 0 is farther
+  EXPECT_FALSE(row.ShouldYield(0, 0.01, 0.05, fresh_s));  // both held, seat 0 is nearer
+  EXPECT_FALSE(row.ShouldYield(0, 0.5, 0.3, fresh_s));    // the other arm's post is stale
   row.Post(0, 0.0, /*held=*/true, 0.1);
-  EXPECT_TRUE(row.ShouldYield(1, 0.0, 0.1, fresh_s));    // a tie: seat 1 makes way
+  EXPECT_TRUE(row.ShouldYield(1, 0.0, 0.1, fresh_s));  // a tie: seat 1 makes way
   EXPECT_FALSE(row.ShouldYield(0, 0.0, 0.1, fresh_s));
 }
 
@@ -46,9 +45,9 @@ DualRun RunBothArms(const Platform& platform, const PlatformCollision& collision
     const ArmModel& arm = platform.arm(sides[a]);
     ServoConfig config;
     config.via_rad = {arm.Clamp(Eigen::VectorXd::Zero(arm.dof())), platform.home(sides[a])};
-    servo[a] = std::make_unique<ArmServo>(arm, config,
-                                          MakeCollisionPredicate(collision, sides[a], 0.005, &q[1 - a]),
-                                          right_of_way, a);
+    servo[a] = std::make_unique<ArmServo>(
+        arm, config, MakeCollisionPredicate(collision, sides[a], 0.005, &q[1 - a]), right_of_way,
+        a);
     bMg[a] = arm.ForwardKinematics(goal[a]);
   }
   const PoseTolerance tolerance;  // 1 mm, 0.01 rad approach, 0.02 rad roll
@@ -74,12 +73,13 @@ DualRun RunBothArms(const Platform& platform, const PlatformCollision& collision
 
 // Both 4-DoF arms swing across the middle at once (start and goal drawn at
 // random, each pair jointly collision-free): each arm's straight joint path
-// passes through the other arm, whether that stands at its start or its goal. The servos, each holding the other's current
-// joints forbidden, used to stop mid-way and hold each other up for good. With
-// a shared right of way the arm farther from its target backs off and both
-// arrive, never touching.
+// passes through the other arm, whether that stands at its start or its goal. The servos, each
+// holding the other's current joints forbidden, used to stop mid-way and hold each other up for
+// good. With a shared right of way the arm farther from its target backs off and both arrive, never
+// touching.
 TEST(RightOfWayTest, TwoArmsWhosePathsCrossBothArriveWithoutTouching) {
-  const Platform platform = Platform::Load(std::string(AEROGRASP_DATA_DIR) + "/config/platform_4dof.yaml");
+  const Platform platform =
+      Platform::Load(std::string(AEROGRASP_DATA_DIR) + "/config/platform_4dof.yaml");
   const PlatformCollision collision(platform);
   Eigen::VectorXd start[2] = {Eigen::VectorXd(4), Eigen::VectorXd(4)};
   Eigen::VectorXd goal[2] = {Eigen::VectorXd(4), Eigen::VectorXd(4)};
@@ -93,7 +93,8 @@ TEST(RightOfWayTest, TwoArmsWhosePathsCrossBothArriveWithoutTouching) {
   const auto path_hits = [&](int a, const Eigen::VectorXd& q_other) {
     for (double s = 0.0; s <= 1.0; s += 0.01) {
       const Eigen::VectorXd q = start[a] + s * (goal[a] - start[a]);
-      if (a == 0 ? collision.ArmsCollide(q, q_other) : collision.ArmsCollide(q_other, q)) return true;
+      if (a == 0 ? collision.ArmsCollide(q, q_other) : collision.ArmsCollide(q_other, q))
+        return true;
     }
     return false;
   };

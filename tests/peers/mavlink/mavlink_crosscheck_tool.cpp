@@ -22,19 +22,41 @@ namespace {
 using nlohmann::json;
 
 /// Calls f(M{}) for the message type of `id`; false when not one of ours.
-template <class F> bool ForMessage(std::uint32_t id, F&& f) {
+template <class F>
+bool ForMessage(std::uint32_t id, F&& f) {
   switch (id) {
-    case Heartbeat::kId: f(Heartbeat{}); return true;
-    case SysStatus::kId: f(SysStatus{}); return true;
-    case Attitude::kId: f(Attitude{}); return true;
-    case LocalPositionNed::kId: f(LocalPositionNed{}); return true;
-    case CommandLong::kId: f(CommandLong{}); return true;
-    case CommandAck::kId: f(CommandAck{}); return true;
-    case SetPositionTargetLocalNed::kId: f(SetPositionTargetLocalNed{}); return true;
-    case PositionTargetLocalNed::kId: f(PositionTargetLocalNed{}); return true;
-    case ExtendedSysState::kId: f(ExtendedSysState{}); return true;
-    case StatusText::kId: f(StatusText{}); return true;
-    default: return false;
+    case Heartbeat::kId:
+      f(Heartbeat{});
+      return true;
+    case SysStatus::kId:
+      f(SysStatus{});
+      return true;
+    case Attitude::kId:
+      f(Attitude{});
+      return true;
+    case LocalPositionNed::kId:
+      f(LocalPositionNed{});
+      return true;
+    case CommandLong::kId:
+      f(CommandLong{});
+      return true;
+    case CommandAck::kId:
+      f(CommandAck{});
+      return true;
+    case SetPositionTargetLocalNed::kId:
+      f(SetPositionTargetLocalNed{});
+      return true;
+    case PositionTargetLocalNed::kId:
+      f(PositionTargetLocalNed{});
+      return true;
+    case ExtendedSysState::kId:
+      f(ExtendedSysState{});
+      return true;
+    case StatusText::kId:
+      f(StatusText{});
+      return true;
+    default:
+      return false;
   }
 }
 
@@ -42,7 +64,8 @@ template <class F> bool ForMessage(std::uint32_t id, F&& f) {
 struct Filler {
   std::uint32_t state;
   std::uint32_t Next() { return state = state * 1664525u + 1013904223u; }
-  template <class T> Filler& operator()(T& v) {
+  template <class T>
+  Filler& operator()(T& v) {
     if constexpr (std::is_floating_point_v<T>) {
       v = static_cast<T>((Next() / 4294967295.0 - 0.5) * 2000.0);
     } else {
@@ -50,7 +73,8 @@ struct Filler {
     }
     return *this;
   }
-  template <std::size_t N> Filler& operator()(std::array<char, N>& text) {
+  template <std::size_t N>
+  Filler& operator()(std::array<char, N>& text) {
     text.fill('\0');
     const std::string s = "aerograsp says " + std::to_string(Next());
     std::copy(s.begin(), s.end(), text.begin());
@@ -61,16 +85,20 @@ struct Filler {
 /// Lists the fields' values in wire order.
 struct ToJson {
   json values = json::array();
-  template <class T> ToJson& operator()(const T& v) {
+  template <class T>
+  ToJson& operator()(const T& v) {
     if constexpr (std::is_floating_point_v<T>) {
-      if (std::isnan(v)) values.push_back("NaN");
-      else values.push_back(static_cast<double>(v));
+      if (std::isnan(v))
+        values.push_back("NaN");
+      else
+        values.push_back(static_cast<double>(v));
     } else {
       values.push_back(static_cast<std::int64_t>(v));
     }
     return *this;
   }
-  template <std::size_t N> ToJson& operator()(const std::array<char, N>& text) {
+  template <std::size_t N>
+  ToJson& operator()(const std::array<char, N>& text) {
     values.push_back(std::string(text.data(), std::find(text.begin(), text.end(), '\0')));
     return *this;
   }
@@ -81,7 +109,8 @@ struct Compare {
   const json& values;
   std::size_t at = 0;
   std::vector<std::string> errors;
-  template <class T> Compare& operator()(const T& v) {
+  template <class T>
+  Compare& operator()(const T& v) {
     const std::size_t k = at++;
     if (k >= values.size()) {
       errors.push_back("field " + std::to_string(k) + ": node-mavlink listed fewer fields");
@@ -93,10 +122,13 @@ struct Compare {
     } else {
       same = values[k].get<std::int64_t>() == static_cast<std::int64_t>(v);
     }
-    if (!same) errors.push_back("field " + std::to_string(k) + ": " + std::to_string(v) + " != " + values[k].dump());
+    if (!same)
+      errors.push_back("field " + std::to_string(k) + ": " + std::to_string(v) +
+                       " != " + values[k].dump());
     return *this;
   }
-  template <std::size_t N> Compare& operator()(const std::array<char, N>& text) {
+  template <std::size_t N>
+  Compare& operator()(const std::array<char, N>& text) {
     const std::size_t k = at++;
     const std::string ours(text.data(), std::find(text.begin(), text.end(), '\0'));
     if (k >= values.size() || values[k].get<std::string>() != ours) {
@@ -135,8 +167,13 @@ int Write(const std::string& path) {
     ToJson values;
     message.Visit(values);
     Encoder& encoder = is_signed ? signer : plain;
-    json frame = {{"name", FindMessage(id)->name}, {"msgid", id}, {"sysid", 1}, {"compid", 1},
-                  {"seq", encoder.next_seq()}, {"signed", is_signed}, {"values", values.values}};
+    json frame = {{"name", FindMessage(id)->name},
+                  {"msgid", id},
+                  {"sysid", 1},
+                  {"compid", 1},
+                  {"seq", encoder.next_seq()},
+                  {"signed", is_signed},
+                  {"values", values.values}};
     const auto bytes = encoder.Encode(id, Pack(message), ++timestamp);
     if (is_signed) {
       frame["key"] = key_hex;
@@ -176,7 +213,8 @@ int Read(const std::string& path) {
   int failures = 0, signed_count = 0;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const json& f = frames[i];
-    const std::string where = "frame " + std::to_string(i) + " (" + f["name"].get<std::string>() + ")";
+    const std::string where =
+        "frame " + std::to_string(i) + " (" + f["name"].get<std::string>() + ")";
     Parser parser;
     if (f["signed"].get<bool>()) {
       parser.RequireSigning(*ParseKeyHex(f["key"].get<std::string>()));
@@ -208,7 +246,8 @@ int Read(const std::string& path) {
         Compare compare{f["values"], 0, {}};
         message.Visit(compare);
         if (compare.at != f["values"].size()) compare.errors.push_back("field count differs");
-        for (const std::string& e : compare.errors) std::cerr << "  MISMATCH " << where << ": " << e << "\n";
+        for (const std::string& e : compare.errors)
+          std::cerr << "  MISMATCH " << where << ": " << e << "\n";
         failures += static_cast<int>(compare.errors.size());
       });
     }
@@ -217,8 +256,8 @@ int Read(const std::string& path) {
       ++failures;
     }
   }
-  std::cout << "aerograsp decoded " << frames.size() << " node-mavlink frames (" << signed_count << " signed), "
-            << failures << " mismatches\n";
+  std::cout << "aerograsp decoded " << frames.size() << " node-mavlink frames (" << signed_count
+            << " signed), " << failures << " mismatches\n";
   return failures == 0 ? 0 : 1;
 }
 
