@@ -6,6 +6,7 @@
 
 #include "app/bench_command.h"
 #include "app/calibrate_command.h"
+#include "app/convert_command.h"
 #include "app/dataset_command.h"
 #include "app/hardware_check_command.h"
 #include "app/mission_command.h"
@@ -208,9 +209,11 @@ int main(int argc, char** argv) {
   CLI::App* replay_cmd = app.add_subcommand("replay",
                                             "Run perception on a recorded sequence: poses.csv, "
                                             "summary.json, plots; ViSP's tracker beside it");
-  replay_cmd->add_option("sequence", replay.sequence, "Sequence folder")
+  replay_cmd
+      ->add_option("sequence", replay.sequence,
+                   "Recording: sequence folder, RealSense .bag or TUM RGB-D folder")
       ->required()
-      ->check(CLI::ExistingDirectory);
+      ->check(CLI::ExistingPath);
   replay_cmd->add_option("--out", replay.out_dir, "Output folder")->required();
   replay_cmd->add_option("--object", replay.object,
                          "Object (shipped name or model path) [from sequence.yaml]");
@@ -239,6 +242,37 @@ int main(int argc, char** argv) {
           "--perception", replay.perception_config,
           "Perception YAML (see data/config/perception_default.yaml) [the code's defaults]")
       ->check(CLI::ExistingFile);
+  // Recordings from other sources: options shared by replay and convert.
+  std::vector<double> replay_wMo, convert_wMo;
+  double replay_gap_ms = 0.0, convert_gap_ms = 0.0;
+  auto recording_options = [](CLI::App* cmd, aerograsp::RecordingOptions* o,
+                              std::vector<double>* wMo, double* gap_ms) {
+    cmd->add_option("--intrinsics", o->intrinsics_file,
+                    "TUM folders: colour intrinsics (ViSP camera XML or YAML)")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--object-in-world", *wMo,
+                    "TUM folders: the object in groundtruth.txt's world, x y z (m) qw qx qy qz "
+                    "(gives the ground truth)")
+        ->expected(7);
+    cmd->add_option("--max-pair-gap-ms", *gap_ms,
+                    ".bag and TUM: pair colour and depth frames at most this far apart (ms) "
+                    "[one depth frame period]")
+        ->check(CLI::NonNegativeNumber);
+  };
+  recording_options(replay_cmd, &replay.recording, &replay_wMo, &replay_gap_ms);
+  aerograsp::ConvertCommandOptions convert;
+  CLI::App* convert_cmd = app.add_subcommand(
+      "convert", "Write a RealSense .bag or a TUM RGB-D folder as a sequence folder");
+  convert_cmd->add_option("input", convert.input, "RealSense .bag, TUM RGB-D or sequence folder")
+      ->required()
+      ->check(CLI::ExistingPath);
+  convert_cmd->add_option("--out", convert.out_dir, "Sequence folder to write")->required();
+  convert_cmd->add_option("--object", convert.object,
+                          "Object recorded in sequence.yaml (shipped name or model path)");
+  convert_cmd->add_option("--frames", convert.max_frames, "At most this many frames (0: all)")
+      ->check(CLI::NonNegativeNumber);
+  convert_cmd->add_flag("--overwrite", convert.overwrite, "Replace a sequence already in --out");
+  recording_options(convert_cmd, &convert.recording, &convert_wMo, &convert_gap_ms);
 
   aerograsp::DatasetCommandOptions dataset;
   CLI::App* dataset_cmd = app.add_subcommand(
@@ -343,7 +377,16 @@ int main(int argc, char** argv) {
     if (*servo_benchmark_cmd) aerograsp::RunServoBenchmark(servo_benchmark, std::cout);
     if (*replay_cmd) {
       if (!replay_init.empty()) replay.init_cMo = aerograsp::PoseFromValues(replay_init);
+      if (!replay_wMo.empty())
+        replay.recording.wMo = aerograsp::PoseFromValues(replay_wMo, "--object-in-world");
+      replay.recording.max_pair_gap_s = 1e-3 * replay_gap_ms;
       aerograsp::RunReplayCommand(replay, std::cout, std::cerr);
+    }
+    if (*convert_cmd) {
+      if (!convert_wMo.empty())
+        convert.recording.wMo = aerograsp::PoseFromValues(convert_wMo, "--object-in-world");
+      convert.recording.max_pair_gap_s = 1e-3 * convert_gap_ms;
+      aerograsp::RunConvertCommand(convert, std::cout, std::cerr);
     }
     if (*dataset_cmd) aerograsp::RunDatasetCommand(dataset, std::cout, std::cerr);
     if (*mission_cmd) aerograsp::RunMissionCommand(mission, std::cout, std::cerr);

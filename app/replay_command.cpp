@@ -22,7 +22,6 @@
 #include "core/transforms.h"
 #include "detection/object_tracker.h"
 #include "detection/perception_config.h"
-#include "hardware/sequence.h"
 
 namespace aerograsp {
 namespace fs = std::filesystem;
@@ -179,11 +178,14 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
   if (!options.perception_config.empty())
     perception = LoadPerceptionOptions(options.perception_config, perception);
 
-  ReplayCamera camera(options.sequence);
+  const std::unique_ptr<RecordedCamera> recording =
+      OpenRecording(options.sequence, options.recording);
+  RecordedCamera& camera = *recording;
   const SequenceInfo& info = camera.info();
   const std::string object_name = options.object.empty() ? info.object : options.object;
   if (object_name.empty()) {
-    throw std::invalid_argument(options.sequence + ": the sequence names no object; give --object");
+    throw std::invalid_argument(options.sequence +
+                                ": the recording names no object; give --object");
   }
   const ObjectModel object = ObjectModel::Load(object_name);
 
@@ -215,7 +217,9 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
   std::optional<Eigen::Isometry3d> init = options.init_cMo;
   if (options.init_from_truth) {
     if (!camera.has_groundtruth())
-      throw std::invalid_argument(options.sequence + ": --init-from-truth needs groundtruth.csv");
+      throw std::invalid_argument(options.sequence +
+                                  ": --init-from-truth needs the ground truth (groundtruth.csv; "
+                                  "for a TUM folder groundtruth.txt and --object-in-world)");
     init = camera.extras(0).cMo;
   }
   if (init) tracker.SetInitialPose(*init);
@@ -369,6 +373,7 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
 
   nlohmann::json summary;
   summary["sequence"] = options.sequence;
+  summary["recording"] = info.description;
   summary["object"] = object.name;
   summary["frames"] = frames;
   summary["filter_frame"] = options.filter_frame;

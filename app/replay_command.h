@@ -1,5 +1,6 @@
-// `aerograsp replay SEQUENCE --out DIR`: runs the perception pipeline frame by
-// frame on a recorded sequence (hardware/sequence.h) and writes
+// `aerograsp replay RECORDING --out DIR`: runs the perception pipeline frame by
+// frame on a recording (a sequence folder, a RealSense .bag, a TUM RGB-D folder:
+// hardware/bag/recording.h) and writes
 //   DIR/poses.csv      frame, stamp_s, cMo (t in m, q as w x y z), confidence, state, ...
 //   DIR/summary.json   frames, timings per stage, and accuracy against the
 //                      ground truth when the sequence has it
@@ -14,10 +15,12 @@
 #include <string>
 #include <vector>
 
+#include "hardware/bag/recording.h"
+
 namespace aerograsp {
 
 struct ReplayCommandOptions {
-  std::string sequence;      ///< sequence folder
+  std::string sequence;      ///< sequence folder, .bag file or TUM RGB-D folder
   std::string out_dir;       ///< created; poses.csv, summary.json, pose_vs_truth.png
   std::string object;        ///< overrides the sequence's object (shipped name or model path)
   std::string detector;      ///< ONNX path; "" = data/objects/NAME/detector.onnx when it exists
@@ -34,6 +37,9 @@ struct ReplayCommandOptions {
   /// Perception YAML (detection/perception_config.h); "" = the code's defaults.
   /// With filter_frame "world", weak_direction_std_m is 0.02 m unless the file sets it.
   std::string perception_config;
+  /// TUM folders: intrinsics file, the object in groundtruth.txt's world (gives
+  /// the ground truth); .bag and TUM: the colour-depth pairing gap (0: one depth period).
+  RecordingOptions recording;
 };
 
 /// Reads "x y z qw qx qy qz" (metres, unit quaternion w first) as cMo.

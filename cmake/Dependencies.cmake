@@ -24,6 +24,26 @@ find_package(orocos_kdl REQUIRED)
 # PCL's config needs MPI's C target before it is found.
 find_package(MPI COMPONENTS C)
 find_package(PCL 1.12 REQUIRED COMPONENTS common io kdtree search features registration filters)
+# RealSense .bag files are read with ROS 1's bag library (Debian's librosbag-storage-dev and the
+# message packages). Their configs run python3 (through ament): the system one, whose modules
+# they need, not a python3 that happens to come first on PATH.
+set(PYTHON_EXECUTABLE /usr/bin/python3)
+set(Python3_EXECUTABLE /usr/bin/python3)
+find_package(rosbag_storage REQUIRED)
+foreach(_ros_package sensor_msgs geometry_msgs std_msgs diagnostic_msgs rostime
+        roscpp_serialization cpp_common)
+  find_package(${_ros_package} REQUIRED)
+endforeach()
+if(NOT TARGET aerograsp_ros_bag)
+  add_library(aerograsp_ros_bag INTERFACE)
+  target_include_directories(aerograsp_ros_bag SYSTEM INTERFACE
+    ${rosbag_storage_INCLUDE_DIRS} ${sensor_msgs_INCLUDE_DIRS} ${geometry_msgs_INCLUDE_DIRS}
+    ${std_msgs_INCLUDE_DIRS} ${diagnostic_msgs_INCLUDE_DIRS} ${rostime_INCLUDE_DIRS}
+    ${roscpp_serialization_INCLUDE_DIRS} ${cpp_common_INCLUDE_DIRS})
+  # rostime, roscpp_serialization and cpp_common are not brought in by rosbag_storage's config.
+  target_link_libraries(aerograsp_ros_bag INTERFACE ${rosbag_storage_LIBRARIES}
+    ${rostime_LIBRARIES} ${roscpp_serialization_LIBRARIES} ${cpp_common_LIBRARIES})
+endif()
 
 if(AEROGRASP_BUILD_TESTS)
   find_package(GTest REQUIRED)

@@ -106,6 +106,35 @@ std::vector<std::vector<double>> ReadCsv(const std::string& path, std::int64_t f
   return rows;
 }
 
+/// width, height, fx, fy, cx, cy of a map (which may also hold `extra_keys`), validated.
+CameraIntrinsics ReadIntrinsics(const ConfigNode& k, const std::string& name,
+                                std::vector<std::string> extra_keys) {
+  for (const char* key : {"width", "height", "fx", "fy", "cx", "cy"}) extra_keys.push_back(key);
+  k.RequireOnlyKeys(extra_keys);
+  CameraIntrinsics K;
+  K.width = k.GetInt("width");
+  K.height = k.GetInt("height");
+  K.fx = k.GetDouble("fx");
+  K.fy = k.GetDouble("fy");
+  K.cx = k.GetDouble("cx");
+  K.cy = k.GetDouble("cy");
+  K.Validate(k.source() + ": " + name);
+  return K;
+}
+
+/// distortion_model (a name, rgbd_alignment.h) and distortion_coeffs (k1 k2 p1 p2 k3).
+void ReadLens(const ConfigNode& lens, DistortionModel* model, std::array<double, 5>* coeffs) {
+  try {
+    *model = ParseDistortionModel(lens.GetString("distortion_model"), lens.source());
+  } catch (const HardwareError&) {
+    lens.Fail("distortion_model", "'" + lens.GetString("distortion_model") +
+                                      "' is not one of none, Brown Conrady, Modified Brown "
+                                      "Conrady, Inverse Brown Conrady");
+  }
+  const std::vector<double> c = lens.GetDoubles("distortion_coeffs", 5);
+  std::copy(c.begin(), c.end(), coeffs->begin());
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------
@@ -114,6 +143,7 @@ std::vector<std::vector<double>> ReadCsv(const std::string& path, std::int64_t f
 SequenceWriter::SequenceWriter(const std::string& folder, const SequenceInfo& info, bool overwrite)
     : folder_(folder), info_(info) {
   info_.intrinsics.Validate(folder + " (intrinsics)");
+  if (info_.depth_camera) info_.depth_camera->intrinsics.Validate(folder + " (depth camera)");
   const fs::path root(folder);
   if (fs::exists(root / "sequence.yaml") && !overwrite) {
     Fail(folder, "already holds a sequence (sequence.yaml); choose another folder or overwrite it");
@@ -141,13 +171,15 @@ SequenceWriter::~SequenceWriter() {
 void SequenceWriter::Write(const RgbdFrame& frame, const SequenceExtras& extras) {
   if (closed_) Fail(folder_, "the sequence is closed");
   const CameraIntrinsics& K = info_.intrinsics;
+  const CameraIntrinsics& Kd = info_.depth_camera ? info_.depth_camera->intrinsics : K;
   if (frame.color.width != K.width || frame.color.height != K.height ||
-      frame.depth.width != K.width || frame.depth.height != K.height) {
+      frame.depth.width != Kd.width || frame.depth.height != Kd.height) {
     Fail(folder_, "frame " + std::to_string(count_) + " is " + std::to_string(frame.color.width) +
                       "x" + std::to_string(frame.color.height) + " colour, " +
                       std::to_string(frame.depth.width) + "x" + std::to_string(frame.depth.height) +
                       " depth; the intrinsics say " + std::to_string(K.width) + "x" +
-                      std::to_string(K.height));
+                      std::to_string(K.height) + " colour, " + std::to_string(Kd.width) + "x" +
+                      std::to_string(Kd.height) + " depth");
   }
   const cv::Mat rgb(K.height, K.width, CV_8UC3, const_cast<std::uint8_t*>(frame.color.data.data()));
   cv::Mat bgr;
@@ -155,7 +187,7 @@ void SequenceWriter::Write(const RgbdFrame& frame, const SequenceExtras& extras)
   const std::string color_path = ColorPath(folder_, count_);
   if (!cv::imwrite(color_path, bgr, {cv::IMWRITE_PNG_COMPRESSION, 1}))
     Fail(color_path, "cannot be written");
-  const cv::Mat depth(K.height, K.width, CV_16UC1,
+  const cv::Mat depth(Kd.height, Kd.width, CV_16UC1,
                       const_cast<std::uint16_t*>(frame.depth.data.data()));
   const std::string depth_path = DepthPath(folder_, count_);
   if (!cv::imwrite(depth_path, depth, {cv::IMWRITE_PNG_COMPRESSION, 1}))
@@ -236,6 +268,29 @@ void SequenceWriter::Close() {
   y << YAML::Key << "cx" << YAML::Value << i.intrinsics.cx;
   y << YAML::Key << "cy" << YAML::Value << i.intrinsics.cy;
   y << YAML::EndMap;
+  auto lens = [&y](DistortionModel model, const std::array<double, 5>& coeffs) {
+    y << YAML::Key << "distortion_model" << YAML::Value << ToString(model);
+    y << YAML::Key << "distortion_coeffs" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+    for (double c : coeffs) y << c;
+    y << YAML::EndSeq;
+  };
+  if (i.color_model != DistortionModel::kNone) {
+    y << YAML::Key << "color_lens" << YAML::Value << YAML::BeginMap;
+    lens(i.color_model, i.color_coeffs);
+    y << YAML::EndMap;
+  }
+  if (i.depth_camera) {
+    const CameraIntrinsics& Kd = i.depth_camera->intrinsics;
+    y << YAML::Key << "depth_camera" << YAML::Value << YAML::BeginMap;
+    y << YAML::Key << "width" << YAML::Value << Kd.width;
+    y << YAML::Key << "height" << YAML::Value << Kd.height;
+    y << YAML::Key << "fx" << YAML::Value << Kd.fx;
+    y << YAML::Key << "fy" << YAML::Value << Kd.fy;
+    y << YAML::Key << "cx" << YAML::Value << Kd.cx;
+    y << YAML::Key << "cy" << YAML::Value << Kd.cy;
+    lens(i.depth_camera->model, i.depth_camera->coeffs);
+    y << YAML::EndMap;
+  }
   y << YAML::Key << "depth_to_color" << YAML::Value << YAML::Flow << YAML::BeginSeq;
   for (int r = 0; r < 4; ++r) {
     for (int c = 0; c < 4; ++c) y << i.colorMdepth.matrix()(r, c);
@@ -258,7 +313,8 @@ SequenceInfo ReadSequenceInfo(const std::string& folder) {
     Fail(folder, "not a sequence: no sequence.yaml (an unfinished recording?)");
   const ConfigNode node = ConfigNode::LoadFile(path.string());
   node.RequireOnlyKeys({"format", "version", "description", "object", "frame_count",
-                        "frame_rate_hz", "depth_scale_m", "intrinsics", "depth_to_color"});
+                        "frame_rate_hz", "depth_scale_m", "intrinsics", "color_lens",
+                        "depth_camera", "depth_to_color"});
   if (node.GetString("format") != kFormat)
     node.Fail("format", std::string("expected '") + kFormat + "'");
   if (node.GetInt("version") != kVersion) {
@@ -275,15 +331,19 @@ SequenceInfo ReadSequenceInfo(const std::string& folder) {
   CheckRange(path.string(), "frame_rate_hz", info.frame_rate_hz, 0.01, 1000.0, "Hz");
   info.depth_scale_m = node.GetDouble("depth_scale_m");
   CheckRange(path.string(), "depth_scale_m", info.depth_scale_m, 1e-6, 1.0, "m");
-  const ConfigNode k = node.Child("intrinsics");
-  k.RequireOnlyKeys({"width", "height", "fx", "fy", "cx", "cy"});
-  info.intrinsics.width = k.GetInt("width");
-  info.intrinsics.height = k.GetInt("height");
-  info.intrinsics.fx = k.GetDouble("fx");
-  info.intrinsics.fy = k.GetDouble("fy");
-  info.intrinsics.cx = k.GetDouble("cx");
-  info.intrinsics.cy = k.GetDouble("cy");
-  info.intrinsics.Validate(path.string() + ": intrinsics");
+  info.intrinsics = ReadIntrinsics(node.Child("intrinsics"), "intrinsics", {});
+  if (node.Has("color_lens")) {
+    const ConfigNode lens = node.Child("color_lens");
+    lens.RequireOnlyKeys({"distortion_model", "distortion_coeffs"});
+    ReadLens(lens, &info.color_model, &info.color_coeffs);
+  }
+  if (node.Has("depth_camera")) {
+    const ConfigNode d = node.Child("depth_camera");
+    StreamCalibration depth;
+    depth.intrinsics = ReadIntrinsics(d, "depth_camera", {"distortion_model", "distortion_coeffs"});
+    ReadLens(d, &depth.model, &depth.coeffs);
+    info.depth_camera = depth;
+  }
   const std::vector<double> m = node.GetDoubles("depth_to_color", 16);
   for (int r = 0; r < 4; ++r) {
     for (int c = 0; c < 4; ++c) info.colorMdepth.matrix()(r, c) = m[4 * r + c];
@@ -293,7 +353,8 @@ SequenceInfo ReadSequenceInfo(const std::string& folder) {
 }
 
 ReplayCamera::ReplayCamera(const std::string& folder)
-    : folder_(folder), info_(ReadSequenceInfo(folder)) {
+    : folder_(folder), info_(ReadSequenceInfo(folder)), frame_info_(info_) {
+  frame_info_.depth_camera.reset();
   const std::int64_t n = info_.frame_count;
   for (std::int64_t i = 0; i < n; ++i) {
     for (const std::string& p : {ColorPath(folder, i), DepthPath(folder, i)}) {
@@ -365,17 +426,22 @@ bool ReplayCamera::Grab(RgbdFrame* frame) {
   const cv::Mat depth = cv::imread(depth_path, cv::IMREAD_UNCHANGED);
   if (depth.empty()) Fail(depth_path, "cannot be read as an image (corrupt or truncated PNG?)");
   if (depth.type() != CV_16UC1) Fail(depth_path, "is not a 16-bit single-channel depth image");
-  if (depth.cols != K.width || depth.rows != K.height) {
+  const CameraIntrinsics& Kd = info_.depth_camera ? info_.depth_camera->intrinsics : K;
+  if (depth.cols != Kd.width || depth.rows != Kd.height) {
     Fail(depth_path, "is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
-                         ", sequence.yaml says " + std::to_string(K.width) + "x" +
-                         std::to_string(K.height));
+                         ", sequence.yaml says " + std::to_string(Kd.width) + "x" +
+                         std::to_string(Kd.height) + (info_.depth_camera ? " (depth_camera)" : ""));
   }
   frame->color = ColorImage(K.width, K.height);
   cv::Mat rgb(K.height, K.width, CV_8UC3, frame->color.data.data());
   cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-  frame->depth = DepthImage(K.width, K.height);
-  cv::Mat out(K.height, K.width, CV_16UC1, frame->depth.data.data());
+  frame->depth = DepthImage(Kd.width, Kd.height);
+  cv::Mat out(Kd.height, Kd.width, CV_16UC1, frame->depth.data.data());
   depth.copyTo(out);
+  if (info_.depth_camera) {
+    frame->depth = AlignDepthToColor(frame->depth, *info_.depth_camera, info_.color_stream(),
+                                     info_.colorMdepth, info_.depth_scale_m);
+  }
   frame->index = next_;
   frame->stamp_s = stamps_s_[static_cast<std::size_t>(next_)];
   ++next_;

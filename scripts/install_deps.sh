@@ -15,6 +15,9 @@ PACKAGES=(
   libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev
   # devices: SHA-256 for MAVLink 2 signing
   libssl-dev
+  # recordings: RealSense .bag files read with ROS 1's bag libraries (no librealsense)
+  librosbag-storage-dev libsensor-msgs-dev libgeometry-msgs-dev libstd-msgs-dev
+  libdiagnostic-msgs-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
 )

@@ -6,6 +6,7 @@
 #include "core/config.h"
 #include "core/transforms.h"
 #include "hardware/sequence.h"
+#include "tests/common/simulated_recording.h"
 
 namespace aerograsp {
 namespace {
@@ -211,6 +212,74 @@ TEST_F(SequenceTest, BadYamlIsNamedWithTheField) {
   bad.replace(bad.find("version: 1"), 10, "version: 9");
   std::ofstream(yaml, std::ios::trunc) << bad;
   ExpectThrowsWith([&] { ReadSequenceInfo(folder_); }, "version: version 9 is not supported");
+}
+
+/// A sequence with the depth camera's own images: stored as they are, aligned
+/// on read by the alignment of every input, and the colour camera's render agrees.
+TEST_F(SequenceTest, UnalignedDepthIsStoredAsItIsAndAlignedOnRead) {
+  const testing::SimulatedRecording r = testing::SimulateRecording(2);
+  SequenceInfo info;
+  info.intrinsics = r.color.intrinsics;
+  info.color_model = r.color.model;
+  info.depth_camera = r.depth;
+  info.colorMdepth = r.colorMdepth;
+  info.depth_scale_m = r.depth_scale_m;
+  {
+    SequenceWriter writer(folder_, info);
+    for (const testing::SimulatedFrame& f : r.frames) {
+      RgbdFrame frame;
+      frame.color = f.color;
+      frame.depth = f.depth;
+      writer.Write(frame);
+    }
+  }
+  const SequenceInfo stored = ReadSequenceInfo(folder_);
+  ASSERT_TRUE(stored.depth_camera.has_value());
+  EXPECT_EQ(stored.depth_camera->intrinsics.fx, r.depth.intrinsics.fx);
+  EXPECT_EQ(stored.depth_camera->model, DistortionModel::kBrownConrady);
+  EXPECT_EQ(stored.color_model, DistortionModel::kBrownConrady);
+  EXPECT_TRUE(stored.colorMdepth.isApprox(r.colorMdepth, 1e-15));
+
+  ReplayCamera replay(folder_);
+  EXPECT_FALSE(replay.info().depth_camera.has_value());  // frames come aligned
+  RgbdFrame frame;
+  for (const testing::SimulatedFrame& f : r.frames) {
+    ASSERT_TRUE(replay.Grab(&frame));
+    EXPECT_EQ(frame.depth, AlignDepthToColor(f.depth, r.depth, r.color, r.colorMdepth, 0.001));
+    int agree = 0, compared = 0;
+    for (std::size_t i = 0; i < frame.depth.data.size(); ++i) {
+      if (!frame.depth.data[i] || !f.color_depth.data[i]) continue;
+      ++compared;
+      agree += std::abs(frame.depth.data[i] - f.color_depth.data[i]) <= 2;
+    }
+    EXPECT_GT(agree, 0.97 * compared);
+  }
+}
+
+TEST_F(SequenceTest, UnalignedDepthOfAnotherSizeAndAnUnknownLensAreNamed) {
+  info_.depth_camera =
+      StreamCalibration{{16, 12, 15.0, 15.0, 7.5, 5.5}, DistortionModel::kNone, {}};
+  {
+    SequenceWriter writer(folder_, info_);
+    RgbdFrame frame = MakeFrame(0);
+    ExpectThrowsWith([&] { writer.Write(frame); }, "the intrinsics say 32x24 colour, 16x12 depth");
+    frame.depth = DepthImage(16, 12);
+    writer.Write(frame);
+  }
+  const fs::path yaml = fs::path(folder_) / "sequence.yaml";
+  std::string text;
+  {
+    std::ifstream in(yaml);
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ReplayCamera replay(folder_);
+  RgbdFrame frame;
+  EXPECT_TRUE(replay.Grab(&frame));
+  EXPECT_EQ(frame.depth.width, 32);
+  text.replace(text.find("distortion_model: none"), 22, "distortion_model: fisheye");
+  std::ofstream(yaml, std::ios::trunc) << text;
+  ExpectThrowsWith([&] { ReadSequenceInfo(folder_); },
+                   "depth_camera.distortion_model: 'fisheye' is not one of");
 }
 
 }  // namespace
