@@ -132,27 +132,29 @@ DepthImage AlignDepthToColor(const DepthImage& depth, const StreamCalibration& d
                         std::to_string(depth.height) + ", its intrinsics say " +
                         std::to_string(Kd.width) + "x" + std::to_string(Kd.height));
   }
-  // Rays (z = 1) through every pixel centre and corner of the depth camera, lens model included.
+  // Rays (z = 1 in the depth frame) through every pixel centre and corner of the
+  // depth camera, lens model included, turned into the colour frame.
+  const Eigen::Matrix3d R = colorMdepth.linear();
+  const Eigen::Vector3d t = colorMdepth.translation();
   const int cw = Kd.width + 1;
   std::vector<Eigen::Vector3d> corner_rays(static_cast<std::size_t>(cw) * (Kd.height + 1));
   std::vector<Eigen::Vector3d> centre_rays(static_cast<std::size_t>(Kd.width) * Kd.height);
   for (int v = 0; v <= Kd.height; ++v) {
     for (int u = 0; u <= Kd.width; ++u) {
-      corner_rays[std::size_t(v) * cw + u] = depth_stream.Deproject(u - 0.5, v - 0.5, 1.0);
+      corner_rays[std::size_t(v) * cw + u] = R * depth_stream.Deproject(u - 0.5, v - 0.5, 1.0);
       if (u < Kd.width && v < Kd.height)
-        centre_rays[std::size_t(v) * Kd.width + u] = depth_stream.Deproject(u, v, 1.0);
+        centre_rays[std::size_t(v) * Kd.width + u] = R * depth_stream.Deproject(u, v, 1.0);
     }
   }
   constexpr std::uint16_t kNoDepth = std::numeric_limits<std::uint16_t>::max();
   DepthImage out(Kc.width, Kc.height, kNoDepth), cracks(Kc.width, Kc.height, kNoDepth);
-  const Eigen::Matrix3d R = colorMdepth.linear();
-  const Eigen::Vector3d t = colorMdepth.translation();
+  const bool pinhole = !color_stream.distorted();
   for (int v = 0; v < Kd.height; ++v) {
     for (int u = 0; u < Kd.width; ++u) {
       const std::uint16_t d = depth.at(u, v);
       if (d == 0) continue;
       const double z = d * depth_scale_m;
-      const Eigen::Vector3d centre = R * (centre_rays[std::size_t(v) * Kd.width + u] * z) + t;
+      const Eigen::Vector3d centre = centre_rays[std::size_t(v) * Kd.width + u] * z + t;
       if (centre.z() <= 0.0) continue;
       const double zc_units = std::round(centre.z() / depth_scale_m);
       if (zc_units < 1.0 || zc_units >= kNoDepth) continue;
@@ -162,13 +164,14 @@ DepthImage AlignDepthToColor(const DepthImage& depth, const StreamCalibration& d
       double u_max = -u_min, v_max = -u_min;
       bool behind = false;
       for (int c = 0; c < 4; ++c) {
-        const Eigen::Vector3d p =
-            R * (corner_rays[std::size_t(v + c / 2) * cw + u + c % 2] * z) + t;
+        const Eigen::Vector3d p = corner_rays[std::size_t(v + c / 2) * cw + u + c % 2] * z + t;
         if (p.z() <= 0.0) {
           behind = true;
           break;
         }
-        const Eigen::Vector2d px = color_stream.Project(p);
+        const Eigen::Vector2d px =
+            pinhole ? Eigen::Vector2d(Kc.fx * p.x() / p.z() + Kc.cx, Kc.fy * p.y() / p.z() + Kc.cy)
+                    : color_stream.Project(p);
         u_min = std::min(u_min, px.x()), u_max = std::max(u_max, px.x());
         v_min = std::min(v_min, px.y()), v_max = std::max(v_max, px.y());
       }

@@ -50,10 +50,13 @@ inline DepthImage Quantise(const FloatImage& depth_m, double scale_m) {
   return d;
 }
 
-/// `count` frames of the default world (static object), the vehicle swaying as it hovers.
-inline SimulatedRecording SimulateRecording(int count, double frame_rate_hz = 30.0) {
+/// `count` frames of the default world (static object; `object` instead of its
+/// own when given), the vehicle swaying as it hovers.
+inline SimulatedRecording SimulateRecording(int count, const std::string& object = "",
+                                            double frame_rate_hz = 30.0) {
   SimulatedRecording r = D435LikeStreams();
-  const WorldConfig config = WorldConfig::Load(DataPath("config/world_default.yaml"));
+  WorldConfig config = WorldConfig::Load(DataPath("config/world_default.yaml"));
+  if (!object.empty()) config.object.name = object;
   World world(config, 7);
   r.object = world.object().name;
   RgbdRenderer renderer;
