@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <istream>
 #include <ostream>
 #include <string>
 
@@ -15,24 +16,41 @@ struct CalibrateCommandOptions {
   bool intrinsics =
       false;            ///< the camera's intrinsics instead of an arm (app/calibrate_intrinsics.h)
   std::string out_dir;  ///< samples, calibration YAML, summary.json
-  std::string resolve_dir;        ///< when set: solve again from the samples (or views) saved there
-  std::string world_config;       ///< default data/config/world_default.yaml
-  std::string hardware_path;      ///< empty: the built-in simulation (app/calibration_hardware.h)
-  int poses = 15;                 ///< arm poses (or board views) to visit, [4, 100]
-  std::uint64_t seed = 1;         ///< world and pose-planning seed
-  double settle_timeout_s = 3.0;  ///< longest wait for the arm to settle at a pose
+  std::string resolve_dir;  ///< when set: solve again from the samples (or views) saved there,
+                            ///< ours (samples.yaml) or in ViSP's convention (pose_rPe_N.yaml ...)
+  std::string setup{"eye-to-hand"};  ///< of a ViSP data set: "eye-to-hand" | "eye-in-hand"
+  std::string world_config;          ///< default data/config/world_default.yaml
+  std::string hardware_path;  ///< empty: the built-in simulation (app/calibration_hardware.h)
+  int poses = 15;             ///< arm poses (or board views) to visit, [4, 100]
+  std::uint64_t seed = 1;     ///< world and pose-planning seed
+  bool dry_run = false;       ///< pre-flight check and plan only: nothing moves
+  bool yes = false;           ///< no confirmation asked before the arm moves (scripts)
 };
 
 /// With `intrinsics`, runs RunCalibrateIntrinsics (app/calibrate_intrinsics.h);
-/// `--resolve` picks the kind from what DIR holds. Otherwise:
-/// plans diverse arm poses that show the board to the camera and keep clear
-/// of the safe volume, visits them in the simulator, detects the board at
-/// each, rejects bad samples, solves (ViSP, OpenCV's five methods, corner
-/// refinement), and writes DIR/samples/, DIR/calibration_<arm>.yaml,
-/// DIR/summary.json and DIR/poses.png.
-/// @throws std::runtime_error / ConfigError with a message naming what is wrong
-/// (no board visible, all samples rejected, a singular pose set); the samples
-/// collected so far are kept on disk.
+/// `--resolve` picks the kind from what DIR holds (our samples.yaml, intrinsics
+/// views, or a data set in ViSP's convention, app/calibration_visp.h).
+/// Otherwise the hand-eye wizard on the devices of `hardware_path`
+/// (app/calibration_hardware.h): opens the arms and the camera, runs the
+/// pre-flight check (servos, voltages, temperatures, joint limits, camera,
+/// board seen from the start pose), plans diverse arm poses that show the
+/// board to the camera and keep clear of the safe volume and of the other arm,
+/// shows them (table, DIR/plan.png) and, unless `dry_run`, asks for a
+/// confirmation on `in` (`yes` skips it), then visits them at the rig's
+/// reduced speed (each move checked before it is sent, a settle check from the
+/// joint readings), detects the board at each, rejects bad samples, solves
+/// (ViSP, OpenCV's five methods, corner refinement), and writes DIR/samples/,
+/// DIR/samples.yaml, DIR/visp/ (ViSP's convention), DIR/calibration_<arm>.yaml,
+/// .urdf and _tf.sh, DIR/summary.json and DIR/poses.png.
+/// Ctrl-C or a fault (a servo that stops answering or leaves its voltage or
+/// temperature range, the camera stopping) stops both arms where they are and
+/// throws HardwareError; the samples taken so far are kept on disk.
+/// @throws std::runtime_error / ConfigError / HardwareError with a message naming
+/// what is wrong (a device that does not open, with its port; a failed
+/// pre-flight check; no board visible; all samples rejected; a singular pose set).
+void RunCalibrateCommand(const CalibrateCommandOptions& options, std::istream& in,
+                         std::ostream& out, std::ostream& progress);
+/// The same, with the confirmation read from std::cin.
 void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& out,
                          std::ostream& progress);
 

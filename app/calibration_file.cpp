@@ -2,7 +2,10 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <filesystem>
 #include <fstream>
+#include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
@@ -45,6 +48,61 @@ std::vector<double> FlattenRowMajor(const Eigen::Isometry3d& aMb) {
   }
   return v;
 }
+
+namespace {
+
+std::ostringstream Precise() {
+  std::ostringstream s;
+  s.precision(std::numeric_limits<double>::max_digits10);
+  return s;
+}
+
+}  // namespace
+
+std::string UrdfFixedJoint(const std::string& joint, const std::string& parent,
+                           const std::string& child, const Eigen::Isometry3d& parentMchild) {
+  const Eigen::Vector3d t = parentMchild.translation();
+  const Eigen::Vector3d rpy = RpyFromRotation(parentMchild.linear());
+  std::ostringstream s = Precise();
+  s << "<joint name=\"" << joint << "\" type=\"fixed\">\n"
+    << "  <parent link=\"" << parent << "\"/>\n"
+    << "  <child link=\"" << child << "\"/>\n"
+    << "  <origin xyz=\"" << t.x() << " " << t.y() << " " << t.z() << "\" rpy=\"" << rpy.x() << " "
+    << rpy.y() << " " << rpy.z() << "\"/>\n"
+    << "</joint>\n";
+  return s.str();
+}
+
+std::string StaticTransformPublisherArgs(const std::string& parent, const std::string& child,
+                                         const Eigen::Isometry3d& parentMchild) {
+  const Eigen::Vector3d t = parentMchild.translation();
+  const Eigen::Vector4d q = QuaternionWxyz(parentMchild);
+  std::ostringstream s = Precise();
+  s << "--x " << t.x() << " --y " << t.y() << " --z " << t.z() << " --qx " << q[1] << " --qy "
+    << q[2] << " --qz " << q[3] << " --qw " << q[0] << " --frame-id " << parent
+    << " --child-frame-id " << child;
+  return s.str();
+}
+
+void WriteRosFrames(const std::string& folder, const std::string& stem, const std::string& parent,
+                    const std::string& child, const Eigen::Isometry3d& parentMchild,
+                    const std::string& comment) {
+  const std::string urdf = (std::filesystem::path(folder) / (stem + ".urdf")).string();
+  std::ofstream u(urdf);
+  u << "<!-- " << comment << "\n     parent: " << parent << ", child: " << child
+    << "; origin: the child frame in the parent frame (m, rad). -->\n"
+    << UrdfFixedJoint(parent + "_to_" + child, parent, child, parentMchild);
+  if (!u) throw std::runtime_error(urdf + ": cannot be written");
+  const std::string sh = (std::filesystem::path(folder) / (stem + "_tf.sh")).string();
+  std::ofstream t(sh);
+  t << "#!/bin/sh\n# " << comment << "\n# " << child << " in " << parent
+    << " (m; quaternion x y z w).\n"
+    << "exec ros2 run tf2_ros static_transform_publisher "
+    << StaticTransformPublisherArgs(parent, child, parentMchild) << "\n";
+  if (!t) throw std::runtime_error(sh + ": cannot be written");
+}
+
+std::string ArmBaseFrame(Side side) { return std::string("arm_") + SideName(side) + "_mount"; }
 
 ArmCalibration ArmCalibration::Load(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);

@@ -33,4 +33,30 @@ struct ArmCalibration {
 /// The 16 numbers of aMb's 4x4 matrix, row by row (as the calibration files hold them).
 std::vector<double> FlattenRowMajor(const Eigen::Isometry3d& aMb);
 
+/// A fixed URDF joint that places `child` at parentMchild in `parent`:
+/// `<joint name type="fixed"><parent/><child/><origin xyz rpy/></joint>`, rpy as
+/// URDF defines it (fixed axes x, y, z: R = Rz(yaw) Ry(pitch) Rx(roll)), metres
+/// and radians with every digit a double needs.
+std::string UrdfFixedJoint(const std::string& joint, const std::string& parent,
+                           const std::string& child, const Eigen::Isometry3d& parentMchild);
+
+/// The arguments of ROS 2's `ros2 run tf2_ros static_transform_publisher` for
+/// the same transform: `--x --y --z --qx --qy --qz --qw --frame-id parent
+/// --child-frame-id child`.
+std::string StaticTransformPublisherArgs(const std::string& parent, const std::string& child,
+                                         const Eigen::Isometry3d& parentMchild);
+
+/// Writes `<stem>.urdf` (the joint, with a comment naming both frames) and
+/// `<stem>_tf.sh` (the static_transform_publisher command) in `folder`.
+/// @throws std::runtime_error naming the file when it cannot be written.
+void WriteRosFrames(const std::string& folder, const std::string& stem, const std::string& parent,
+                    const std::string& child, const Eigen::Isometry3d& parentMchild,
+                    const std::string& comment);
+
+/// The frame names of data/robots/vehicle.urdf that an arm's calibration
+/// relates: the camera's optical frame (z forward, x right, y down) and the
+/// arm's base (its mount on the body).
+constexpr const char* kCameraOpticalFrame = "camera_optical";
+std::string ArmBaseFrame(Side side);
+
 }  // namespace aerograsp

@@ -188,8 +188,15 @@ int main(int argc, char** argv) {
                             "Folder for the samples, the calibration and the report");
   calibrate_cmd
       ->add_option("--resolve", calibrate.resolve_dir,
-                   "Solve again from the samples saved in this folder")
+                   "Solve again from the samples saved in this folder (ours, or a data set "
+                   "in ViSP's convention: pose_rPe_N.yaml, pose_cPo_N.yaml, camera.xml)")
       ->check(CLI::ExistingDirectory);
+  calibrate_cmd
+      ->add_option("--setup", calibrate.setup,
+                   "With --resolve on a ViSP data set: the camera fixed and the object on the "
+                   "gripper (eye-to-hand) or the camera on the gripper (eye-in-hand)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"eye-to-hand", "eye-in-hand"}));
   calibrate_cmd
       ->add_option("--poses", calibrate.poses,
                    "Arm poses (or board views, with --intrinsics) to visit")
@@ -201,8 +208,13 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   calibrate_cmd
       ->add_option("--hardware", calibrate.hardware_path,
-                   "Hardware YAML (the built-in simulation when absent); simulated devices only")
+                   "Hardware YAML (the built-in simulation when absent): the real bus and "
+                   "camera, or simulated ones; its `calibration` section is the rig")
       ->check(CLI::ExistingFile);
+  calibrate_cmd->add_flag("--dry-run", calibrate.dry_run,
+                          "Pre-flight check and the planned poses only: nothing moves");
+  calibrate_cmd->add_flag("--yes", calibrate.yes,
+                          "Do not ask for a confirmation before the arm moves (scripts)");
   // ---- replay and dataset: perception (issue 4) ----
   aerograsp::ReplayCommandOptions replay;
   std::vector<double> replay_init;

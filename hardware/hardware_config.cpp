@@ -52,7 +52,9 @@ bool HardwareConfig::NeedsWorld() const {
 
 HardwareConfig HardwareConfig::Load(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);
-  root.RequireOnlyKeys({"platform", "world", "arms", "autopilot", "camera"});
+  // `calibration` (the calibration rig: which board, where it is fixed, the
+  // wizard's speed and checks) is read by app/calibration_hardware.h.
+  root.RequireOnlyKeys({"platform", "world", "arms", "autopilot", "camera", "calibration"});
   HardwareConfig c;
   c.source = path;
   c.platform = root.Has("platform") ? root.GetPath("platform") : Beside(path, c.platform);
@@ -84,8 +86,8 @@ HardwareConfig HardwareConfig::Load(const std::string& path) {
     }
     if (n.Has("sim_bus")) {
       const ConfigNode b = n.Child("sim_bus");
-      b.RequireOnlyKeys(
-          {"byte_time_s", "return_delay_s", "corrupt_probability", "slow_extra_s", "seed"});
+      b.RequireOnlyKeys({"byte_time_s", "return_delay_s", "corrupt_probability", "slow_extra_s",
+                         "seed", "silent_ids", "slow_ids", "faults_from_s"});
       a.sim_bus.byte_time_s = b.GetDouble("byte_time_s", a.sim_bus.byte_time_s);
       a.sim_bus.return_delay_s = b.GetDouble("return_delay_s", a.sim_bus.return_delay_s);
       a.sim_bus.corrupt_probability =
@@ -93,6 +95,18 @@ HardwareConfig HardwareConfig::Load(const std::string& path) {
       a.sim_bus.slow_extra_s = b.GetDouble("slow_extra_s", a.sim_bus.slow_extra_s);
       a.sim_bus.seed =
           static_cast<std::uint64_t>(b.GetInt("seed", static_cast<int>(a.sim_bus.seed)));
+      for (const char* key : {"silent_ids", "slow_ids"}) {
+        if (!b.Has(key)) continue;
+        std::vector<int>& ids =
+            std::string(key) == "silent_ids" ? a.sim_bus.silent_ids : a.sim_bus.slow_ids;
+        ids.clear();
+        for (double id : b.GetDoubles(key)) {
+          if (id != std::floor(id) || id < 0 || id > 253)
+            b.Fail(key, "servo ids are whole numbers in [0, 253]");
+          ids.push_back(static_cast<int>(id));
+        }
+      }
+      a.sim_bus.faults_from_s = b.GetDouble("faults_from_s", a.sim_bus.faults_from_s);
     }
   }
   if (root.Has("autopilot")) {
@@ -195,6 +209,7 @@ void HardwareConfig::Validate() const {
   CheckRange(f, "arms.sim_bus.return_delay_s", arms.sim_bus.return_delay_s, 0.0, 0.1, "s");
   CheckRange(f, "arms.sim_bus.corrupt_probability", arms.sim_bus.corrupt_probability, 0.0, 1.0, "");
   CheckRange(f, "arms.sim_bus.slow_extra_s", arms.sim_bus.slow_extra_s, 0.0, 1.0, "s");
+  CheckRange(f, "arms.sim_bus.faults_from_s", arms.sim_bus.faults_from_s, 0.0, 1e6, "s");
 
   CheckOneOf(f, "autopilot.backend", autopilot.backend, {"px4", "sim-px4", "sim"});
   const Px4Config& p = autopilot.px4;

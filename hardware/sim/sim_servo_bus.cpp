@@ -97,6 +97,7 @@ SimServoBus::Servo* SimServoBus::Find(int id) {
 
 void SimServoBus::SyncWithWorld() {
   std::lock_guard<std::mutex> lock(mutex_);
+  faults_on_ = world_->now_s() >= config_.faults_from_s;
   for (Side side : {Side::kLeft, Side::kRight}) {
     SimArm& arm = world_->arm(side);
     Eigen::VectorXd target = arm.target_rad();
@@ -170,7 +171,7 @@ void SimServoBus::Handle(const scs::Packet& packet, std::size_t wire_bytes) {
       const std::size_t address = packet.params[0], length = packet.params[1];
       for (std::size_t k = 2; k + 1 + length <= packet.params.size(); k += 1 + length) {
         Servo* servo = Find(packet.params[k]);
-        if (!servo || Contains(config_.silent_ids, servo->id) ||
+        if (!servo || (faults_on_ && Contains(config_.silent_ids, servo->id)) ||
             address + length > scs::reg::kCount)
           continue;
         std::copy_n(packet.params.begin() + k + 1, length, servo->regs.begin() + address);
@@ -186,7 +187,7 @@ void SimServoBus::Handle(const scs::Packet& packet, std::size_t wire_bytes) {
     return;  // broadcasts are never answered
   }
   Servo* servo = Find(packet.id);
-  if (!servo || Contains(config_.silent_ids, servo->id)) return;
+  if (!servo || (faults_on_ && Contains(config_.silent_ids, servo->id))) return;
   switch (packet.code) {
     case scs::kPing:
       Reply(*servo, 0, {}, wire_bytes);
@@ -223,7 +224,7 @@ void SimServoBus::Reply(const Servo& servo, std::uint8_t error,
   std::vector<std::uint8_t> bytes =
       scs::Encode({static_cast<std::uint8_t>(servo.id), error, params});
   double delay = config_.return_delay_s + config_.byte_time_s * bytes.size();
-  if (Contains(config_.slow_ids, servo.id)) delay += config_.slow_extra_s;
+  if (faults_on_ && Contains(config_.slow_ids, servo.id)) delay += config_.slow_extra_s;
   for (std::uint8_t& b : bytes) {
     if (config_.corrupt_probability > 0.0 && rng_.Uniform() < config_.corrupt_probability) {
       b ^= static_cast<std::uint8_t>(1u << (rng_.Next() % 8));

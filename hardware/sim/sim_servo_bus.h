@@ -30,10 +30,11 @@ namespace aerograsp {
 struct SimServoBusConfig {
   double byte_time_s{
       10e-6};  ///< wire time of a byte (1 Mbaud, 8N1 = 10 bits), [0, 0.01] s; 0 = instant
-  double return_delay_s{20e-6};     ///< servo's delay before it replies, [0, 0.1] s
-  std::vector<int> silent_ids;      ///< servos that never answer (nor obey)
-  std::vector<int> slow_ids;        ///< servos that answer late
-  double slow_extra_s{0.02};        ///< how late, [0, 1] s
+  double return_delay_s{20e-6};  ///< servo's delay before it replies, [0, 0.1] s
+  std::vector<int> silent_ids;   ///< servos that do not answer (nor obey)
+  std::vector<int> slow_ids;     ///< servos that answer late
+  double faults_from_s{0.0};  ///< simulated time from which silent_ids and slow_ids apply, >= 0 s
+  double slow_extra_s{0.02};  ///< how late, [0, 1] s
   double corrupt_probability{0.0};  ///< chance that a reply byte has a bit flipped, [0, 1]
   std::uint64_t seed{1};            ///< of the corruption
 };
@@ -58,7 +59,8 @@ class SimServoBus {
   /// The pty the driver opens.
   const std::string& port_path() const { return pty_.slave_path(); }
   /// Owner's thread, between world steps: goals to the arms and grippers,
-  /// positions, load, moving back into the registers.
+  /// positions, load, moving back into the registers; the faults switch on at
+  /// faults_from_s of the world's clock.
   void SyncWithWorld();
   /// Replaces the faults (thread-safe).
   void SetFaults(const SimServoBusConfig& config);
@@ -91,6 +93,7 @@ class SimServoBus {
   std::chrono::steady_clock::time_point bus_free_;
   std::thread thread_;
   std::atomic<bool> running_{true};
+  bool faults_on_ = false;  // silent_ids / slow_ids apply (world time >= faults_from_s)
 };
 
 }  // namespace aerograsp

@@ -4,11 +4,14 @@
 
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <sstream>
 
 #include "app/calibration_file.h"
 #include "app/mission_config.h"
 #include "core/config.h"
 #include "core/data_dir.h"
+#include "core/random.h"
 #include "core/transforms.h"
 
 namespace aerograsp {
@@ -96,6 +99,49 @@ TEST_F(CalibrationFileTest, BadCalibrationFilesAreNamedWithTheMissionField) {
   calibration_.Write((dir_ / "calibration_right.yaml").string());
   EXPECT_THAT(MissionError("calibration_left: calibration_right.yaml\n"),
               HasSubstr("calibrates the right arm, not the left one"));
+}
+
+/// The numbers after `key="` (URDF attributes) or after `--key ` (ROS 2 arguments).
+std::vector<double> Numbers(const std::string& text, const std::string& pattern) {
+  std::smatch m;
+  EXPECT_TRUE(std::regex_search(text, m, std::regex(pattern))) << pattern << " in " << text;
+  std::vector<double> v;
+  for (std::size_t i = 1; i < m.size(); ++i) v.push_back(std::stod(m[i].str()));
+  return v;
+}
+
+TEST(RosFramesTest, UrdfRpyAndTfQuaternionReproduceTheMatrix) {
+  FastRandom rng(5);
+  std::vector<Eigen::Isometry3d> transforms = {
+      // Pitch at +-90 deg (URDF's rpy singularity) and a half turn.
+      MakeTransform(Eigen::Vector3d(0.1, 0.2, 0.3), Eigen::Vector3d(0.4, M_PI / 2, -0.2)),
+      MakeTransform(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.0, -M_PI / 2, 1.0)),
+      MakeTransform(Eigen::Vector3d(-0.05, 0.0, 0.4), Eigen::Vector3d(M_PI, 0.0, 0.0))};
+  for (int i = 0; i < 20; ++i) {
+    transforms.push_back(MakeTransform(
+        Eigen::Vector3d(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(-1, 1)),
+        Eigen::Vector3d(rng.Uniform(-3.1, 3.1), rng.Uniform(-1.5, 1.5), rng.Uniform(-3.1, 3.1))));
+  }
+  const std::string num = "([-+0-9.eE]+)";
+  for (const Eigen::Isometry3d& cMb : transforms) {
+    const std::string urdf = UrdfFixedJoint("j", "camera_optical", "arm_left_mount", cMb);
+    EXPECT_THAT(urdf, HasSubstr("<parent link=\"camera_optical\"/>"));
+    EXPECT_THAT(urdf, HasSubstr("<child link=\"arm_left_mount\"/>"));
+    const std::vector<double> xyz = Numbers(urdf, "xyz=\"" + num + " " + num + " " + num + "\"");
+    const std::vector<double> rpy = Numbers(urdf, "rpy=\"" + num + " " + num + " " + num + "\"");
+    const Eigen::Isometry3d from_urdf = MakeTransform(Eigen::Vector3d(xyz[0], xyz[1], xyz[2]),
+                                                      Eigen::Vector3d(rpy[0], rpy[1], rpy[2]));
+    EXPECT_TRUE(from_urdf.isApprox(cMb, 1e-12)) << urdf;
+
+    const std::string tf = StaticTransformPublisherArgs("camera_optical", "arm_left_mount", cMb);
+    EXPECT_THAT(tf, HasSubstr("--frame-id camera_optical --child-frame-id arm_left_mount"));
+    const std::vector<double> t =
+        Numbers(tf, "--x " + num + " --y " + num + " --z " + num + " --qx " + num + " --qy " + num +
+                        " --qz " + num + " --qw " + num);
+    const Eigen::Isometry3d from_tf = MakeTransformWxyz(Eigen::Vector3d(t[0], t[1], t[2]),
+                                                        Eigen::Vector4d(t[6], t[3], t[4], t[5]));
+    EXPECT_TRUE(from_tf.isApprox(cMb, 1e-12)) << tf;
+  }
 }
 
 TEST(PlatformWithArmBaseTest, MovesOneArmsBaseAndRefusesANonRigidOne) {
