@@ -10,6 +10,7 @@
 #include "app/dataset_command.h"
 #include "app/hardware_check_command.h"
 #include "app/mission_command.h"
+#include "app/perception_benchmark.h"
 #include "app/plan_command.h"
 #include "app/record_command.h"
 #include "app/render_benchmark.h"
@@ -112,6 +113,31 @@ int main(int argc, char** argv) {
   servo_bus_bench_cmd->add_option("--world", servo_bus_bench.world_config, "World YAML")
       ->check(CLI::ExistingFile);
   // ---- end benchmark servo-bus ----
+  // ---- benchmark perception: plain meshes against coloured ones ----
+  aerograsp::PerceptionBenchmarkOptions perception_bench;
+  CLI::App* perception_bench_cmd = benchmark_cmd->add_subcommand(
+      "perception",
+      "The tracker with plain meshes (colours stripped) against coloured ones on recorded "
+      "sequences, ViSP's tracker beside");
+  perception_bench_cmd->add_option("--out", perception_bench.out_dir, "Folder for everything")
+      ->required();
+  perception_bench_cmd->add_option("--objects", perception_bench.objects, "Objects")
+      ->capture_default_str();
+  perception_bench_cmd->add_option("--motions", perception_bench.motions, "Object motions")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"static", "crawl"}));
+  perception_bench_cmd->add_option("--frames", perception_bench.frames, "Frames per sequence")
+      ->capture_default_str()
+      ->check(CLI::Range(10, 100000));
+  perception_bench_cmd->add_option("--seed", perception_bench.seed, "World seed")
+      ->capture_default_str();
+  perception_bench_cmd->add_flag("!--no-peer", perception_bench.run_peer,
+                                 "Do not run ViSP's tracker beside ours");
+  perception_bench_cmd
+      ->add_option("--perception", perception_bench.perception_config,
+                   "Perception YAML [the code's defaults]")
+      ->check(CLI::ExistingFile);
+  // ---- end benchmark perception ----
   // ---- hardware-check: open each device of a hardware config (issue 8) ----
   aerograsp::HardwareCheckOptions hardware_check;
   CLI::App* hardware_check_cmd = app.add_subcommand(
@@ -378,6 +404,8 @@ int main(int argc, char** argv) {
     if (*calibrate_cmd) aerograsp::RunCalibrateCommand(calibrate, std::cout, std::cerr);
     if (*render_bench_cmd) aerograsp::RunRenderBenchmark(render_bench, std::cout);
     if (*servo_bus_bench_cmd) aerograsp::RunServoBusBenchmark(servo_bus_bench, std::cout);
+    if (*perception_bench_cmd)
+      aerograsp::RunPerceptionBenchmark(perception_bench, std::cout, std::cerr);
     if (*hardware_check_cmd && aerograsp::RunHardwareCheck(hardware_check, std::cout) > 0) return 1;
     if (*plan_cmd) {
       if (!plan_xyz.empty())

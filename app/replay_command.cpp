@@ -395,7 +395,16 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
                          {"icp_tracking", TimesJson(icp_ms)},
                          {"global_init", TimesJson(global_ms)},
                          {"filter", TimesJson(filter_ms)}};
-  summary["timing"] = "thread CPU time, one core";
+  summary["timing"] = "thread CPU time, one core (global_init: all cores)";
+  const GlobalSearchStats& g = tracker.global_stats();
+  summary["global_search"] = {{"frames", g.frames},
+                              {"searches", g.searches},
+                              {"found", g.found},
+                              {"exhausted", g.exhausted},
+                              {"max_frames", g.max_frames},
+                              {"work_per_frame_limit", perception.global.work_per_frame},
+                              {"work_per_frame_mean", frames > 0 ? double(g.work) / frames : 0.0},
+                              {"cpu_ms_per_frame_mean", frames > 0 ? g.cpu_ms / frames : 0.0}};
   if (camera.has_groundtruth()) {
     const nlohmann::json acc = AccuracyJson(ours.Finish(), model.diameter_m);
     for (auto& [key, value] : acc.items()) summary[key] = value;
@@ -451,6 +460,13 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
   out << fmt::format(
       "  found {} frames, {} global inits, {} gated; frame {} ms median, {} ms p95\n", found_frames,
       global_runs, gated, num("frame_ms_median", 1), num("frame_ms_p95", 1));
+  out << fmt::format(
+      "  global registration: {} searches ({} found the object, {} tried everything), {} frames; "
+      "{:.1f} ms CPU and {:.0f} pairings a frame on average (limit {})\n",
+      g.searches, g.found, g.exhausted, g.frames, frames > 0 ? g.cpu_ms / frames : 0.0,
+      frames > 0 ? double(g.work) / frames : 0.0,
+      perception.global.work_per_frame > 0 ? std::to_string(perception.global.work_per_frame)
+                                           : std::string("none"));
   if (camera.has_groundtruth()) {
     out << fmt::format(
         "  translation RMSE {} mm, rotation RMSE {} deg, detection recall {} %, ADD-S recall {} "

@@ -87,8 +87,10 @@ GlobalRegistration::GlobalRegistration(const ModelCloud& model,
   impl_->model = &model;
   impl_->options = options;
   impl_->model_keypoints = Downsample(model.points_o, model.normals_o, options.voxel_m);
-  impl_->model_features = ComputeFpfh(
-      impl_->model_keypoints, ToCloud(model.points_o, model.normals_o), options.feature_radius_m);
+  if (options.attempts > 0) {
+    impl_->model_features = ComputeFpfh(
+        impl_->model_keypoints, ToCloud(model.points_o, model.normals_o), options.feature_radius_m);
+  }
   FastRandom rng(options.seed);
   for (int i = 0; i < options.orientations; ++i) {
     impl_->orientations.push_back(
@@ -100,59 +102,94 @@ GlobalRegistration::GlobalRegistration(const ModelCloud& model,
 
 GlobalRegistration::~GlobalRegistration() = default;
 
-std::vector<IcpResult> GlobalRegistration::Candidates(
-    const SceneCloud& scene, const IcpOptions& icp,
-    const std::vector<Eigen::Vector3d>& centres_c) const {
+std::size_t GlobalRegistration::HypothesisCount(const SceneCloud& scene,
+                                                std::size_t centres) const {
+  const std::size_t all = impl_->orientations.size();
+  if (scene.points_c.size() < 30 || all == 0) return 0;
+  return centres == 1 ? all : centres * std::max<std::size_t>(1, all / 4);
+}
+
+SceneCloud GlobalRegistration::Near(const SceneCloud& scene, const Eigen::Vector3d& centre_c,
+                                    double reach_m, std::size_t stride) {
+  SceneCloud near;
+  const Eigen::Vector3f centre = centre_c.cast<float>();
+  const float reach2 = static_cast<float>(reach_m * reach_m);
+  for (std::size_t i = 0; i < scene.points_c.size(); i += std::max<std::size_t>(1, stride)) {
+    if ((scene.points_c[i] - centre).squaredNorm() > reach2) continue;
+    near.points_c.push_back(scene.points_c[i]);
+    near.normals_c.push_back(scene.normals_c[i]);
+    near.colors.push_back(scene.colors[i]);
+  }
+  near.valid_pixels = static_cast<int>(near.points_c.size());
+  return near;
+}
+
+IcpOptions GlobalRegistration::QuickIcp(const IcpOptions& icp) {
+  IcpOptions quick = icp;
+  quick.max_iterations = 6;
+  quick.start_distance_m = std::max(icp.start_distance_m, 0.04);
+  quick.end_distance_m = std::max(icp.end_distance_m, 0.01);
+  quick.min_inliers = 10;
+  return quick;
+}
+
+std::vector<IcpResult> GlobalRegistration::Hypotheses(const SceneCloud& scene,
+                                                      const IcpOptions& icp,
+                                                      const std::vector<Eigen::Vector3d>& centres_c,
+                                                      std::size_t first, WorkBudget* budget) const {
+  const ModelCloud& model = *impl_->model;
+  const std::size_t total = centres_c.empty() ? 0 : HypothesisCount(scene, centres_c.size());
+  if (first >= total) return {};
+  const IcpOptions quick = QuickIcp(icp);
+  const std::size_t per_centre = total / centres_c.size();
+  // Each centre's cloud: a quarter of the scene's points, those within the
+  // object's reach of the centre (a point farther than that pairs with nothing).
+  const double reach_m = model.box_radius_m + quick.start_distance_m;
+  std::vector<SceneCloud> near(centres_c.size());
+  std::vector<bool> built(centres_c.size(), false);
+  std::size_t end = first;
+  for (std::size_t h = first; h < total; ++h) {
+    const std::size_t c = h / per_centre;
+    if (!built[c]) {
+      if (!budget->Take(static_cast<std::int64_t>(scene.points_c.size()))) break;
+      near[c] = Near(scene, centres_c[c], reach_m, 4);
+      built[c] = true;
+    }
+    if (!budget->Take(static_cast<std::int64_t>(IcpWorkBound(near[c].points_c.size(), quick))))
+      break;
+    end = h + 1;
+  }
+  // Each ICP alone, kept in this order whatever thread ran it.
+  std::vector<IcpResult> tried(end - first);
+  ParallelFor(tried.size(), [&](std::size_t k) {
+    const std::size_t h = first + k;
+    Eigen::Isometry3d cMo = Eigen::Isometry3d::Identity();
+    cMo.linear() = impl_->orientations[h % per_centre];
+    cMo.translation() = centres_c[h / per_centre] - cMo.linear() * model.box_center_o;
+    tried[k] = RefinePoseIcp(model, near[h / per_centre], cMo, quick);
+  });
+  return tried;
+}
+
+std::vector<IcpResult> GlobalRegistration::Best(std::vector<IcpResult> hypotheses) const {
+  std::vector<IcpResult> best;
+  for (IcpResult& r : hypotheses) {
+    if (r.ok) best.push_back(std::move(r));
+  }
+  std::sort(best.begin(), best.end(),
+            [](const IcpResult& a, const IcpResult& b) { return a.inliers > b.inliers; });
+  best.resize(std::min<std::size_t>(best.size(), std::max(0, impl_->options.refined_orientations)));
+  return best;
+}
+
+std::vector<IcpResult> GlobalRegistration::FeatureCandidates(const SceneCloud& scene,
+                                                             const IcpOptions& icp) const {
   std::vector<IcpResult> out;
   const GlobalRegistrationOptions& options = impl_->options;
-  if (!centres_c.empty() && !impl_->orientations.empty() && scene.points_c.size() >= 30) {
-    // Coarse: a short ICP of every orientation on a quarter of the scene.
-    SceneCloud coarse;
-    for (std::size_t i = 0; i < scene.points_c.size(); i += 4) {
-      coarse.points_c.push_back(scene.points_c[i]);
-      coarse.normals_c.push_back(scene.normals_c[i]);
-      coarse.colors.push_back(scene.colors[i]);
-    }
-    IcpOptions quick = icp;
-    quick.max_iterations = 6;
-    quick.start_distance_m = std::max(icp.start_distance_m, 0.04);
-    quick.end_distance_m = std::max(icp.end_distance_m, 0.01);
-    quick.min_inliers = 10;
-    const std::size_t per_centre = centres_c.size() == 1
-                                       ? impl_->orientations.size()
-                                       : std::max<std::size_t>(1, impl_->orientations.size() / 4);
-    // Hypothesis h: centre h / per_centre, orientation h % per_centre (each
-    // ICP alone, kept in this order whatever thread ran it).
-    std::vector<IcpResult> tried(centres_c.size() * per_centre);
-    ParallelFor(tried.size(), [&](std::size_t h) {
-      Eigen::Isometry3d cMo = Eigen::Isometry3d::Identity();
-      cMo.linear() = impl_->orientations[h % per_centre];
-      cMo.translation() = centres_c[h / per_centre];
-      tried[h] = RefinePoseIcp(*impl_->model, coarse, cMo, quick);
-    });
-    std::vector<IcpResult> coarse_results;
-    for (const IcpResult& r : tried) {
-      if (r.ok) coarse_results.push_back(r);
-    }
-    std::sort(coarse_results.begin(), coarse_results.end(),
-              [](const IcpResult& a, const IcpResult& b) { return a.inliers > b.inliers; });
-    coarse_results.resize(
-        std::min<std::size_t>(coarse_results.size(), std::max(0, options.refined_orientations)));
-    ParallelFor(coarse_results.size(), [&](std::size_t k) {
-      coarse_results[k] = RefinePoseIcp(*impl_->model, scene, coarse_results[k].cMo, icp);
-    });
-    for (const IcpResult& refined : coarse_results) {
-      if (refined.ok) out.push_back(refined);
-    }
-  }
+  if (options.attempts <= 0) return out;
   Cloud::Ptr surface = ToCloud(scene.points_c, scene.normals_c);
   Cloud::Ptr keypoints = Downsample(scene.points_c, scene.normals_c, options.voxel_m);
-  auto best_first = [&out] {
-    std::sort(out.begin(), out.end(),
-              [](const IcpResult& a, const IcpResult& b) { return a.inliers > b.inliers; });
-    return out;
-  };
-  if (keypoints->size() < 10 || impl_->model_keypoints->size() < 10) return best_first();
+  if (keypoints->size() < 10 || impl_->model_keypoints->size() < 10) return out;
   Features::Ptr features = ComputeFpfh(keypoints, surface, options.feature_radius_m);
   // Features of points with too few neighbours are NaN: drop them.
   Cloud::Ptr source(new Cloud);
@@ -163,7 +200,7 @@ std::vector<IcpResult> GlobalRegistration::Candidates(
       source_features->push_back(features->points[i]);
     }
   }
-  if (source->size() < 10) return best_first();
+  if (source->size() < 10) return out;
   for (int attempt = 0; attempt < options.attempts; ++attempt) {
     pcl::SampleConsensusPrerejective<PointT, PointT, pcl::FPFHSignature33> ransac;
     ransac.setInputSource(source);
@@ -184,7 +221,7 @@ std::vector<IcpResult> GlobalRegistration::Candidates(
     IcpResult refined = RefinePoseIcp(*impl_->model, scene, oMc.inverse(), icp);
     if (refined.ok) out.push_back(refined);
   }
-  return best_first();
+  return out;
 }
 
 }  // namespace aerograsp

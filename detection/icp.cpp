@@ -114,7 +114,8 @@ PassStats Associate(const ModelCloud& model, const SceneCloud& scene, const Eige
   RejectorThresholds thresholds;
   thresholds.max_distance_m = max_distance_m;
   thresholds.min_normal_cos = options.min_normal_cos;
-  thresholds.max_color_distance = options.max_color_distance;
+  // Eq. 3 only against colour the model has: a plain mesh is paired on geometry.
+  thresholds.max_color_distance = model.has_colors() ? options.max_color_distance : 768.0;
   const Eigen::Matrix3f oRc = oMc.linear();
   for (std::size_t i = 0; i < scene.points_c.size(); ++i) {
     const Eigen::Vector3f p = oMc * scene.points_c[i];
@@ -139,8 +140,8 @@ PassStats Associate(const ModelCloud& model, const SceneCloud& scene, const Eige
     }
     const Eigen::Vector3f& q = model.points_o[j];
     const Eigen::Vector3f& n = model.normals_o[j];
-    switch (ClassifyPair(p, oRc * scene.normals_c[i], scene.colors[i], q, n, model.colors[j],
-                         thresholds)) {
+    const Eigen::Vector3f& rgb_q = model.has_colors() ? model.colors[j] : scene.colors[i];
+    switch (ClassifyPair(p, oRc * scene.normals_c[i], scene.colors[i], q, n, rgb_q, thresholds)) {
       case Rejection::kNone:
         break;
       case Rejection::kNoModelPoint:
@@ -194,6 +195,10 @@ PassStats Associate(const ModelCloud& model, const SceneCloud& scene, const Eige
 }
 
 }  // namespace
+
+std::size_t IcpWorkBound(std::size_t scene_points, const IcpOptions& options) {
+  return scene_points * static_cast<std::size_t>(std::max(1, options.max_iterations) + 1);
+}
 
 IcpResult RefinePoseIcp(const ModelCloud& model, const SceneCloud& scene,
                         const Eigen::Isometry3d& cMo_init, const IcpOptions& options) {

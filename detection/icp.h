@@ -5,13 +5,15 @@
 //   Eq. 2  normals   cos(angle(n_p, n_q)) >= min_normal_cos,
 //   Eq. 3  colour    |R1-R2| + |G1-G2| + |B1-B2| <= max_color_distance
 // Each rejector is applied unconditionally when its threshold is set and
-// counts what it rejected, so a test can see that it ran. Colours are compared
+// counts what it rejected, so a test can see that it ran; Eq. 3 needs a model
+// with colours (ModelCloud::has_colors): a plain mesh's pairs pass it. Colours are compared
 // after normalising their brightness (sum R+G+B scaled to 384), so shading by
 // the light does not look like a different colour.
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cstddef>
 
 #include "detection/model_cloud.h"
 #include "detection/scene_cloud.h"
@@ -87,6 +89,11 @@ struct IcpResult {
   /// Pairs rejected at the last iteration by each rejector.
   int rejected_no_model = 0, rejected_distance = 0, rejected_normal = 0, rejected_color = 0;
 };
+
+/// The most pairings (one scene point classified in one pass, the final pass
+/// included) RefinePoseIcp makes on `scene_points` points: the unit in which
+/// the global registration's work per frame is counted and bounded.
+std::size_t IcpWorkBound(std::size_t scene_points, const IcpOptions& options);
 
 /// Refines cMo starting from cMo_init. Never throws; `ok` is false when too few
 /// pairs survive or the solution is not finite.

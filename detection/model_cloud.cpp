@@ -35,7 +35,7 @@ bool IsSymmetry(const ModelCloud& model, const Eigen::Matrix3d& R, double tolera
     const float dist = (p - model.points_o[j]).norm();
     if (plane < tolerance_m && dist < 3.0 * tolerance_m + model.cell_m &&
         normal.dot(model.normals_o[j]) > 0.8f &&
-        ColorDistance(model.colors[i], model.colors[j]) < 60.0f) {
+        (!model.has_colors() || ColorDistance(model.colors[i], model.colors[j]) < 60.0f)) {
       ++good;
     }
   }
@@ -84,17 +84,16 @@ ModelCloud BuildModelCloud(const TriangleMesh& mesh_o, const ModelCloudOptions& 
     const Eigen::Vector3i& t = mesh_o.triangles[i];
     const Eigen::Vector3d p = (1.0 - a - b) * mesh_o.vertices[t[0]] + a * mesh_o.vertices[t[1]] +
                               b * mesh_o.vertices[t[2]];
-    Eigen::Vector3f color(180.0f, 180.0f, 180.0f);
+    model.points_o.push_back(p.cast<float>());
+    model.normals_o.push_back(normal.cast<float>());
     if (has_colors) {
-      color.setZero();
+      Eigen::Vector3f color = Eigen::Vector3f::Zero();
       const double w[3] = {1.0 - a - b, a, b};
       for (int c = 0; c < 3; ++c) {
         for (int v = 0; v < 3; ++v) color[c] += static_cast<float>(w[v] * mesh_o.colors[t[v]][c]);
       }
+      model.colors.push_back(color);
     }
-    model.points_o.push_back(p.cast<float>());
-    model.normals_o.push_back(normal.cast<float>());
-    model.colors.push_back(color);
   }
 
   // Diameter from a subsample (exact enough for a 10 % threshold).
@@ -106,6 +105,8 @@ ModelCloud BuildModelCloud(const TriangleMesh& mesh_o, const ModelCloudOptions& 
       d2 = std::max(d2, (model.points_o[i] - model.points_o[j]).squaredNorm());
   }
   model.diameter_m = std::sqrt(d2);
+  model.box_center_o = 0.5 * (mesh_o.BoundsMin() + mesh_o.BoundsMax());
+  model.box_radius_m = 0.5 * (mesh_o.BoundsMax() - mesh_o.BoundsMin()).norm();
 
   // Nearest-point grid.
   pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);

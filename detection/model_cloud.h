@@ -1,5 +1,7 @@
 // The object model as the pose pipeline uses it: points sampled on the mesh
-// surface in frame o, each with its outward normal and colour, plus a voxel
+// surface in frame o, each with its outward normal and, when the mesh has
+// vertex colours, its colour (a plain mesh has none: nothing compares colour
+// against it, docs/perception.md), plus a voxel
 // grid that answers "nearest model point" in O(1) for ICP, and the object's
 // rotational symmetries (for the EKF and for rotation errors).
 #pragma once
@@ -25,9 +27,19 @@ struct ObjectSymmetry {
 struct ModelCloud {
   std::vector<Eigen::Vector3f> points_o;   ///< m, frame o
   std::vector<Eigen::Vector3f> normals_o;  ///< unit, outward
-  std::vector<Eigen::Vector3f> colors;     ///< RGB, 0..255
+  /// RGB 0..255, one per point; empty when the mesh has no vertex colours.
+  std::vector<Eigen::Vector3f> colors;
   double diameter_m = 0.0;  ///< largest distance between two points (ADD-S threshold base)
+  /// Centre of the mesh's bounding box (frame o, m) and the distance from it to
+  /// the box's corners: where to place the object around an estimated centre,
+  /// and how far from that centre a scene point can still be on it.
+  Eigen::Vector3d box_center_o = Eigen::Vector3d::Zero();
+  double box_radius_m = 0.0;
   ObjectSymmetry symmetry;
+
+  /// Whether the points carry the mesh's colours: the colour checks (ICP's
+  /// Eq. 3, the pose support's) apply only then.
+  bool has_colors() const { return !colors.empty(); }
 
   /// Nearest-point grid over the model's bounds grown by `margin_m`: cells of
   /// `cell_m`, each holding the index of the model point nearest its centre, or
@@ -59,7 +71,8 @@ struct ModelCloudOptions {
   std::uint64_t seed = 1;  ///< surface sampling seed
 };
 
-/// Samples the mesh (area-weighted, colours interpolated like the renderer),
+/// Samples the mesh (area-weighted, colours interpolated like the renderer when
+/// the mesh has one per vertex; none otherwise),
 /// builds the grid and finds the symmetries.
 /// @throws std::invalid_argument for a mesh with no area or options out of range.
 ModelCloud BuildModelCloud(const TriangleMesh& mesh_o, const ModelCloudOptions& options = {});
@@ -67,7 +80,7 @@ ModelCloud BuildModelCloud(const TriangleMesh& mesh_o, const ModelCloudOptions& 
 /// Tests candidate rotations (half and quarter turns about the axes of o, and
 /// any turn about an axis) against the model: a candidate is a symmetry when the
 /// rotated points land on the surface (mean distance under `tolerance_m`) with
-/// the same colour.
+/// the same colour (when the model has colours).
 ObjectSymmetry FindSymmetries(const ModelCloud& model, double tolerance_m = 0.002);
 
 /// Rotation error (rad) between an estimate and the truth of cRo, taken over

@@ -6,6 +6,7 @@
 
 #include "core/parallel.h"
 #include "core/thread_clock.h"
+#include "detection/global_registration.h"
 
 namespace aerograsp {
 namespace {
@@ -80,6 +81,11 @@ void PerceptionOptions::Validate() const {
   Require(global.feature_radius_m > 0.0, "global.feature_radius_m", "must be > 0 m");
   Require(global.max_iterations >= 1, "global.max_iterations", "must be >= 1");
   Require(global.attempts >= 0, "global.attempts", "must be >= 0 (0: no feature matching)");
+  Require(global.work_per_frame >= 0 && global.work_per_frame <= 1000000000,
+          "global.work_per_frame", "must be in [0, 1e9] pairings (0: no bound)");
+  Require(global.attempts == 0 || global.work_per_frame == 0, "global.attempts",
+          "must be 0 when global.work_per_frame bounds the search (feature matching's cost has "
+          "no bound)");
   Require(global.orientations >= 0, "global.orientations", "must be >= 0 (0: off)");
   Require(global.refined_orientations >= 0, "global.refined_orientations", "must be >= 0");
   Require(global.inlier_fraction >= 0.0 && global.inlier_fraction <= 1.0, "global.inlier_fraction",
@@ -114,6 +120,7 @@ ObjectTracker::~ObjectTracker() = default;
 void ObjectTracker::SetInitialPose(const Eigen::Isometry3d& cMo) {
   initial_cMo_ = cMo;
   ekf_.Reset();
+  EndSearch(SearchEnd::kAbandoned);
 }
 
 std::optional<Eigen::Vector3d> ObjectTracker::EstimateCentre(const PixelBox& box,
@@ -170,15 +177,16 @@ PoseSupportOptions ObjectTracker::SupportOptions() const {
   return support;
 }
 
+bool ObjectTracker::Passes(const PoseSupport& support) const {
+  return support.projected >= 20 && support.ratio() >= options_.min_support_ratio &&
+         support.coverage() >= options_.min_coverage;
+}
+
 bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color,
                             const DepthImage& depth, double depth_scale_m,
                             const CameraIntrinsics& K, const std::optional<Eigen::Isometry3d>& seed,
                             const std::vector<Eigen::Vector3d>& centres_c, bool allow_global,
                             FrameReport* report) {
-  auto passes = [&](const PoseSupport& s) {
-    return s.projected >= 20 && s.ratio() >= options_.min_support_ratio &&
-           s.coverage() >= options_.min_coverage;
-  };
   const double t0 = ThreadCpuMs();
   if (seed) {
     // Tracking: the prediction is close, a short slide search will do.
@@ -190,52 +198,191 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color,
     if (icp.ok) {
       report->support =
           ScorePoseSupport(model_, icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
-      if (passes(report->support)) {
+      if (Passes(report->support)) {
         report->times.icp_ms = ThreadCpuMs() - t0;
         return true;
       }
     }
   }
-  const double t1 = ThreadCpuMs();
-  report->times.icp_ms = t1 - t0;
+  report->times.icp_ms = ThreadCpuMs() - t0;
   if (!allow_global) return false;
+  return Search(cloud, color, depth, depth_scale_m, K, centres_c, report);
+}
+
+bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
+                           const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
+                           const std::vector<Eigen::Vector3d>& centres_c, FrameReport* report) {
+  const double cpu0 = ProcessCpuMs();
   report->global_init = true;
   report->outline_drop = -1;  // the tracking attempt's, if any, is not the measurement's
-  bool found = false;
-  double best_score = -1.0;
-  // Each candidate registered and scored alone (on all cores), then chosen in order.
-  struct Registered {
-    IcpResult icp;
-    int outline_drop = -1;
-    bool usable = false;  // registered, and inside the reacquisition zone if any
-    PoseSupport support;
-  };
-  const std::vector<IcpResult> coarse = global_->Candidates(cloud, frame_icp_, centres_c);
-  std::vector<Registered> registered(coarse.size());
-  ParallelFor(coarse.size(), [&](std::size_t k) {
-    Registered& r = registered[k];
-    r.icp = Register(cloud, color, depth, depth_scale_m, K, coarse[k].cMo, kFullSlideM,
-                     &r.outline_drop);
-    r.usable = r.icp.ok &&
-               !(reacquire_zone_c_ && (r.icp.cMo.translation() - reacquire_zone_c_->first).norm() >
-                                          reacquire_zone_c_->second);
-    if (r.usable)
-      r.support =
-          ScorePoseSupport(model_, r.icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
-  });
-  for (const Registered& r : registered) {
-    if (!r.usable) continue;
-    const double score = r.support.ratio() * r.support.agree;
-    if (passes(r.support) && score > best_score) {
-      best_score = score;
-      report->icp = r.icp;
-      report->support = r.support;
-      report->outline_drop = r.outline_drop;
-      found = true;
+  SearchState& s = search_;
+  if (!s.active) {
+    s = SearchState{};
+    s.active = true;
+    ++global_stats_.searches;
+  }
+  ++s.frames;
+  ++global_stats_.frames;
+  // This frame's share, plus what earlier frames saved for a step too big for one.
+  const std::int64_t per_frame = options_.global.work_per_frame;
+  WorkBudget budget(per_frame > 0 ? per_frame + s.saved_work : 0);
+  bool blocked = false;  // a step did not fit: the search continues next frame
+
+  // The short ICPs of the orientation hypotheses, from where the last frame stopped.
+  if (!s.hypotheses_done) {
+    std::vector<IcpResult> tried =
+        global_->Hypotheses(cloud, frame_icp_, centres_c, s.next_hypothesis, &budget);
+    s.next_hypothesis += tried.size();
+    for (IcpResult& r : tried) s.hypotheses.push_back(std::move(r));
+    if (s.next_hypothesis >= global_->HypothesisCount(cloud, centres_c.size())) {
+      s.hypotheses_done = true;
+      s.candidates = global_->Best(std::move(s.hypotheses));
+      s.next_candidate = 0;
+    } else {
+      blocked = true;
     }
   }
-  report->times.global_ms = ThreadCpuMs() - t1;
+
+  // The candidates this frame pays for, each refined on the points within the
+  // object's reach of it: ICP, ICP and slide (Register), support.
+  bool found = false;
+  if (s.hypotheses_done) {
+    const double reach_m = model_.box_radius_m + options_.model.margin_m;
+    std::vector<SceneCloud> near;
+    std::vector<IcpResult> starts;
+    while (s.next_candidate < s.candidates.size()) {
+      const IcpResult& start = s.candidates[s.next_candidate];
+      if (!budget.Take(static_cast<std::int64_t>(cloud.points_c.size()))) break;
+      SceneCloud local = GlobalRegistration::Near(cloud, start.cMo * model_.box_center_o, reach_m);
+      const std::size_t n = local.points_c.size();
+      const std::int64_t work = static_cast<std::int64_t>(
+          3 * IcpWorkBound(n, frame_icp_) + SlideWorkBound(model_, SupportOptions(), kFullSlideM) +
+          SupportWorkBound(model_, SupportOptions()));
+      if (!budget.Take(work)) break;
+      near.push_back(std::move(local));
+      starts.push_back(start);
+      ++s.next_candidate;
+    }
+    blocked = blocked || s.next_candidate < s.candidates.size();
+    std::vector<IcpResult> refined(starts.size());
+    ParallelFor(starts.size(), [&](std::size_t k) {
+      refined[k] = RefinePoseIcp(model_, near[k], starts[k].cMo, frame_icp_);
+    });
+    // Refined candidates and their clouds, most inliers first.
+    std::vector<std::pair<IcpResult, const SceneCloud*>> ranked;
+    for (std::size_t k = 0; k < refined.size(); ++k) {
+      if (refined[k].ok) ranked.emplace_back(refined[k], &near[k]);
+    }
+    // Feature matching: only without a bound (its cost has none), once the
+    // hypotheses' candidates are all in.
+    std::vector<SceneCloud> feature_near;
+    if (!budget.bounded() && !blocked) {
+      const std::vector<IcpResult> features = global_->FeatureCandidates(cloud, frame_icp_);
+      feature_near.reserve(features.size());
+      for (const IcpResult& r : features) {
+        feature_near.push_back(
+            GlobalRegistration::Near(cloud, r.cMo * model_.box_center_o, reach_m));
+      }
+      for (std::size_t k = 0; k < features.size(); ++k)
+        ranked.emplace_back(features[k], &feature_near[k]);
+    }
+    std::sort(ranked.begin(), ranked.end(),
+              [](const auto& a, const auto& b) { return a.first.inliers > b.first.inliers; });
+    // Each candidate registered and scored alone (on all cores), then chosen in order.
+    struct Registered {
+      IcpResult icp;
+      int outline_drop = -1;
+      bool usable = false;  // registered, and inside the reacquisition zone if any
+      PoseSupport support;
+    };
+    std::vector<Registered> registered(ranked.size());
+    ParallelFor(ranked.size(), [&](std::size_t k) {
+      Registered& r = registered[k];
+      r.icp = Register(*ranked[k].second, color, depth, depth_scale_m, K, ranked[k].first.cMo,
+                       kFullSlideM, &r.outline_drop);
+      r.usable = r.icp.ok && !(reacquire_zone_c_ &&
+                               (r.icp.cMo.translation() - reacquire_zone_c_->first).norm() >
+                                   reacquire_zone_c_->second);
+      if (r.usable)
+        r.support =
+            ScorePoseSupport(model_, r.icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
+    });
+    double best_score = -1.0;
+    for (const Registered& r : registered) {
+      if (!r.usable) continue;
+      const double score = r.support.ratio() * r.support.agree;
+      if (Passes(r.support) && score > best_score) {
+        best_score = score;
+        report->icp = r.icp;
+        report->support = r.support;
+        report->outline_drop = r.outline_drop;
+        found = true;
+      }
+    }
+  }
+  report->global_work = budget.used();
+  global_stats_.work += budget.used();
+  s.saved_work = blocked && budget.bounded() ? budget.left() : 0;
+  if (found) {
+    EndSearch(SearchEnd::kFound);
+  } else if (!blocked) {
+    EndSearch(SearchEnd::kExhausted);
+  }
+  report->times.global_ms = ProcessCpuMs() - cpu0;
+  global_stats_.cpu_ms += report->times.global_ms;
   return found;
+}
+
+void ObjectTracker::EndSearch(SearchEnd end) {
+  if (!search_.active) return;
+  if (end == SearchEnd::kFound) ++global_stats_.found;
+  if (end == SearchEnd::kExhausted) ++global_stats_.exhausted;
+  if (end != SearchEnd::kAbandoned)
+    global_stats_.max_frames = std::max(global_stats_.max_frames, search_.frames);
+  search_ = SearchState{};
+}
+
+std::vector<Eigen::Vector3d> ObjectTracker::SearchCentres(
+    const FrameReport& report, const DepthImage& depth, double depth_scale_m,
+    const CameraIntrinsics& K, const std::optional<Eigen::Isometry3d>& prior) const {
+  std::vector<Eigen::Vector3d> centres_c;
+  if (report.detection) {
+    if (auto c = EstimateCentre(report.detection->box, depth, depth_scale_m, K))
+      centres_c.push_back(*c);
+    return centres_c;
+  }
+  // The last known place first; on the whole frame, then the rest of it, nearest first.
+  if (prior) centres_c.push_back(*prior * model_.box_center_o);
+  if (report.crop.width() != depth.width || report.crop.height() != depth.height) return centres_c;
+  // A grid of boxes over the frame.
+  std::vector<Eigen::Vector3d> grid;
+  const int nx = 6, ny = 4;
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      const int w = report.crop.width() / nx, h = report.crop.height() / ny;
+      const PixelBox cell{report.crop.x0 + i * w, report.crop.y0 + j * h,
+                          report.crop.x0 + (i + 1) * w, report.crop.y0 + (j + 1) * h};
+      if (auto c = EstimateCentre(cell.Grown(0.5), depth, depth_scale_m, K)) grid.push_back(*c);
+    }
+  }
+  if (prior) {
+    // Only where a re-found pose may lie.
+    if (reacquire_zone_c_) {
+      const double reach_m = reacquire_zone_c_->second + model_.box_radius_m;
+      grid.erase(std::remove_if(grid.begin(), grid.end(),
+                                [&](const Eigen::Vector3d& c) {
+                                  return (c - reacquire_zone_c_->first).norm() > reach_m;
+                                }),
+                 grid.end());
+    }
+    const Eigen::Vector3d last = centres_c.front();
+    std::stable_sort(grid.begin(), grid.end(),
+                     [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+                       return (a - last).norm() < (b - last).norm();
+                     });
+  }
+  centres_c.insert(centres_c.end(), grid.begin(), grid.end());
+  return centres_c;
 }
 
 FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& depth, double stamp_s,
@@ -325,25 +472,7 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
     bool allow_global =
         !initial_cMo_ && (!ekf_.initialized() || monitor_.state() == TrackState::kLost);
     // Where the object may be, for the global registration's orientation hypotheses.
-    std::vector<Eigen::Vector3d> centres_c;
-    if (report.detection) {
-      if (auto c = EstimateCentre(report.detection->box, depth, depth_scale_m, K))
-        centres_c.push_back(*c);
-    } else if (prior) {
-      centres_c.push_back(prior->translation());
-    } else {
-      // No detector and no prior: a grid of boxes over the crop.
-      const int nx = 6, ny = 4;
-      for (int j = 0; j < ny; ++j) {
-        for (int i = 0; i < nx; ++i) {
-          const int w = report.crop.width() / nx, h = report.crop.height() / ny;
-          const PixelBox cell{report.crop.x0 + i * w, report.crop.y0 + j * h,
-                              report.crop.x0 + (i + 1) * w, report.crop.y0 + (j + 1) * h};
-          if (auto c = EstimateCentre(cell.Grown(0.5), depth, depth_scale_m, K))
-            centres_c.push_back(*c);
-        }
-      }
-    }
+    std::vector<Eigen::Vector3d> centres_c = SearchCentres(report, depth, depth_scale_m, K, prior);
     // Only where the object may be, at a range where the search can succeed.
     const std::size_t centres = centres_c.size();
     centres_c.erase(std::remove_if(centres_c.begin(), centres_c.end(),
@@ -356,6 +485,9 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
     report.measured =
         Measure(cloud, color, depth, depth_scale_m, K, prior, centres_c, allow_global, &report);
   }
+
+  // A track measured from its prior needs no search.
+  if (report.measured && !report.global_init) EndSearch(SearchEnd::kAbandoned);
 
   // Filter.
   t = ThreadCpuMs();

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <utility>
@@ -93,10 +94,10 @@ struct ObjectEstimate {
   TrackState state = TrackState::kLost;
 };
 
-/// Milliseconds of thread CPU time per stage of one frame (detect_ms 0 on a
-/// frame the detector skipped, PerceptionOptions::detect_every_frames). The
-/// calling thread's: global_ms leaves out the share of the global
-/// registration that ran on the other cores.
+/// Milliseconds of CPU time per stage of one frame (detect_ms 0 on a frame the
+/// detector skipped, PerceptionOptions::detect_every_frames): the calling
+/// thread's, except global_ms, the whole process's during the global
+/// registration (it runs on all cores).
 struct StageTimes {
   double detect_ms = 0, cloud_ms = 0, global_ms = 0, icp_ms = 0, filter_ms = 0, total_ms = 0;
 };
@@ -109,7 +110,9 @@ struct FrameReport {
   int cloud_points = 0;
   bool measured = false;     ///< a pose passed ICP and the support check
   bool global_init = false;  ///< global registration ran this frame
-  bool gated = false;        ///< the measurement was rejected by the EKF gate
+  /// Its work this frame, in pairings (GlobalRegistrationOptions::work_per_frame's unit).
+  std::int64_t global_work = 0;
+  bool gated = false;  ///< the measurement was rejected by the EKF gate
   IcpResult icp;
   PoseSupport support;
   /// SlideFit::drop of the measured pose's slide along ICP's weak direction;
@@ -117,6 +120,20 @@ struct FrameReport {
   int outline_drop = -1;
   double nis = 0.0;
   StageTimes times;
+};
+
+/// How the global registration fared over the frames processed so far. A
+/// search starts on a frame that needs one and ends when it finds the object
+/// or has tried every hypothesis and candidate (spread over frames when
+/// GlobalRegistrationOptions::work_per_frame bounds each frame's share).
+struct GlobalSearchStats {
+  int frames = 0;         ///< frames the search ran in
+  int searches = 0;       ///< searches started
+  int found = 0;          ///< searches that found the object
+  int exhausted = 0;      ///< searches that tried everything in vain
+  std::int64_t work = 0;  ///< pairings, all frames
+  double cpu_ms = 0.0;    ///< CPU time of all threads, all frames
+  int max_frames = 0;     ///< the most frames one search took (ended ones)
 };
 
 class ObjectTracker {
@@ -144,6 +161,7 @@ class ObjectTracker {
                       const std::optional<Eigen::Isometry3d>& wMc = std::nullopt);
 
   const ModelCloud& model() const { return model_; }
+  const GlobalSearchStats& global_stats() const { return global_stats_; }
   bool has_detector() const { return detector_ != nullptr; }
 
  private:
@@ -157,6 +175,22 @@ class ObjectTracker {
   std::optional<Eigen::Vector3d> EstimateCentre(const PixelBox& box, const DepthImage& depth,
                                                 double depth_scale_m,
                                                 const CameraIntrinsics& K) const;
+
+  /// This frame's share of the global registration (hypotheses, then their
+  /// refinement, as far as the budget goes): true when it found a pose.
+  bool Search(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth,
+              double depth_scale_m, const CameraIntrinsics& K,
+              const std::vector<Eigen::Vector3d>& centres_c, FrameReport* report);
+  /// Ends the search under way: it found the object, tried everything, or is
+  /// no longer needed (the track was measured without it, a pose was given).
+  enum class SearchEnd { kFound, kExhausted, kAbandoned };
+  void EndSearch(SearchEnd end);
+  /// A pose explains enough of the depth (min_support_ratio, min_coverage).
+  bool Passes(const PoseSupport& support) const;
+  /// The rough centres of the object (m, in c) for the global registration, likeliest first.
+  std::vector<Eigen::Vector3d> SearchCentres(const FrameReport& report, const DepthImage& depth,
+                                             double depth_scale_m, const CameraIntrinsics& K,
+                                             const std::optional<Eigen::Isometry3d>& prior) const;
 
   PoseSupportOptions SupportOptions() const;
   /// ICP from cMo, then, when the pairs leave a sliding direction, the slide the
@@ -172,6 +206,19 @@ class ObjectTracker {
   ModelCloud model_;
   std::unique_ptr<BoxDetector> detector_;
   std::unique_ptr<GlobalRegistration> global_;
+  /// The global registration's search under way, across frames.
+  struct SearchState {
+    bool active = false;
+    int frames = 0;
+    std::size_t next_hypothesis = 0;
+    std::vector<IcpResult> hypotheses;  ///< the short ICPs so far
+    bool hypotheses_done = false;
+    std::vector<IcpResult> candidates;  ///< the best hypotheses, once all have run
+    std::size_t next_candidate = 0;
+    std::int64_t saved_work = 0;  ///< budget carried over to pay for a step too big for one frame
+  };
+  SearchState search_;
+  GlobalSearchStats global_stats_;
   PoseEkf ekf_;
   TrackMonitor monitor_;
   std::optional<Eigen::Isometry3d> last_good_fMo_;  // in the filter frame f

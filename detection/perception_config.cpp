@@ -53,7 +53,7 @@ void ReadIcp(const ConfigNode& n, IcpOptions* i) {
 
 void ReadGlobal(const ConfigNode& n, GlobalRegistrationOptions* g) {
   n.RequireOnlyKeys({"voxel_m", "feature_radius_m", "max_iterations", "attempts", "orientations",
-                     "refined_orientations", "inlier_fraction", "seed"});
+                     "refined_orientations", "inlier_fraction", "seed", "work_per_frame"});
   g->voxel_m = n.GetDouble("voxel_m", g->voxel_m);
   g->feature_radius_m = n.GetDouble("feature_radius_m", g->feature_radius_m);
   g->max_iterations = n.GetInt("max_iterations", g->max_iterations);
@@ -62,6 +62,7 @@ void ReadGlobal(const ConfigNode& n, GlobalRegistrationOptions* g) {
   g->refined_orientations = n.GetInt("refined_orientations", g->refined_orientations);
   g->inlier_fraction = n.GetDouble("inlier_fraction", g->inlier_fraction);
   g->seed = GetSeed(n, "seed", g->seed);
+  if (n.Has("work_per_frame")) g->work_per_frame = n.GetInt("work_per_frame");
 }
 
 void ReadEkf(const ConfigNode& n, PoseEkfOptions* e) {

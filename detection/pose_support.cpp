@@ -11,6 +11,10 @@
 namespace aerograsp {
 namespace {
 
+/// The slide search scores at least this many model points (a slide of a few
+/// mm moves only the points at the ends).
+constexpr int kSlidePoints = 2000;
+
 /// Whether the model hides its own point i from the camera at c_o (frame o):
 /// marching from the point towards the camera, the ray meets the model's
 /// surface well above the point's own tangent plane (a track beside the body,
@@ -44,6 +48,18 @@ long RoundHalfAway(double x) {
   return rest >= 0.5 ? r + 1 : (rest <= -0.5 ? r - 1 : r);
 }
 
+/// The model points a scorer samples: about 2 * max_points, strided (about
+/// half face the camera).
+std::size_t SampleStride(std::size_t model_points, int max_points) {
+  return std::max<std::size_t>(1, model_points / std::max(1, 2 * max_points));
+}
+
+/// The slide search's fine step and its coarse step (4 fine steps), m.
+std::pair<double, double> SlideSteps(double step_m) {
+  const double fine_m = std::max(1e-4, step_m);
+  return {fine_m, 4.0 * fine_m};
+}
+
 /// The support of cMo and of poses translated from it: the strided model
 /// points and normals are put in the camera frame once, so a translated pose
 /// costs a projection per point (the slide search scores a dozen of them).
@@ -58,8 +74,8 @@ class SupportScorer {
         depth_scale_m_(depth_scale_m),
         K_(K),
         options_(options) {
-    check_color_ = options.max_color_distance < 768.0 && color.width == depth.width &&
-                   color.height == depth.height && !color.empty();
+    check_color_ = model.has_colors() && options.max_color_distance < 768.0 &&
+                   color.width == depth.width && color.height == depth.height && !color.empty();
     valid_ = !model.points_o.empty() && !depth.empty() && cMo.matrix().allFinite() &&
              depth_scale_m > 0.0;
     if (!valid_) return;
@@ -67,8 +83,7 @@ class SupportScorer {
     cRo_ = cMo_f.linear();
     t_c_ = cMo_f.translation();
     const std::size_t n = model.points_o.size();
-    const std::size_t step = std::max<std::size_t>(
-        1, n / std::max(1, 2 * options.max_points));  // about half face the camera
+    const std::size_t step = SampleStride(n, options.max_points);
     for (std::size_t i = 0; i < n; i += step) {
       index_.push_back(i);
       p_c_.push_back(cMo_f * model.points_o[i]);
@@ -145,6 +160,23 @@ PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& c
       .Score(Eigen::Vector3f::Zero());
 }
 
+std::size_t SupportWorkBound(const ModelCloud& model, const PoseSupportOptions& options) {
+  const std::size_t n = model.points_o.size();
+  const std::size_t step = SampleStride(n, options.max_points);
+  return (n + step - 1) / step;
+}
+
+std::size_t SlideWorkBound(const ModelCloud& model, const PoseSupportOptions& options,
+                           double range_m, double step_m) {
+  PoseSupportOptions dense = options;
+  dense.max_points = std::max(options.max_points, kSlidePoints);
+  const double coarse_m = SlideSteps(step_m).second;
+  // The sampling, the coarse offsets, the fine ones around the best, the two probes.
+  const std::size_t scores =
+      1 + (2 * static_cast<std::size_t>(std::lround(range_m / coarse_m)) + 1) + 7 + 2;
+  return scores * SupportWorkBound(model, dense);
+}
+
 SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo,
                             const Eigen::Vector3d& direction_o, const ColorImage& color,
                             const DepthImage& depth, double depth_scale_m,
@@ -153,8 +185,8 @@ SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cM
   // Coarse (4 fine steps) over the whole range, then fine around the best, with
   // many points: a slide of a few mm moves only the points at the ends.
   PoseSupportOptions dense = options;
-  dense.max_points = std::max(options.max_points, 2000);
-  const double fine_m = std::max(1e-4, step_m), coarse_m = 4.0 * fine_m;
+  dense.max_points = std::max(options.max_points, kSlidePoints);
+  const auto [fine_m, coarse_m] = SlideSteps(step_m);
   const SupportScorer scorer(model, cMo, color, depth, depth_scale_m, K, dense);
   const Eigen::Vector3d direction_c = cMo.linear() * direction_o;
   const auto slid = [&](double offset_m) {

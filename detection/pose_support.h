@@ -5,11 +5,13 @@
 // there is surface); a nearer measurement is an occlusion and counts for
 // nothing. Where the depth agrees the colour must agree too (ColorDistance,
 // the ICP's Eq. 3), else the point contradicts the pose: a plain wall at the
-// right depth does not pass for the object. A wrong pose contradicts; a right
-// pose behind an occluder does not.
+// right depth does not pass for the object. A model without colours (a plain
+// mesh) is scored on depth alone. A wrong pose contradicts; a right pose
+// behind an occluder does not.
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cstddef>
 
 #include "core/camera_model.h"
 #include "core/image.h"
@@ -44,6 +46,10 @@ PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& c
                              const ColorImage& color, const DepthImage& depth, double depth_scale_m,
                              const CameraIntrinsics& K, const PoseSupportOptions& options = {});
 
+/// The most model points ScorePoseSupport projects (the global registration's
+/// work unit, IcpWorkBound's pairings, counts them alike).
+std::size_t SupportWorkBound(const ModelCloud& model, const PoseSupportOptions& options = {});
+
 /// The best slide and how sharply the support locates it.
 struct SlideFit {
   Eigen::Isometry3d cMo = Eigen::Isometry3d::Identity();
@@ -63,5 +69,9 @@ SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cM
                             const DepthImage& depth, double depth_scale_m,
                             const CameraIntrinsics& K, const PoseSupportOptions& options = {},
                             double range_m = 0.04, double step_m = 0.001, double probe_m = 0.01);
+
+/// The most model-point projections SlideToBestSupport makes with these arguments.
+std::size_t SlideWorkBound(const ModelCloud& model, const PoseSupportOptions& options = {},
+                           double range_m = 0.04, double step_m = 0.001);
 
 }  // namespace aerograsp

@@ -16,6 +16,16 @@ inline const ModelCloud& CrawlerModel() {
   return model;
 }
 
+/// The crawler's mesh without its vertex colours (a plain CAD mesh), as a model cloud.
+inline const ModelCloud& PlainCrawlerModel() {
+  static const ModelCloud model = [] {
+    TriangleMesh mesh = ObjectModel::Load("crawler").mesh_o;
+    mesh.colors.clear();
+    return BuildModelCloud(mesh);
+  }();
+  return model;
+}
+
 /// The crawler's length: the axis of o its model cloud is longest along, half
 /// that length, and the middle along the axis.
 struct ModelLength {
@@ -56,7 +66,7 @@ inline SceneCloud VisibleScene(const ModelCloud& model, const Eigen::Isometry3d&
     if (n.dot(p) >= -0.1f * p.norm()) continue;
     scene.points_c.push_back(p);
     scene.normals_c.push_back(n);
-    scene.colors.push_back(model.colors[i]);
+    scene.colors.push_back(model.has_colors() ? model.colors[i] : Eigen::Vector3f(128, 128, 128));
   }
   scene.valid_pixels = static_cast<int>(scene.points_c.size());
   return scene;

@@ -14,6 +14,7 @@ namespace aerograsp {
 namespace {
 using testing::CrawlerModel;
 using testing::Perturbed;
+using testing::PlainCrawlerModel;
 using testing::TypicalCMo;
 using testing::VisibleScene;
 
@@ -94,6 +95,23 @@ TEST(IcpTest, ConvergesFromAPerturbedPose) {
   EXPECT_LT(e.rotation_rad, 0.2 * M_PI / 180);
   EXPECT_GT(r.inlier_ratio, 0.95);
   EXPECT_LE(r.rejected_color, r.scene_points / 100);  // only at colour seams
+}
+
+// A plain mesh (no vertex colours) against the textured object's points: the
+// model has no colour to compare, so Eq. 3 rejects nothing and ICP converges on
+// geometry alone.
+TEST(IcpTest, APlainMeshIsPairedOnGeometryAgainstATexturedScene) {
+  const ModelCloud& plain = PlainCrawlerModel();
+  ASSERT_FALSE(plain.has_colors());
+  ASSERT_TRUE(CrawlerModel().has_colors());
+  const Eigen::Isometry3d truth = TypicalCMo();
+  const SceneCloud scene = VisibleScene(CrawlerModel(), truth);  // the real, coloured surface
+  const IcpResult r =
+      RefinePoseIcp(plain, scene, Perturbed(truth, {0.01, -0.008, 0.006}, {0.05, -0.04, 0.06}));
+  ASSERT_TRUE(r.ok);
+  EXPECT_EQ(r.rejected_color, 0);
+  EXPECT_GT(r.inlier_ratio, 0.95);
+  EXPECT_LT(ComparePoses(truth, r.cMo).translation_m, 0.001);
 }
 
 // A slab of the wrong colour hugging the yellow body 4 mm above it, with the

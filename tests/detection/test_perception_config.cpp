@@ -47,6 +47,7 @@ void ExpectSameOptions(const PerceptionOptions& a, const PerceptionOptions& b) {
   EXPECT_SAME_FIELD(global.refined_orientations);
   EXPECT_SAME_FIELD(global.inlier_fraction);
   EXPECT_SAME_FIELD(global.seed);
+  EXPECT_SAME_FIELD(global.work_per_frame);
   EXPECT_SAME_FIELD(ekf.accel_noise_mps2);
   EXPECT_SAME_FIELD(ekf.angular_accel_noise_radps2);
   EXPECT_SAME_FIELD(ekf.init_position_std_m);
@@ -172,9 +173,26 @@ TEST_F(PerceptionConfigTest, ValuesOutOfRangeAreNamedWithTheirPathAndBound) {
               HasSubstr("perception.yaml: track.frames_to_lose: must be >= 1"));
   EXPECT_THAT(ErrorOf("global:\n  seed: -1\n"),
               HasSubstr("perception.yaml: global.seed: -1 is below the lower bound 0"));
+  EXPECT_THAT(ErrorOf("global:\n  work_per_frame: -5\n"),
+              HasSubstr("perception.yaml: global.work_per_frame: must be in [0, 1e9] pairings"));
+  EXPECT_THAT(ErrorOf("global:\n  work_per_frame: 2000000000\n"),
+              HasSubstr("perception.yaml: global.work_per_frame: must be in [0, 1e9] pairings"));
+  EXPECT_THAT(ErrorOf("global:\n  work_per_frame: many\n"),
+              HasSubstr("perception.yaml: global.work_per_frame: expected an integer, got 'many'"));
   // A bound that depends on another field, possibly in another section.
   EXPECT_THAT(ErrorOf("model:\n  margin_m: 0.02\n"),
               HasSubstr("perception.yaml: icp.start_distance_m: must be below model.margin_m"));
+  EXPECT_THAT(ErrorOf("global:\n  attempts: 2\n  work_per_frame: 100000\n"),
+              HasSubstr("perception.yaml: global.attempts: must be 0 when global.work_per_frame "
+                        "bounds the search"));
+  EXPECT_EQ(ErrorOf("global:\n  attempts: 2\n  work_per_frame: 0\n"), "");
+}
+
+TEST_F(PerceptionConfigTest, TheMissionFileSearchesWithoutABound) {
+  const PerceptionOptions mission =
+      LoadPerceptionOptions(DataPath("config/perception_mission.yaml"));
+  EXPECT_EQ(mission.global.work_per_frame, 0);
+  EXPECT_EQ(mission.global.attempts, 2);
 }
 
 }  // namespace
