@@ -4,8 +4,8 @@
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(Threads REQUIRED)
 find_package(OpenSSL REQUIRED)  # SHA-256 of MAVLink 2 packet signing
-# Optional: the RealSense backend (and .bag replay) is built only when librealsense2
-# is installed (it is not in Debian; README, Hardware, says how to add it).
+# Optional: the live RealSense backend is built only when librealsense2 is installed (it
+# is not in Debian; README, Hardware, says how to add it). .bag replay does not need it.
 find_package(realsense2 QUIET)
 find_package(yaml-cpp REQUIRED)
 find_package(CLI11 REQUIRED)

@@ -122,30 +122,49 @@ Eigen::Vector3d StreamCalibration::Deproject(double u, double v, double z) const
   return {x.x() * z, x.y() * z, z};
 }
 
+DepthAligner::DepthAligner(const StreamCalibration& depth_stream,
+                           const StreamCalibration& color_stream,
+                           const Eigen::Isometry3d& colorMdepth, double depth_scale_m)
+    : depth_(depth_stream),
+      color_(color_stream),
+      t_(colorMdepth.translation()),
+      depth_scale_m_(depth_scale_m) {
+  // Rays (z = 1 in the depth frame) through every pixel centre and corner of the
+  // depth camera, lens model included, turned into the colour frame.
+  const CameraIntrinsics& Kd = depth_.intrinsics;
+  const Eigen::Matrix3d R = colorMdepth.linear();
+  const int cw = Kd.width + 1;
+  corner_rays_.resize(static_cast<std::size_t>(cw) * (Kd.height + 1));
+  centre_rays_.resize(static_cast<std::size_t>(Kd.width) * Kd.height);
+  for (int v = 0; v <= Kd.height; ++v) {
+    for (int u = 0; u <= Kd.width; ++u) {
+      corner_rays_[std::size_t(v) * cw + u] = R * depth_.Deproject(u - 0.5, v - 0.5, 1.0);
+      if (u < Kd.width && v < Kd.height)
+        centre_rays_[std::size_t(v) * Kd.width + u] = R * depth_.Deproject(u, v, 1.0);
+    }
+  }
+}
+
 DepthImage AlignDepthToColor(const DepthImage& depth, const StreamCalibration& depth_stream,
                              const StreamCalibration& color_stream,
                              const Eigen::Isometry3d& colorMdepth, double depth_scale_m) {
-  const CameraIntrinsics& Kd = depth_stream.intrinsics;
-  const CameraIntrinsics& Kc = color_stream.intrinsics;
+  return DepthAligner(depth_stream, color_stream, colorMdepth, depth_scale_m).Align(depth);
+}
+
+DepthImage DepthAligner::Align(const DepthImage& depth) const {
+  const CameraIntrinsics& Kd = depth_.intrinsics;
+  const CameraIntrinsics& Kc = color_.intrinsics;
   if (depth.width != Kd.width || depth.height != Kd.height) {
     throw HardwareError("depth alignment: the depth image is " + std::to_string(depth.width) + "x" +
                         std::to_string(depth.height) + ", its intrinsics say " +
                         std::to_string(Kd.width) + "x" + std::to_string(Kd.height));
   }
-  // Rays (z = 1 in the depth frame) through every pixel centre and corner of the
-  // depth camera, lens model included, turned into the colour frame.
-  const Eigen::Matrix3d R = colorMdepth.linear();
-  const Eigen::Vector3d t = colorMdepth.translation();
   const int cw = Kd.width + 1;
-  std::vector<Eigen::Vector3d> corner_rays(static_cast<std::size_t>(cw) * (Kd.height + 1));
-  std::vector<Eigen::Vector3d> centre_rays(static_cast<std::size_t>(Kd.width) * Kd.height);
-  for (int v = 0; v <= Kd.height; ++v) {
-    for (int u = 0; u <= Kd.width; ++u) {
-      corner_rays[std::size_t(v) * cw + u] = R * depth_stream.Deproject(u - 0.5, v - 0.5, 1.0);
-      if (u < Kd.width && v < Kd.height)
-        centre_rays[std::size_t(v) * Kd.width + u] = R * depth_stream.Deproject(u, v, 1.0);
-    }
-  }
+  const Eigen::Vector3d& t = t_;
+  const double depth_scale_m = depth_scale_m_;
+  const StreamCalibration& color_stream = color_;
+  const std::vector<Eigen::Vector3d>& corner_rays = corner_rays_;
+  const std::vector<Eigen::Vector3d>& centre_rays = centre_rays_;
   constexpr std::uint16_t kNoDepth = std::numeric_limits<std::uint16_t>::max();
   DepthImage out(Kc.width, Kc.height, kNoDepth), cracks(Kc.width, Kc.height, kNoDepth);
   const bool pinhole = !color_stream.distorted();

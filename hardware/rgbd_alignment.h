@@ -62,6 +62,22 @@ DepthImage AlignDepthToColor(const DepthImage& depth, const StreamCalibration& d
                              const StreamCalibration& color_stream,
                              const Eigen::Isometry3d& colorMdepth, double depth_scale_m);
 
+/// AlignDepthToColor for a stream of images from the same cameras: the rays of
+/// the depth camera's pixels are computed once.
+class DepthAligner {
+ public:
+  DepthAligner(const StreamCalibration& depth_stream, const StreamCalibration& color_stream,
+               const Eigen::Isometry3d& colorMdepth, double depth_scale_m);
+  /// @throws HardwareError when the image size disagrees with the depth intrinsics.
+  DepthImage Align(const DepthImage& depth) const;
+
+ private:
+  StreamCalibration depth_, color_;
+  Eigen::Vector3d t_;
+  double depth_scale_m_;
+  std::vector<Eigen::Vector3d> corner_rays_, centre_rays_;  // in the colour frame's orientation
+};
+
 /// For each colour stamp, the index of the depth stamp nearest in time, or -1
 /// when it is further than `max_gap_s`. Both lists in seconds on the same clock,
 /// each in increasing order.

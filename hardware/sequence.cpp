@@ -439,8 +439,11 @@ bool ReplayCamera::Grab(RgbdFrame* frame) {
   cv::Mat out(Kd.height, Kd.width, CV_16UC1, frame->depth.data.data());
   depth.copyTo(out);
   if (info_.depth_camera) {
-    frame->depth = AlignDepthToColor(frame->depth, *info_.depth_camera, info_.color_stream(),
-                                     info_.colorMdepth, info_.depth_scale_m);
+    if (!aligner_) {
+      aligner_ = std::make_shared<const DepthAligner>(*info_.depth_camera, info_.color_stream(),
+                                                      info_.colorMdepth, info_.depth_scale_m);
+    }
+    frame->depth = aligner_->Align(frame->depth);
   }
   frame->index = next_;
   frame->stamp_s = stamps_s_[static_cast<std::size_t>(next_)];

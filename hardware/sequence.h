@@ -18,6 +18,7 @@
 
 #include <Eigen/Geometry>
 #include <fstream>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -133,6 +134,7 @@ class ReplayCamera : public RecordedCamera {
   std::vector<SequenceExtras> extras_;
   bool has_groundtruth_ = false;
   std::int64_t next_ = 0;
+  std::shared_ptr<const DepthAligner> aligner_;  // with depth_camera, made at the first frame
 };
 
 }  // namespace aerograsp

@@ -64,6 +64,7 @@ struct RealsenseBagCamera::Impl {
   SequenceInfo info;
   SequenceExtras no_extras;
   DepthImage raw_depth;
+  std::unique_ptr<DepthAligner> aligner;  // made at the first frame
   int unpaired = 0;
   double gap_s = 0.0, max_offset_s = 0.0;
   std::int64_t next = 0;
@@ -300,8 +301,11 @@ bool RealsenseBagCamera::Grab(RgbdFrame* frame) {
                     : static_cast<std::uint16_t>(src[1] << 8 | src[0]);
     }
   }
-  frame->depth =
-      AlignDepthToColor(m.raw_depth, m.depth, m.color, m.colorMdepth, m.info.depth_scale_m);
+  if (!m.aligner) {
+    m.aligner =
+        std::make_unique<DepthAligner>(m.depth, m.color, m.colorMdepth, m.info.depth_scale_m);
+  }
+  frame->depth = m.aligner->Align(m.raw_depth);
   frame->index = m.next;
   frame->stamp_s = color->header.stamp.toSec();
   ++m.next;
