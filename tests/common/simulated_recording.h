@@ -30,7 +30,7 @@ struct SimulatedRecording {
   std::vector<SimulatedFrame> frames;
 };
 
-/// Intrinsics and extrinsic of the D435 in the shared real recording (depth
+/// Intrinsics and extrinsic of a real D435 recording (librealsense's sample; depth
 /// fx 390.43, colour fx 613.20; depth to colour about 14 mm along x).
 inline SimulatedRecording D435LikeStreams() {
   SimulatedRecording r;
