@@ -602,28 +602,102 @@ std::string BoardSeen(const RgbdFrame& frame, const CalibrationRig& rig, const C
   return "";
 }
 
-void RunHandEyeWizard(const CalibrateCommandOptions& options, std::istream& in, std::ostream& out,
-                      std::ostream& progress) {
-  const Side side = ParseSide(options.arm);
-  if (options.out_dir.empty() && !options.dry_run)
-    throw ConfigError("--out: an output folder is required");
-  if (!options.out_dir.empty()) {  // the board to print, before any device is needed
-    fs::create_directories(options.out_dir);
-    WriteBoardSvg(CalibrationRig::Load(options.hardware_path).board,
-                  (fs::path(options.out_dir) / "board.svg").string());
+std::string Degrees(const Eigen::VectorXd& q) {
+  std::string s;
+  for (int j = 0; j < q.size(); ++j) s += fmt::format("{}{:.1f}", j ? ", " : "", q[j] * kRadToDeg);
+  return s;
+}
+
+/// Hand-guided: waits until a person has let go of the limp arm (readings
+/// unchanged for the settle window) while the driver's command follows the
+/// readings, so that the arm does not jump when its torque comes back.
+/// Returns "" when still, else why the sample is rejected.
+std::string WaitStill(HandEyeHardware& hw, Side side) {
+  const CalibrationRig& rig = hw.rig();
+  ArmsDriver& arms = hw.arms();
+  const double tolerance = rig.settle_tolerance_deg * M_PI / 180.0;
+  const double t0 = hw.now_s();
+  Eigen::VectorXd last = arms.JointPositions(side);
+  double still_since = t0;
+  while (hw.now_s() - t0 < rig.settle_timeout_s) {
+    arms.SetJointTargets(side, arms.JointPositions(side));
+    hw.Wait(kStep_s);
+    CheckFaults(hw);
+    const Eigen::VectorXd q = arms.JointPositions(side);
+    if ((q - last).cwiseAbs().maxCoeff() > 0.5 * tolerance) still_since = hw.now_s();
+    last = q;
+    if (hw.now_s() - still_since >= rig.settle_window_s - 1e-9) return "";
   }
-  std::unique_ptr<HandEyeHardware> hw =
-      OpenHandEyeHardware(options.hardware_path, options.world_config, options.seed, side, out);
-  const CalibrationRig& rig = hw->rig();
+  return fmt::format("arm still moving after {:.1f} s", rig.settle_timeout_s);
+}
+
+/// One sample where the arm stands: the joints read, a frame grabbed, the
+/// board detected and the rejection rules applied (`unsettled`, when not
+/// empty, rejects it); the image and, accepted, its ViSP files written.
+Sample TakeSample(HandEyeHardware& hw, Side side, TagDetector* detector, const std::string& out_dir,
+                  std::size_t index, const std::string& unsettled, RgbdFrame* frame) {
+  const TagBoardConfig& board = hw.rig().board;
+  RgbdCamera& camera = hw.camera();
+  if (!camera.Grab(frame)) throw StopRun{"camera: no frame: the stream stopped"};
+  Sample s;
+  s.image = fmt::format("samples/{:03d}.png", index);
+  s.q_rad = hw.arms().JointPositions(side);
+  s.data.bMe = hw.platform().arm(side).ForwardKinematics(s.q_rad);
+  WriteColorPng(frame->color, (fs::path(out_dir) / s.image).string());
+  const std::vector<TagDetection> detections = detector->Detect(frame->color);
+  const BoardPose pose = EstimateBoardPose(detections, board, camera.intrinsics());
+  s.data.cMt = pose.cMt;
+  s.data.corners = MatchBoardCorners(detections, board);
+  const int board_tags = board.rows * board.cols;
+  if (!unsettled.empty()) {
+    s.reject_reason = unsettled;
+  } else if (!pose.valid || pose.tags_used < kMinBoardFraction * board_tags) {
+    s.reject_reason = fmt::format("board partly seen ({} of {} tags)", pose.tags_used, board_tags);
+  } else if (pose.reprojection_rms_px > kMaxReprojectionPx) {
+    s.reject_reason = fmt::format("reprojection error {:.2f} px", pose.reprojection_rms_px);
+  }
+  s.accepted = s.reject_reason.empty();
+  if (s.accepted) {  // the same sample in ViSP's convention (eye-to-hand: rPe = bMe, cPo = cMt)
+    WriteVispSample((fs::path(out_dir) / "visp").string(), static_cast<int>(index) + 1, s.data.bMe,
+                    s.data.cMt, (fs::path(out_dir) / s.image).string());
+  }
+  return s;
+}
+
+/// The accepted samples' spread and, when it is short, what to add.
+std::string DiversityLine(const std::vector<Sample>& samples) {
+  std::vector<HandEyeSample> used;
+  for (const Sample& s : samples) {
+    if (s.accepted) used.push_back(s.data);
+  }
+  const PoseSetDiversity d = MeasureDiversity(used);
+  const std::string advice = DiversityAdvice(d, used.size());
+  return fmt::format("{} accepted, {:.0f} deg apart at most, rotation axes span {} dimension(s){}",
+                     used.size(), d.max_rotation_deg, d.axis_rank,
+                     advice.empty() ? "" : ": " + advice);
+}
+
+}  // namespace
+
+void RunHandEyeWizard(const CalibrateCommandOptions& options, HandEyeHardware& hw, std::istream& in,
+                      std::ostream& out, std::ostream& progress) {
+  const Side side = ParseSide(options.arm);
+  const CalibrationRig& rig = hw.rig();
   const TagBoardConfig& board = rig.board;
-  RgbdCamera& camera = hw->camera();
-  ArmsDriver& arms = hw->arms();
-  const Platform& platform = hw->platform();
+  RgbdCamera& camera = hw.camera();
+  ArmsDriver& arms = hw.arms();
+  const Platform& platform = hw.platform();
   const Side other = side == Side::kLeft ? Side::kRight : Side::kLeft;
+  if (options.hand_guided && !hw.scs()) {
+    throw ConfigError(fmt::format(
+        "{}: arms.backend: '{}': hand-guided samples turn the arm's torque off, which needs the "
+        "servo bus ('scs', or 'sim-bus' simulated)",
+        hw.config().source, hw.config().arms.backend));
+  }
 
   // Pre-flight: nothing has moved and the torque is as the servos had it.
   RgbdFrame frame;
-  std::vector<std::string> failures = PreflightDevices(*hw, &frame, out);
+  std::vector<std::string> failures = PreflightDevices(hw, &frame, out);
   TagDetector detector(board.family);
   // The arm may rest where the board faces away: then the board is looked for
   // again at the first pose, before the others.
@@ -635,14 +709,15 @@ void RunHandEyeWizard(const CalibrateCommandOptions& options, std::istream& in, 
                                                 board.rows * board.cols, 1e3 * board.tag_size_m)
                                   : seen +
                                         " from the start pose; looked for again at the "
-                                        "first planned pose");
+                                        "first pose");
   if (!failures.empty()) {
     std::string all;
     for (const std::string& f : failures) all += "\n  " + f;
     throw HardwareError(
-        fmt::format("{}: the pre-flight check failed; nothing moved:{}", hw->config().source, all));
+        fmt::format("{}: the pre-flight check failed; nothing moved:{}", hw.config().source, all));
   }
 
+  // The plan: the poses visited, or suggested to the person guiding the arm.
   const std::vector<Eigen::VectorXd> poses = PlanPoses(
       platform, side, board, rig.eMt, arms.JointPositions(other), options.poses, options.seed);
   if (poses.empty()) {
@@ -651,9 +726,11 @@ void RunHandEyeWizard(const CalibrateCommandOptions& options, std::istream& in, 
                     "clear of the safe volume",
                     SideName(side)));
   }
-  out << fmt::format(
-      "planned {} poses of the {} arm (of {} requested) at {:.0f} deg/s; devices: {}\n",
-      poses.size(), SideName(side), options.poses, rig.joint_speed_deg_s, hw->config().source);
+  out << fmt::format("planned {} poses of the {} arm (of {} requested){}; devices: {}\n",
+                     poses.size(), SideName(side), options.poses,
+                     options.hand_guided ? ", suggested to the hand"
+                                         : fmt::format(" at {:.0f} deg/s", rig.joint_speed_deg_s),
+                     hw.config().source);
   ShowPlan(poses, platform, side, rig, frame,
            options.out_dir.empty() ? "" : (fs::path(options.out_dir) / "plan.png").string(), out);
   if (options.dry_run) {
@@ -661,8 +738,11 @@ void RunHandEyeWizard(const CalibrateCommandOptions& options, std::istream& in, 
     return;
   }
   if (!options.yes) {
-    out << fmt::format("move the {} arm through these {} poses? [y/N] ", SideName(side),
-                       poses.size())
+    out << (options.hand_guided
+                ? fmt::format("turn the {} arm's torque off (hold it) to place it by hand? [y/N] ",
+                              SideName(side))
+                : fmt::format("move the {} arm through these {} poses? [y/N] ", SideName(side),
+                              poses.size()))
         << std::flush;
     std::string answer;
     std::getline(in, answer);
@@ -673,86 +753,104 @@ void RunHandEyeWizard(const CalibrateCommandOptions& options, std::istream& in, 
   const std::string visp_folder = (fs::path(options.out_dir) / "visp").string();
   fs::create_directories(visp_folder);
   SaveCameraXml(camera.intrinsics(), "Camera", (fs::path(visp_folder) / "camera.xml").string());
-  const int board_tags = board.rows * board.cols;
   const PlatformCollision collision(platform);
   std::vector<Sample> samples;
   const std::string samples_yaml = (fs::path(options.out_dir) / "samples.yaml").string();
   const InterruptGuard interrupt;
-  hw->Arm();
-  Progress bar(progress, "calibrate", static_cast<std::int64_t>(poses.size()), "poses");
+  auto keep = [&](const Sample& s) {
+    samples.push_back(s);
+    WriteSamplesYaml(samples_yaml, hw.config().platform, side, board,
+                     samples);  // nothing is lost on an error
+  };
   try {
-    for (std::size_t k = 0; k < poses.size(); ++k) {
-      const Eigen::VectorXd& target = poses[k];
-      const std::string refused =
-          CheckMove(collision, side, arms.JointPositions(side), target, arms.JointPositions(other));
-      if (!refused.empty()) {
-        out << fmt::format("  pose {:3d} skipped: {}\n", k, refused);
-        continue;
-      }
-      const std::string unsettled = MoveAndSettle(*hw, side, target);
-      if (!camera.Grab(&frame)) throw StopRun{"camera: no frame: the stream stopped"};
-      if (!board_confirmed) {
-        const std::string again = BoardSeen(frame, rig, camera.intrinsics(), &detector);
-        if (!again.empty()) {
-          throw StopRun{
-              fmt::format("board: {} at pose {}, where the plan puts all of it in view: check "
-                          "calibration.board and calibration.board_in_tool_* in {}",
-                          again, k, rig.source)};
+    if (options.hand_guided) {
+      hw.Arm(side);
+      out << fmt::format(
+          "the {} arm is limp: place it, let go, press Enter to take a sample; q "
+          "and Enter to solve\n",
+          SideName(side));
+      for (std::size_t next = 0;;) {
+        out << fmt::format("sample {}: suggested pose {}: joints [{}] deg\n", samples.size(), next,
+                           Degrees(poses[next]))
+            << std::flush;
+        std::string line;
+        if (!std::getline(in, line) || line == "q") break;
+        CheckFaults(hw);
+        const std::string moving = WaitStill(hw, side);
+        const Sample s =
+            TakeSample(hw, side, &detector, options.out_dir, samples.size(), moving, &frame);
+        keep(s);
+        next = (next + 1) % poses.size();
+        if (s.accepted) {
+          out << "  taken: " << DiversityLine(samples) << "\n";
+        } else {
+          out << "  rejected: " << s.reject_reason << "\n";
         }
-        board_confirmed = true;
       }
-      Sample s;
-      s.image = fmt::format("samples/{:03d}.png", samples.size());
-      s.q_rad = arms.JointPositions(side);
-      s.data.bMe = platform.arm(side).ForwardKinematics(s.q_rad);
-      WriteColorPng(frame.color, (fs::path(options.out_dir) / s.image).string());
-      const std::vector<TagDetection> detections = detector.Detect(frame.color);
-      const BoardPose pose = EstimateBoardPose(detections, board, camera.intrinsics());
-      s.data.cMt = pose.cMt;
-      s.data.corners = MatchBoardCorners(detections, board);
-      if (!unsettled.empty()) {
-        s.reject_reason = unsettled;
-      } else if (!pose.valid || pose.tags_used < kMinBoardFraction * board_tags) {
-        s.reject_reason =
-            fmt::format("board partly seen ({} of {} tags)", pose.tags_used, board_tags);
-      } else if (pose.reprojection_rms_px > kMaxReprojectionPx) {
-        s.reject_reason = fmt::format("reprojection error {:.2f} px", pose.reprojection_rms_px);
+      hw.Stiffen(side);
+    } else {
+      hw.Arm();
+      Progress bar(progress, "calibrate", static_cast<std::int64_t>(poses.size()), "poses");
+      for (std::size_t k = 0; k < poses.size(); ++k) {
+        const std::string refused = CheckMove(collision, side, arms.JointPositions(side), poses[k],
+                                              arms.JointPositions(other));
+        if (!refused.empty()) {
+          out << fmt::format("  pose {:3d} skipped: {}\n", k, refused);
+          continue;
+        }
+        const std::string unsettled = MoveAndSettle(hw, side, poses[k]);
+        const Sample s =
+            TakeSample(hw, side, &detector, options.out_dir, samples.size(), unsettled, &frame);
+        if (!board_confirmed) {
+          const std::string again = BoardSeen(frame, rig, camera.intrinsics(), &detector);
+          if (!again.empty()) {
+            throw StopRun{
+                fmt::format("board: {} at pose {}, where the plan puts all of it in view: check "
+                            "calibration.board and calibration.board_in_tool_* in {}",
+                            again, k, rig.source)};
+          }
+          board_confirmed = true;
+        }
+        keep(s);
+        bar.Update(static_cast<std::int64_t>(k + 1));
       }
-      s.accepted = s.reject_reason.empty();
-      if (s.accepted) {  // the same sample in ViSP's convention (eye-to-hand: rPe = bMe, cPo = cMt)
-        WriteVispSample(visp_folder, static_cast<int>(samples.size()) + 1, s.data.bMe, s.data.cMt,
-                        (fs::path(options.out_dir) / s.image).string());
-      }
-      samples.push_back(s);
-      WriteSamplesYaml(samples_yaml, hw->config().platform, side, board,
-                       samples);  // nothing is lost on an error
-      bar.Update(static_cast<std::int64_t>(k + 1));
+      bar.Finish();
     }
   } catch (const StopRun& stop) {
     arms.Stop();
-    if (!samples.empty())
-      WriteSamplesYaml(samples_yaml, hw->config().platform, side, board, samples);
-    const Eigen::VectorXd q = arms.JointPositions(side);
-    std::string degrees;
-    for (int j = 0; j < q.size(); ++j)
-      degrees += fmt::format("{}{:.1f}", j ? ", " : "", q[j] * kRadToDeg);
     out << fmt::format("stopped: {}; both arms hold where they are (the {} arm at [{}] deg)\n",
-                       stop.reason, SideName(side), degrees);
+                       stop.reason, SideName(side), Degrees(arms.JointPositions(side)));
     throw HardwareError(fmt::format(
         "{}; the arms were stopped; the {} samples taken so far are kept in {} (solve them with "
         "`calibrate --resolve {}`)",
         stop.reason, samples.size(), samples_yaml, options.out_dir));
   }
-  bar.Finish();
   for (std::size_t i = 0; i < samples.size(); ++i) {
     if (!samples[i].accepted)
       out << fmt::format("  sample {:3d} rejected: {}\n", i, samples[i].reject_reason);
   }
   // In the simulator the truth is the world's platform's nominal geometry.
   std::optional<Eigen::Isometry3d> truth_cMb;
-  if (World* world = hw->world())
+  if (World* world = hw.world())
     truth_cMb = world->platform().dMc().inverse() * world->platform().dMb(side);
-  SolveAndReport(options.out_dir, hw->config().platform, side, board, samples, truth_cMb, out);
+  SolveAndReport(options.out_dir, hw.config().platform, side, board, samples, truth_cMb, out);
+}
+
+namespace {
+
+void RunWizard(const CalibrateCommandOptions& options, std::istream& in, std::ostream& out,
+               std::ostream& progress) {
+  const Side side = ParseSide(options.arm);
+  if (options.out_dir.empty() && !options.dry_run)
+    throw ConfigError("--out: an output folder is required");
+  if (!options.out_dir.empty()) {  // the board to print, before any device is needed
+    fs::create_directories(options.out_dir);
+    WriteBoardSvg(CalibrationRig::Load(options.hardware_path).board,
+                  (fs::path(options.out_dir) / "board.svg").string());
+  }
+  const std::unique_ptr<HandEyeHardware> hw =
+      OpenHandEyeHardware(options.hardware_path, options.world_config, options.seed, side, out);
+  RunHandEyeWizard(options, *hw, in, out, progress);
 }
 
 }  // namespace
@@ -787,7 +885,7 @@ void RunCalibrateCommand(const CalibrateCommandOptions& options, std::istream& i
     RunCalibrateIntrinsics(options, out, progress);
     return;
   }
-  RunHandEyeWizard(options, in, out, progress);
+  RunWizard(options, in, out, progress);
 }
 
 void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& out,

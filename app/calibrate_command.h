@@ -25,7 +25,10 @@ struct CalibrateCommandOptions {
   std::uint64_t seed = 1;     ///< world and pose-planning seed
   bool dry_run = false;       ///< pre-flight check and plan only: nothing moves
   bool yes = false;           ///< no confirmation asked before the arm moves (scripts)
+  bool hand_guided = false;   ///< the arm's torque off: a person places it, Enter takes a sample
 };
+
+class HandEyeHardware;
 
 /// With `intrinsics`, runs RunCalibrateIntrinsics (app/calibrate_intrinsics.h);
 /// `--resolve` picks the kind from what DIR holds (our samples.yaml, intrinsics
@@ -50,6 +53,17 @@ struct CalibrateCommandOptions {
 /// pre-flight check; no board visible; all samples rejected; a singular pose set).
 void RunCalibrateCommand(const CalibrateCommandOptions& options, std::istream& in,
                          std::ostream& out, std::ostream& progress);
+/// The hand-eye wizard on devices already opened by OpenHandEyeHardware
+/// (app/calibration_hardware.h): what RunCalibrateCommand runs after opening
+/// them. With `hand_guided`, the arm's joints go limp after the confirmation;
+/// each line read from `in` takes a sample where the person left the arm
+/// (joints read from the bus once they are still, a frame from the camera,
+/// the same rejection rules), prints the set's diversity and what to add
+/// ("rotate the gripper more about its approach axis (z)") and suggests the
+/// next planned pose; `q` or the end of `in` solves, with the torque back on
+/// where the arm stands.
+void RunHandEyeWizard(const CalibrateCommandOptions& options, HandEyeHardware& hw, std::istream& in,
+                      std::ostream& out, std::ostream& progress);
 /// The same, with the confirmation read from std::cin.
 void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& out,
                          std::ostream& progress);

@@ -134,10 +134,27 @@ void HandEyeHardware::Wait(double dt_s) {
   world_->Step(dt_s);
 }
 
-void HandEyeHardware::Arm() {
+void HandEyeHardware::Arm(std::optional<Side> limp) {
   if (!scs_) return;
   if (scs_->SetTorque(true) != BusStatus::kOk)
     throw HardwareError("servo bus " + config_.arms.scs.port + ": torque could not be enabled");
+  if (limp && scs_->SetTorque(*limp, false) != BusStatus::kOk) {
+    throw HardwareError("servo bus " + config_.arms.scs.port + ": the " + SideName(*limp) +
+                        " arm's torque could not be turned off");
+  }
+  if (!world_) scs_->StartThread();
+}
+
+void HandEyeHardware::Stiffen(Side side) {
+  if (!scs_) return;
+  if (!world_) scs_->StopThread();
+  // The command follows the readings first: the servos hold where the hand left them.
+  arms_->SetJointTargets(side, arms_->JointPositions(side));
+  scs_->Cycle();
+  if (scs_->SetTorque(side, true) != BusStatus::kOk) {
+    throw HardwareError("servo bus " + config_.arms.scs.port + ": the " + SideName(side) +
+                        " arm's torque could not be enabled");
+  }
   if (!world_) scs_->StartThread();
 }
 

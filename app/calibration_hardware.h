@@ -16,6 +16,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -77,8 +78,11 @@ class HandEyeHardware {
   /// Lets dt_s pass: simulated, one bus cycle, the bus's sync and a world
   /// step; on the robot, a sleep while the driver's thread runs the bus.
   void Wait(double dt_s);
-  /// Torque on and, on the robot, the driver's bus thread started: from now on the arms move.
-  void Arm();
+  /// Torque on (but for the `limp` arm's joints, which a person then moves by
+  /// hand) and, on the robot, the driver's bus thread started: from now on the arms move.
+  void Arm(std::optional<Side> limp = std::nullopt);
+  /// Torque back on for `side`, holding where the arm stands (no jump).
+  void Stiffen(Side side);
 
  private:
   friend std::unique_ptr<HandEyeHardware> OpenHandEyeHardware(const std::string&,

@@ -241,6 +241,9 @@ int main(int argc, char** argv) {
                           "Pre-flight check and the planned poses only: nothing moves");
   calibrate_cmd->add_flag("--yes", calibrate.yes,
                           "Do not ask for a confirmation before the arm moves (scripts)");
+  calibrate_cmd->add_flag(
+      "--hand-guided", calibrate.hand_guided,
+      "Torque off on the arm: place it by hand, Enter takes a sample, q solves");
   // ---- replay and dataset: perception (issue 4) ----
   aerograsp::ReplayCommandOptions replay;
   std::vector<double> replay_init;

@@ -97,7 +97,22 @@ PoseSetDiversity MeasureDiversity(const std::vector<HandEyeSample>& samples) {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);
   const double top = eig.eigenvalues().maxCoeff();
   for (int k = 0; k < 3; ++k) d.axis_rank += top > 0.0 && eig.eigenvalues()[k] > 0.02 * top;
+  d.least_axis_e = eig.eigenvectors().col(0);  // eigenvalues in increasing order
   return d;
+}
+
+std::string DiversityAdvice(const PoseSetDiversity& diversity, std::size_t samples) {
+  if (samples < 2) return "take samples with the gripper turned differently";
+  if (diversity.max_rotation_deg < 20.0) {
+    return "turn the gripper further between samples (at most " +
+           std::to_string(static_cast<int>(diversity.max_rotation_deg)) +
+           " deg apart so far; 20 or more wanted)";
+  }
+  if (diversity.axis_rank >= 3) return "";
+  int axis = 0;
+  diversity.least_axis_e.cwiseAbs().maxCoeff(&axis);
+  const char* names[3] = {"its x axis", "its y axis", "its approach axis (z)"};
+  return std::string("rotate the gripper more about ") + names[axis];
 }
 
 HandEyeResult SolveEyeToHandVisp(const std::vector<HandEyeSample>& samples,

@@ -43,9 +43,16 @@ struct HandEyeResult {
 struct PoseSetDiversity {
   double max_rotation_deg = 0.0;
   int axis_rank = 0;
+  /// The tool-frame axis the samples rotate least about (unit; meaningful with 2+ samples).
+  Eigen::Vector3d least_axis_e = Eigen::Vector3d::UnitZ();
   bool Sufficient() const { return axis_rank >= 2 && max_rotation_deg >= 20.0; }
 };
 PoseSetDiversity MeasureDiversity(const std::vector<HandEyeSample>& samples);
+
+/// What the next sample should add, for a person placing the arm: "" when the
+/// set is diverse (rotations about all three tool axes, 20 deg or more apart),
+/// else e.g. "rotate the gripper more about its approach axis (z)".
+std::string DiversityAdvice(const PoseSetDiversity& diversity, std::size_t samples);
 
 /// ViSP's vpHandEyeCalibration (Tsai/Procrustes then virtual visual servoing).
 HandEyeResult SolveEyeToHandVisp(const std::vector<HandEyeSample>& samples,

@@ -162,6 +162,15 @@ BusStatus ScsArmsDriver::SetTorque(bool on) {
   return bus_->SyncWrite(scs::reg::kTorqueEnable, 1, entries);
 }
 
+BusStatus ScsArmsDriver::SetTorque(Side side, bool on) {
+  std::vector<scs::SyncEntry> entries;
+  for (const ServoCalibration& joint : config_.joints[static_cast<int>(side)]) {
+    entries.push_back(
+        {static_cast<std::uint8_t>(joint.id), {static_cast<std::uint8_t>(on ? 1 : 0)}});
+  }
+  return bus_->SyncWrite(scs::reg::kTorqueEnable, 1, entries);
+}
+
 void ScsArmsDriver::UpdateGripperState(Side side, int raw, double now_s) {
   ArmState& arm = arms_[static_cast<int>(side)];
   const GripperServoConfig& g = config_.grippers[static_cast<int>(side)];

@@ -92,6 +92,9 @@ class ScsArmsDriver : public ArmsDriver {
   void StopThread();
   /// Torque of every servo on or off (one SYNC_WRITE). Not while the driver's thread runs.
   BusStatus SetTorque(bool on);
+  /// Torque of one arm's joint servos (its gripper keeps its own): off, a
+  /// person can move the arm by hand. Not while the driver's thread runs.
+  BusStatus SetTorque(Side side, bool on);
 
   std::vector<ScsServoStatus> servo_statuses() const;
   BusCounters counters() const;

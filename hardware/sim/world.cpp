@@ -40,6 +40,11 @@ void SimArm::SetTarget(const Eigen::VectorXd& q_rad) {
   for (int i = 0; i < clamped.size(); ++i) target_[i] = Quantise(i, clamped[i]);
 }
 
+void SimArm::MoveByHand(const Eigen::VectorXd& q_rad) {
+  if (q_rad.size() != q_.size() || !q_rad.allFinite()) return;
+  q_ = arm_->Clamp(q_rad);
+}
+
 void SimArm::Step(double dt_s) {
   for (int i = 0; i < q_.size(); ++i) {
     const double max_speed = config_.speed_scale * arm_->velocity_limits()[i];

@@ -26,6 +26,9 @@ class SimArm {
   SimArm(const ArmModel& arm, const ArmsSimConfig& config, const Eigen::VectorXd& q0_rad);
   void SetTarget(const Eigen::VectorXd& q_rad);
   void Step(double dt_s);
+  /// A person moves the arm (clamped to its limits): it stays there while its
+  /// servos are limp (the simulated bus's torque off); powered, it returns to its target.
+  void MoveByHand(const Eigen::VectorXd& q_rad);
   const Eigen::VectorXd& q_true_rad() const { return q_; }
   /// What the servos report: the true position quantised.
   Eigen::VectorXd q_measured_rad() const;

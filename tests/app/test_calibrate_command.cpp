@@ -9,11 +9,13 @@
 #include <sstream>
 
 #include "app/calibrate_command.h"
+#include "app/calibration_hardware.h"
 #include "app/calibration_visp.h"
 #include "core/config.h"
 #include "core/data_dir.h"
 #include "core/random.h"
 #include "core/transforms.h"
+#include "hardware/sim/world.h"
 #include "tests/common/output_folder_test.h"
 
 namespace aerograsp {
@@ -202,6 +204,85 @@ TEST_F(CalibrateCommandTest, AServoThatStopsAnsweringStopsTheArmsAndKeepsTheSamp
   EXPECT_LT(samples.size(), 14u);
   EXPECT_THAT(error,
               HasSubstr(fmt::format("the {} samples taken so far are kept", samples.size())));
+}
+
+/// The person at the limp arm: each time the wizard waits for a line, the
+/// hand moves the arm to the pose the wizard last suggested, a little off as a
+/// hand places it, and presses Enter; after `samples` of them, q.
+class Hand : public std::streambuf {
+ public:
+  Hand(World* world, Side side, const std::ostringstream* wizard, int samples)
+      : world_(world), side_(side), wizard_(wizard), samples_(samples), rng_(3) {}
+  int moves() const { return moves_; }
+
+ protected:
+  int_type underflow() override {
+    if (moves_ < samples_) {
+      const std::string text = wizard_->str();
+      const std::size_t at = text.rfind("joints [");
+      EXPECT_NE(at, std::string::npos) << "the wizard suggests no pose";
+      std::istringstream joints(text.substr(at + 8, text.find(']', at) - at - 8));
+      Eigen::VectorXd q(world_->arm(side_).q_true_rad().size());
+      for (int j = 0; j < q.size(); ++j) {
+        std::string v;
+        std::getline(joints, v, ',');
+        q[j] = (std::stod(v) + rng_.Uniform(-1.5, 1.5)) * M_PI / 180.0;
+      }
+      world_->arm(side_).MoveByHand(q);
+      ++moves_;
+      line_ = "\n";
+    } else {
+      line_ = "q\n";
+    }
+    setg(line_.data(), line_.data(), line_.data() + line_.size());
+    return traits_type::to_int_type(*gptr());
+  }
+
+ private:
+  World* world_;
+  Side side_;
+  const std::ostringstream* wizard_;
+  int samples_, moves_ = 0;
+  FastRandom rng_;
+  std::string line_;
+};
+
+// Hand-guided samples through the real SCS driver on the simulated bus: the
+// arm's torque goes off, the test's hand places it at the suggested poses, the
+// joints come from the bus; the same accuracy as the planned poses.
+TEST_F(CalibrateCommandTest, HandGuidedSamplesThroughTheBusReachTheSimulatorsAccuracy) {
+  CalibrateCommandOptions options;
+  options.arm = "left";
+  options.out_dir = folder_;
+  options.poses = 12;
+  options.yes = true;
+  options.hand_guided = true;
+  options.hardware_path = DataPath("config/hardware_sim.yaml");
+  std::ostringstream out, progress;
+  const std::unique_ptr<HandEyeHardware> hw =
+      OpenHandEyeHardware(options.hardware_path, "", options.seed, Side::kLeft, out);
+  Hand hand(hw->world(), Side::kLeft, &out, 12);
+  std::istream in(&hand);
+  RunHandEyeWizard(options, *hw, in, out, progress);
+  EXPECT_EQ(hand.moves(), 12);
+  EXPECT_THAT(out.str(), HasSubstr("the left arm is limp"));
+  EXPECT_THAT(out.str(), HasSubstr("taken: 1 accepted"));
+  EXPECT_THAT(out.str(), HasSubstr("rotation axes span"));
+  // Limp, the arm stayed where the hand left it (the driver followed it).
+  const nlohmann::json s = Summary();
+  EXPECT_GE(s["samples_used"].get<int>(), 8);
+  EXPECT_LE(s["error_to_truth_mm"].get<double>(), 1.0);
+  EXPECT_LE(s["error_to_truth_deg"].get<double>(), 0.1);
+}
+
+TEST_F(CalibrateCommandTest, HandGuidedSamplesNeedTheServoBus) {
+  CalibrateCommandOptions options;
+  options.out_dir = folder_;
+  options.hand_guided = true;
+  options.yes = true;
+  std::ostringstream out;
+  EXPECT_THAT(ErrorOf(options, &out),
+              HasSubstr("arms.backend: 'sim': hand-guided samples turn the arm's torque off"));
 }
 
 TEST_F(CalibrateCommandTest, DryRunChecksAndPlansWithoutMoving) {

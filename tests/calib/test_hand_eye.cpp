@@ -106,6 +106,27 @@ TEST_F(HandEyeTest, DiversityFlagsRotationsAboutOneAxis) {
   EXPECT_FALSE(one_axis.Sufficient());
 }
 
+TEST(PoseSetDiversityTest, AdviceNamesTheToolAxisTheSamplesDoNotTurnAbout) {
+  // Gripper turned by 10 deg about its x and y axes only.
+  std::vector<HandEyeSample> samples(5);
+  const double a = 10.0 * M_PI / 180.0;
+  const Eigen::Vector3d rpy[5] = {{0, 0, 0}, {a, 0, 0}, {-a, 0, 0}, {0, a, 0}, {0, -a, 0}};
+  for (int i = 0; i < 5; ++i) samples[i].bMe = MakeTransform(Eigen::Vector3d::Zero(), rpy[i]);
+  const PoseSetDiversity d = MeasureDiversity(samples);
+  EXPECT_EQ(d.axis_rank, 2);
+  EXPECT_EQ(DiversityAdvice(d, samples.size()),
+            "rotate the gripper more about its approach axis (z)");
+  samples.resize(2);
+  EXPECT_EQ(DiversityAdvice(MeasureDiversity(samples), 2),
+            "turn the gripper further between samples (at most 10 deg apart so far; 20 or more "
+            "wanted)");
+  samples.push_back({});
+  samples.back().bMe = MakeTransform(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.4, -0.3, 0.5));
+  samples.push_back({});
+  samples.back().bMe = MakeTransform(Eigen::Vector3d::Zero(), Eigen::Vector3d(-0.3, 0.5, -0.6));
+  EXPECT_EQ(DiversityAdvice(MeasureDiversity(samples), samples.size()), "");
+}
+
 TEST_F(HandEyeTest, TooFewSamplesIsAClearFailure) {
   const auto samples = Samples(2, 0.0, 4);
   const HandEyeResult visp = SolveEyeToHandVisp(samples, K_);
