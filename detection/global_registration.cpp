@@ -136,7 +136,8 @@ IcpOptions GlobalRegistration::QuickIcp(const IcpOptions& icp) {
 std::vector<IcpResult> GlobalRegistration::Hypotheses(const SceneCloud& scene,
                                                       const IcpOptions& icp,
                                                       const std::vector<Eigen::Vector3d>& centres_c,
-                                                      std::size_t first, WorkBudget* budget) const {
+                                                      std::size_t first, WorkBudget* budget,
+                                                      std::int64_t extra_work) const {
   const ModelCloud& model = *impl_->model;
   const std::size_t total = centres_c.empty() ? 0 : HypothesisCount(scene, centres_c.size());
   if (first >= total) return {};
@@ -155,7 +156,8 @@ std::vector<IcpResult> GlobalRegistration::Hypotheses(const SceneCloud& scene,
       near[c] = Near(scene, centres_c[c], reach_m, 4);
       built[c] = true;
     }
-    if (!budget->Take(static_cast<std::int64_t>(IcpWorkBound(near[c].points_c.size(), quick))))
+    if (!budget->Take(static_cast<std::int64_t>(IcpWorkBound(near[c].points_c.size(), quick)) +
+                      extra_work))
       break;
     end = h + 1;
   }
@@ -171,13 +173,25 @@ std::vector<IcpResult> GlobalRegistration::Hypotheses(const SceneCloud& scene,
   return tried;
 }
 
-std::vector<IcpResult> GlobalRegistration::Best(std::vector<IcpResult> hypotheses) const {
+std::vector<IcpResult> GlobalRegistration::Best(std::vector<IcpResult> hypotheses,
+                                                const std::vector<double>& scores) const {
   std::vector<IcpResult> best;
-  for (IcpResult& r : hypotheses) {
-    if (r.ok) best.push_back(std::move(r));
+  if (!scores.empty() && scores.size() == hypotheses.size()) {
+    // By score (ties: the earlier hypothesis first).
+    std::vector<std::size_t> order;
+    for (std::size_t i = 0; i < hypotheses.size(); ++i) {
+      if (hypotheses[i].ok) order.push_back(i);
+    }
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return scores[a] > scores[b]; });
+    for (std::size_t i : order) best.push_back(std::move(hypotheses[i]));
+  } else {
+    for (IcpResult& r : hypotheses) {
+      if (r.ok) best.push_back(std::move(r));
+    }
+    std::sort(best.begin(), best.end(),
+              [](const IcpResult& a, const IcpResult& b) { return a.inliers > b.inliers; });
   }
-  std::sort(best.begin(), best.end(),
-            [](const IcpResult& a, const IcpResult& b) { return a.inliers > b.inliers; });
   best.resize(std::min<std::size_t>(best.size(), std::max(0, impl_->options.refined_orientations)));
   return best;
 }

@@ -86,14 +86,19 @@ class GlobalRegistration {
   /// cores; returns their short ICPs in that order (failed ones included): the
   /// caller continues from first + size() on a later frame. `centres_c` are
   /// rough positions of the object's centre (m, in c), the likeliest first.
-  /// Never throws.
+  /// Each hypothesis also reserves `extra_work` pairings of the budget (the
+  /// caller's scoring of it). Never throws.
   std::vector<IcpResult> Hypotheses(const SceneCloud& scene, const IcpOptions& icp,
                                     const std::vector<Eigen::Vector3d>& centres_c,
-                                    std::size_t first, WorkBudget* budget) const;
+                                    std::size_t first, WorkBudget* budget,
+                                    std::int64_t extra_work = 0) const;
 
-  /// The best `refined_orientations` of the given hypotheses (most ICP
-  /// inliers first), failed ones left out.
-  std::vector<IcpResult> Best(std::vector<IcpResult> hypotheses) const;
+  /// The best `refined_orientations` of the given hypotheses, failed ones left
+  /// out: the highest `scores` first when given (one per hypothesis), else the
+  /// most ICP inliers first (comparable only around one centre: elsewhere a
+  /// centre on a large surface has more points to pair).
+  std::vector<IcpResult> Best(std::vector<IcpResult> hypotheses,
+                              const std::vector<double>& scores = {}) const;
 
   /// Candidates for cMo from FPFH feature matching (each refined with ICP).
   /// Empty with attempts 0, too few scene points or nothing converged. Never throws.

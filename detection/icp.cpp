@@ -113,7 +113,8 @@ PassStats Associate(const ModelCloud& model, const SceneCloud& scene, const Eige
   PassStats stats;
   RejectorThresholds thresholds;
   thresholds.max_distance_m = max_distance_m;
-  thresholds.min_normal_cos = options.min_normal_cos;
+  thresholds.min_normal_cos =
+      model.has_colors() ? options.min_normal_cos : options.min_normal_cos_without_color;
   // Eq. 3 only against colour the model has: a plain mesh is paired on geometry.
   thresholds.max_color_distance = model.has_colors() ? options.max_color_distance : 768.0;
   const Eigen::Matrix3f oRc = oMc.linear();

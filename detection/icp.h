@@ -60,7 +60,11 @@ struct IcpOptions {
   /// image; floors Eq. 1 along the ray at 3 sigma. The tracker scales it by
   /// 640 / width for other widths (f halves at 320x240: the noise doubles).
   double depth_noise_per_m2 = 0.0047;
-  double min_normal_cos = 0.5;        ///< Eq. 2
+  double min_normal_cos = 0.5;  ///< Eq. 2
+  /// Eq. 2 for a model without colours (ModelCloud::has_colors false), where
+  /// Eq. 3 cannot reject the background's pairs: a stricter normal check
+  /// does it instead, [-1, 1].
+  double min_normal_cos_without_color = 0.8;
   double max_color_distance = 100.0;  ///< Eq. 3
   /// Weight of a point-to-point term beside point-to-plane: without it a box seen
   /// on two faces slides freely along their common edge. [0, 1]

@@ -49,6 +49,8 @@ void PerceptionOptions::Validate() const {
           "must be below model.margin_m");
   Require(icp.min_normal_cos >= -1.0 && icp.min_normal_cos <= 1.0, "icp.min_normal_cos",
           "must be in [-1, 1]");
+  Require(icp.min_normal_cos_without_color >= -1.0 && icp.min_normal_cos_without_color <= 1.0,
+          "icp.min_normal_cos_without_color", "must be in [-1, 1]");
   Require(icp.max_color_distance > 0.0, "icp.max_color_distance", "must be > 0");
   Require(cloud.target_points >= 50, "cloud.target_points", "must be >= 50");
   Require(cloud.min_depth_m > 0.0 && cloud.max_depth_m > cloud.min_depth_m, "cloud.max_depth_m",
@@ -230,13 +232,29 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
 
   // The short ICPs of the orientation hypotheses, from where the last frame stopped.
   if (!s.hypotheses_done) {
+    // Around several centres the hypotheses are ranked by how well they
+    // explain the depth (and colour) image: their ICP inliers are not
+    // comparable (a centre on a large surface has more points to pair).
+    const bool scored = centres_c.size() > 1;
+    const std::int64_t score_work =
+        scored ? static_cast<std::int64_t>(SupportWorkBound(model_, SupportOptions())) : 0;
     std::vector<IcpResult> tried =
-        global_->Hypotheses(cloud, frame_icp_, centres_c, s.next_hypothesis, &budget);
+        global_->Hypotheses(cloud, frame_icp_, centres_c, s.next_hypothesis, &budget, score_work);
     s.next_hypothesis += tried.size();
+    if (scored) {
+      std::vector<double> scores(tried.size(), 0.0);
+      ParallelFor(tried.size(), [&](std::size_t k) {
+        if (!tried[k].ok) return;
+        const PoseSupport support = ScorePoseSupport(model_, tried[k].cMo, color, depth,
+                                                     depth_scale_m, K, SupportOptions());
+        scores[k] = support.ratio() * support.agree;
+      });
+      s.scores.insert(s.scores.end(), scores.begin(), scores.end());
+    }
     for (IcpResult& r : tried) s.hypotheses.push_back(std::move(r));
     if (s.next_hypothesis >= global_->HypothesisCount(cloud, centres_c.size())) {
       s.hypotheses_done = true;
-      s.candidates = global_->Best(std::move(s.hypotheses));
+      s.candidates = global_->Best(std::move(s.hypotheses), s.scores);
       s.next_candidate = 0;
     } else {
       blocked = true;

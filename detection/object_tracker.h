@@ -212,6 +212,7 @@ class ObjectTracker {
     int frames = 0;
     std::size_t next_hypothesis = 0;
     std::vector<IcpResult> hypotheses;  ///< the short ICPs so far
+    std::vector<double> scores;         ///< their support scores, around several centres
     bool hypotheses_done = false;
     std::vector<IcpResult> candidates;  ///< the best hypotheses, once all have run
     std::size_t next_candidate = 0;

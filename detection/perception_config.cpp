@@ -37,13 +37,15 @@ void ReadCloud(const ConfigNode& n, SceneCloudOptions* c) {
 
 void ReadIcp(const ConfigNode& n, IcpOptions* i) {
   n.RequireOnlyKeys({"max_iterations", "start_distance_m", "end_distance_m", "depth_noise_per_m2",
-                     "min_normal_cos", "max_color_distance", "point_to_point_weight", "damping",
-                     "converged_step_m", "min_inliers"});
+                     "min_normal_cos", "min_normal_cos_without_color", "max_color_distance",
+                     "point_to_point_weight", "damping", "converged_step_m", "min_inliers"});
   i->max_iterations = n.GetInt("max_iterations", i->max_iterations);
   i->start_distance_m = n.GetDouble("start_distance_m", i->start_distance_m);
   i->end_distance_m = n.GetDouble("end_distance_m", i->end_distance_m);
   i->depth_noise_per_m2 = n.GetDouble("depth_noise_per_m2", i->depth_noise_per_m2);
   i->min_normal_cos = n.GetDouble("min_normal_cos", i->min_normal_cos);
+  i->min_normal_cos_without_color =
+      n.GetDouble("min_normal_cos_without_color", i->min_normal_cos_without_color);
   i->max_color_distance = n.GetDouble("max_color_distance", i->max_color_distance);
   i->point_to_point_weight = n.GetDouble("point_to_point_weight", i->point_to_point_weight);
   i->damping = n.GetDouble("damping", i->damping);

@@ -34,6 +34,7 @@ void ExpectSameOptions(const PerceptionOptions& a, const PerceptionOptions& b) {
   EXPECT_SAME_FIELD(icp.end_distance_m);
   EXPECT_SAME_FIELD(icp.depth_noise_per_m2);
   EXPECT_SAME_FIELD(icp.min_normal_cos);
+  EXPECT_SAME_FIELD(icp.min_normal_cos_without_color);
   EXPECT_SAME_FIELD(icp.max_color_distance);
   EXPECT_SAME_FIELD(icp.point_to_point_weight);
   EXPECT_SAME_FIELD(icp.damping);
@@ -173,6 +174,8 @@ TEST_F(PerceptionConfigTest, ValuesOutOfRangeAreNamedWithTheirPathAndBound) {
               HasSubstr("perception.yaml: track.frames_to_lose: must be >= 1"));
   EXPECT_THAT(ErrorOf("global:\n  seed: -1\n"),
               HasSubstr("perception.yaml: global.seed: -1 is below the lower bound 0"));
+  EXPECT_THAT(ErrorOf("icp:\n  min_normal_cos_without_color: 1.5\n"),
+              HasSubstr("perception.yaml: icp.min_normal_cos_without_color: must be in [-1, 1]"));
   EXPECT_THAT(ErrorOf("global:\n  work_per_frame: -5\n"),
               HasSubstr("perception.yaml: global.work_per_frame: must be in [0, 1e9] pairings"));
   EXPECT_THAT(ErrorOf("global:\n  work_per_frame: 2000000000\n"),
