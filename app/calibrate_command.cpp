@@ -376,9 +376,9 @@ void SolveAndReport(const std::string& folder, const std::string& platform_path,
 /// comparison; writes the result as ViSP pose files (rPc.yaml and ePo.yaml
 /// eye-to-hand, eMc.yaml and rPo.yaml eye-in-hand), a URDF joint, the
 /// static_transform_publisher command and summary.json in `out_folder`.
-void ResolveVispDataset(const std::string& folder, HandEyeSetup setup,
+void ResolveVispDataset(const std::string& folder, HandEyeSetup setup, double tag_size_m,
                         const std::string& out_folder, std::ostream& out) {
-  const VispDataset data = ReadVispDataset(folder);
+  const VispDataset data = ReadVispDataset(folder, tag_size_m);
   const std::vector<HandEyeSample> samples = ToHandEyeSamples(data, setup);
   out << fmt::format("{}: {} samples in ViSP's convention ({}){}\n", folder, samples.size(),
                      HandEyeSetupName(setup),
@@ -865,6 +865,7 @@ void RunCalibrateCommand(const CalibrateCommandOptions& options, std::istream& i
     const std::string samples_yaml = (fs::path(options.resolve_dir) / "samples.yaml").string();
     if (!fs::exists(samples_yaml) && IsVispDataset(options.resolve_dir)) {
       ResolveVispDataset(options.resolve_dir, ParseHandEyeSetup(options.setup, "--setup"),
+                         options.tag_size_m,
                          options.out_dir.empty() ? options.resolve_dir : options.out_dir, out);
       return;
     }

@@ -19,7 +19,8 @@ struct CalibrateCommandOptions {
   std::string resolve_dir;  ///< when set: solve again from the samples (or views) saved there,
                             ///< ours (samples.yaml) or in ViSP's convention (pose_rPe_N.yaml ...)
   std::string setup{"eye-to-hand"};  ///< of a ViSP data set: "eye-to-hand" | "eye-in-hand"
-  std::string world_config;          ///< default data/config/world_default.yaml
+  double tag_size_m = 0.0;    ///< of a ViSP data set without pose_cPo files: the tag's edge, m
+  std::string world_config;   ///< default data/config/world_default.yaml
   std::string hardware_path;  ///< empty: the built-in simulation (app/calibration_hardware.h)
   int poses = 15;             ///< arm poses (or board views) to visit, [4, 100]
   std::uint64_t seed = 1;     ///< world and pose-planning seed

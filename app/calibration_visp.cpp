@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <visp3/core/vpCameraParameters.h>
+#include <visp3/core/vpPixelMeterConversion.h>
 #include <visp3/core/vpXmlParserCamera.h>
 
 #include <cmath>
@@ -10,9 +11,13 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <memory>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <regex>
 #include <sstream>
 
+#include "calib/tag_board.h"
 #include "core/config.h"
 #include "core/stdout_capture.h"
 #include "core/transforms.h"
@@ -45,6 +50,41 @@ int HeaderInt(const std::string& path, int line_no, const std::string& line,
 struct Files {
   std::string rPe, cPo, image;
 };
+
+/// cMo of the one tag36h11 tag in `image_path` (see ReadVispDataset).
+Eigen::Isometry3d DetectTagPose(const std::string& image_path, double tag_size_m,
+                                const VispCamera& camera, TagDetector* detector) {
+  const cv::Mat bgr = cv::imread(image_path, cv::IMREAD_COLOR);
+  if (bgr.empty()) throw ConfigError(image_path + ": cannot read the image");
+  ColorImage rgb(bgr.cols, bgr.rows);
+  cv::Mat view(rgb.height, rgb.width, CV_8UC3, rgb.data.data());
+  cv::cvtColor(bgr, view, cv::COLOR_BGR2RGB);
+  std::vector<TagDetection> tags = detector->Detect(rgb);
+  if (tags.size() != 1) {
+    throw ConfigError(
+        fmt::format("{}: {} tag36h11 tags found, one expected (no pose_cPo file: "
+                    "the tag's pose comes from the image)",
+                    image_path, tags.size()));
+  }
+  if (camera.distortion) {  // ViSP's model: the distorted pixel to the ideal one through kdu
+    vpCameraParameters cam;
+    cam.initPersProjWithDistortion(camera.K.fx, camera.K.fy, camera.K.cx, camera.K.cy, camera.kud,
+                                   camera.kdu);
+    for (Eigen::Vector2d& px : tags.front().corners_px) {
+      double x = 0.0, y = 0.0;
+      vpPixelMeterConversion::convertPoint(cam, px.x(), px.y(), x, y);
+      px = Eigen::Vector2d(camera.K.fx * x + camera.K.cx, camera.K.fy * y + camera.K.cy);
+    }
+  }
+  TagBoardConfig tag;
+  tag.rows = tag.cols = 1;
+  tag.tag_size_m = tag_size_m;
+  tag.spacing_m = tag.margin_m = 0.0;
+  tag.first_id = tags.front().id;
+  const BoardPose pose = EstimateBoardPose(tags, tag, camera.K);
+  if (!pose.valid) throw ConfigError(image_path + ": the tag's pose could not be estimated");
+  return pose.cMt;
+}
 
 }  // namespace
 
@@ -200,7 +240,7 @@ bool IsVispDataset(const std::string& folder) {
   return false;
 }
 
-VispDataset ReadVispDataset(const std::string& folder) {
+VispDataset ReadVispDataset(const std::string& folder, double tag_size_m) {
   if (!fs::is_directory(folder)) throw ConfigError(folder + ": not a folder");
   static const std::regex pose(R"(^(.*_)?pose_(rPe|fPe|cPo)_([0-9]+)\.yaml$)");
   static const std::regex image(R"(^.*[-_]([0-9]+)\.(png|jpg|jpeg|pgm|ppm|bmp|PNG|JPG)$)");
@@ -232,6 +272,19 @@ VispDataset ReadVispDataset(const std::string& folder) {
   }
   VispDataset data;
   data.folder = folder;
+  std::string camera_xml;
+  for (const std::string& x : xmls) {
+    if (fs::path(x).filename() == "camera.xml") camera_xml = x;
+  }
+  if (camera_xml.empty() && xmls.size() == 1) camera_xml = xmls.front();
+  if (camera_xml.empty() && xmls.size() > 1)
+    throw ConfigError(folder + ": several XML files and none is camera.xml: name the camera's " +
+                      "intrinsics camera.xml");
+  if (!camera_xml.empty()) {
+    data.camera = LoadVispCameraXml(camera_xml);
+    data.has_camera = true;
+  }
+  std::unique_ptr<TagDetector> detector;
   bool any_image = false;
   for (const auto& [n, f] : files) any_image = any_image || !f.image.empty();
   for (const auto& [n, f] : files) {
@@ -245,9 +298,18 @@ VispDataset ReadVispDataset(const std::string& folder) {
     if (f.rPe.empty())
       throw ConfigError(fmt::format("{}pose_rPe_{}.yaml: missing (the robot pose of {})", where, n,
                                     fs::path(f.cPo).filename().string()));
-    if (f.cPo.empty())
-      throw ConfigError(fmt::format("{}pose_cPo_{}.yaml: missing (the object pose of {})", where, n,
-                                    fs::path(f.rPe).filename().string()));
+    const bool detect = f.cPo.empty() && !f.image.empty() && tag_size_m > 0.0;
+    if (f.cPo.empty() && !detect) {
+      throw ConfigError(fmt::format(
+          "{}pose_cPo_{}.yaml: missing (the object pose of {}){}", where, n,
+          fs::path(f.rPe).filename().string(),
+          f.image.empty() ? ""
+                          : "; or pass --tag-size (the tag's black square, m) to detect the tag "
+                            "in " +
+                                fs::path(f.image).filename().string()));
+    }
+    if (detect && !data.has_camera)
+      throw ConfigError(folder + ": detecting the tags needs the camera's intrinsics (camera.xml)");
     if (any_image && f.image.empty()) {
       // Named as the other samples' images are, e.g. franka_image-1.png -> franka_image-3.png.
       std::string like;
@@ -268,20 +330,13 @@ VispDataset ReadVispDataset(const std::string& folder) {
     s.cPo_file = f.cPo;
     s.image = f.image;
     s.rMe = ReadVispPose(f.rPe);
-    s.cMo = ReadVispPose(f.cPo);
+    if (detect) {
+      if (!detector) detector = std::make_unique<TagDetector>("tag36h11");
+      s.cMo = DetectTagPose(f.image, tag_size_m, data.camera, detector.get());
+    } else {
+      s.cMo = ReadVispPose(f.cPo);
+    }
     data.samples.push_back(s);
-  }
-  std::string camera_xml;
-  for (const std::string& x : xmls) {
-    if (fs::path(x).filename() == "camera.xml") camera_xml = x;
-  }
-  if (camera_xml.empty() && xmls.size() == 1) camera_xml = xmls.front();
-  if (camera_xml.empty() && xmls.size() > 1)
-    throw ConfigError(folder + ": several XML files and none is camera.xml: name the camera's " +
-                      "intrinsics camera.xml");
-  if (!camera_xml.empty()) {
-    data.camera = LoadVispCameraXml(camera_xml);
-    data.has_camera = true;
   }
   return data;
 }

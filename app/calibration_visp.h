@@ -85,11 +85,17 @@ struct VispDataset {
 /// True when `folder` holds at least one pose_rPe_N / pose_fPe_N / pose_cPo_N file.
 bool IsVispDataset(const std::string& folder);
 
-/// Reads every sample of a ViSP data set.
+/// Reads every sample of a ViSP data set. A sample with its image and robot
+/// pose but no pose_cPo_N.yaml (a data set before visp-compute-apriltag-poses
+/// ran) gets cMo from the one tag36h11 tag detected in its image, of edge
+/// `tag_size_m` (its black square; 0: not done), through the camera XML (pixels
+/// undistorted with its kdu); the tag frame is the board frame of
+/// calib/tag_board.h (origin at the tag's centre, z into the tag).
 /// @throws ConfigError naming the file: a robot pose without its object pose
 /// (or the reverse), an image missing for one N while others have theirs, an
-/// image without pose files, any ReadVispPose error, a bad camera XML.
-VispDataset ReadVispDataset(const std::string& folder);
+/// image without pose files, an image in which no single tag is found, any
+/// ReadVispPose error, a bad camera XML.
+VispDataset ReadVispDataset(const std::string& folder, double tag_size_m = 0.0);
 
 /// The samples in the model of calib/hand_eye.h for `setup` (table above).
 std::vector<HandEyeSample> ToHandEyeSamples(const VispDataset& data, HandEyeSetup setup);

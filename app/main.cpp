@@ -224,6 +224,11 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::IsMember({"eye-to-hand", "eye-in-hand"}));
   calibrate_cmd
+      ->add_option("--tag-size", calibrate.tag_size_m,
+                   "With --resolve on a ViSP data set without pose_cPo files: the tag36h11 "
+                   "tag's black square (m); its pose is then detected in each image")
+      ->check(CLI::Range(0.005, 1.0));
+  calibrate_cmd
       ->add_option("--poses", calibrate.poses,
                    "Arm poses (or board views, with --intrinsics) to visit")
       ->capture_default_str()
