@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -211,8 +212,14 @@ TEST_F(CalibrateCommandTest, AServoThatStopsAnsweringStopsTheArmsAndKeepsTheSamp
 /// hand places it, and presses Enter; after `samples` of them, q.
 class Hand : public std::streambuf {
  public:
-  Hand(World* world, Side side, const std::ostringstream* wizard, int samples)
-      : world_(world), side_(side), wizard_(wizard), samples_(samples), rng_(3) {}
+  /// `interrupt_at` > 0: the person presses Ctrl-C (SIGINT) at that move instead of Enter.
+  Hand(World* world, Side side, const std::ostringstream* wizard, int samples, int interrupt_at = 0)
+      : world_(world),
+        side_(side),
+        wizard_(wizard),
+        samples_(samples),
+        interrupt_at_(interrupt_at),
+        rng_(3) {}
   int moves() const { return moves_; }
 
  protected:
@@ -230,6 +237,7 @@ class Hand : public std::streambuf {
       }
       world_->arm(side_).MoveByHand(q);
       ++moves_;
+      if (moves_ == interrupt_at_) std::raise(SIGINT);
       line_ = "\n";
     } else {
       line_ = "q\n";
@@ -242,7 +250,7 @@ class Hand : public std::streambuf {
   World* world_;
   Side side_;
   const std::ostringstream* wizard_;
-  int samples_, moves_ = 0;
+  int samples_, interrupt_at_, moves_ = 0;
   FastRandom rng_;
   std::string line_;
 };
@@ -273,6 +281,31 @@ TEST_F(CalibrateCommandTest, HandGuidedSamplesThroughTheBusReachTheSimulatorsAcc
   EXPECT_GE(s["samples_used"].get<int>(), 8);
   EXPECT_LE(s["error_to_truth_mm"].get<double>(), 1.0);
   EXPECT_LE(s["error_to_truth_deg"].get<double>(), 0.1);
+}
+
+// Ctrl-C while samples are taken: the arms stop, the samples taken are kept.
+TEST_F(CalibrateCommandTest, CtrlCStopsTheArmsAndKeepsTheSamples) {
+  CalibrateCommandOptions options;
+  options.arm = "left";
+  options.out_dir = folder_;
+  options.poses = 12;
+  options.yes = true;
+  options.hand_guided = true;
+  options.hardware_path = DataPath("config/hardware_sim.yaml");
+  std::ostringstream out, progress;
+  const std::unique_ptr<HandEyeHardware> hw =
+      OpenHandEyeHardware(options.hardware_path, "", options.seed, Side::kLeft, out);
+  Hand hand(hw->world(), Side::kLeft, &out, 12, /*interrupt_at=*/4);
+  std::istream in(&hand);
+  try {
+    RunHandEyeWizard(options, *hw, in, out, progress);
+    FAIL() << "expected a stop";
+  } catch (const HardwareError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("interrupted (Ctrl-C); the arms were stopped; the 3 samples "
+                                    "taken so far are kept"));
+  }
+  EXPECT_EQ(hand.moves(), 4);
+  EXPECT_EQ(YAML::LoadFile((fs::path(folder_) / "samples.yaml").string())["samples"].size(), 3u);
 }
 
 TEST_F(CalibrateCommandTest, HandGuidedSamplesNeedTheServoBus) {
