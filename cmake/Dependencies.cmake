@@ -3,6 +3,8 @@
 
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(Threads REQUIRED)
+# oneTBB runs ParallelFor (core/parallel.cpp) on its shared worker pool.
+find_package(TBB REQUIRED)
 find_package(OpenSSL REQUIRED)  # SHA-256 of MAVLink 2 packet signing
 # Optional: the live RealSense backend is built only when librealsense2 is installed (it
 # is not in Debian; README, Hardware, says how to add it). .bag replay does not need it.

@@ -11,6 +11,8 @@ PACKAGES=(
   libeigen3-dev libvisp-dev libopencv-dev libpcl-dev libopenmpi-dev
   libfcl-dev libccd-dev liburdfdom-dev liburdfdom-headers-dev libapriltag-dev
   libembree-dev libqhull-dev liborocos-kdl-dev
+  # ParallelFor's worker pool (oneTBB)
+  libtbb-dev
   # configuration, CLI, logging, output
   libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev
   # devices: SHA-256 for MAVLink 2 signing

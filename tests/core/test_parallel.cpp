@@ -59,16 +59,28 @@ TEST(ParallelForTest, UsesAnotherThreadWhenTheMachineHasOne) {
   EXPECT_EQ(seen.size(), 2u);
 }
 
-TEST(ParallelForTest, AThrownErrorReachesTheCallerAfterAllThreadsStop) {
+TEST(ParallelForTest, AThrownErrorReachesTheCallerWithItsTypeAndMessage) {
   std::atomic<int> calls{0};
-  EXPECT_THROW(ParallelFor(100,
-                           [&](std::size_t i) {
-                             ++calls;
-                             if (i == 3) throw std::runtime_error("item 3 failed");
-                           }),
-               std::runtime_error);
-  EXPECT_GE(calls.load(), 4);
+  try {
+    ParallelFor(100, [&](std::size_t i) {
+      ++calls;
+      if (i == 3) throw std::out_of_range("item 3 failed");
+    });
+    FAIL() << "no exception reached the caller";
+  } catch (const std::out_of_range& e) {
+    EXPECT_STREQ(e.what(), "item 3 failed");
+  }
+  EXPECT_GE(calls.load(), 1);
   EXPECT_LE(calls.load(), 100);
+}
+
+TEST(ParallelForTest, NestedCallsRunEveryInnerIndex) {
+  const std::size_t outer = 6, inner = 50;
+  std::vector<std::atomic<int>> calls(outer * inner);
+  ParallelFor(outer, [&](std::size_t i) {
+    ParallelFor(inner, [&](std::size_t j) { ++calls[i * inner + j]; });
+  });
+  for (std::size_t k = 0; k < calls.size(); ++k) EXPECT_EQ(calls[k].load(), 1) << k;
 }
 
 }  // namespace
