@@ -441,7 +441,7 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
   // The prior: the filter's prediction, else a given first pose, else the last good pose.
   std::optional<Eigen::Isometry3d> prior;
   if (ekf_.initialized()) {
-    prior = cMf * ekf_.cMo();
+    prior = cMf * ekf_.fMo();
   } else if (initial_cMo_) {
     prior = initial_cMo_;
   } else if (last_good_fMo_) {
@@ -532,7 +532,7 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
       ekf_.Initialize(meas, stamp_s);
       gated_in_a_row_ = 0;
     } else {
-      meas.linear() = ClosestSymmetricRotation(meas.linear(), ekf_.cMo().linear(), model_.symmetry);
+      meas.linear() = ClosestSymmetricRotation(meas.linear(), ekf_.fMo().linear(), model_.symmetry);
       const EkfUpdate update = ekf_.Update(meas, R);
       report.nis = update.nis;
       if (update.accepted) {
@@ -545,7 +545,7 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
         }
       }
     }
-    last_good_fMo_ = ekf_.cMo();
+    last_good_fMo_ = ekf_.fMo();
     last_good_stamp_s_ = stamp_s;
   }
   // A given first pose serves this frame only, measured or not: kept, it
@@ -573,11 +573,11 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
   e.state = state;
   if (ekf_.initialized()) {
     e.valid = true;
-    e.fMo = ekf_.cMo();
+    e.fMo = ekf_.fMo();
     e.covariance = ekf_.covariance().topLeftCorner<6, 6>();  // in f
-    e.v_f = ekf_.v_c();
-    e.v_c = cMf.linear() * ekf_.v_c();
-    e.w_c = cMf.linear() * ekf_.w_c();
+    e.v_f = ekf_.v_f();
+    e.v_c = cMf.linear() * ekf_.v_f();
+    e.w_c = cMf.linear() * ekf_.w_f();
   } else if (last_good_fMo_) {
     e.valid = true;
     e.fMo = *last_good_fMo_;

@@ -17,11 +17,11 @@ Eigen::Matrix3d ExpSo3(const Eigen::Vector3d& theta) {
 
 }  // namespace
 
-void PoseEkf::Initialize(const Eigen::Isometry3d& cMo, double stamp_s) {
-  p_ = cMo.translation();
-  R_ = cMo.linear();
-  v_.setZero();
-  w_.setZero();
+void PoseEkf::Initialize(const Eigen::Isometry3d& fMo, double stamp_s) {
+  p_f_ = fMo.translation();
+  fRo_ = fMo.linear();
+  v_f_.setZero();
+  w_f_.setZero();
   stamp_s_ = stamp_s;
   P_.setZero();
   P_.diagonal() << Eigen::Vector3d::Constant(options_.init_position_std_m *
@@ -37,8 +37,8 @@ void PoseEkf::Predict(double stamp_s) {
   if (!initialized_ || !(stamp_s > stamp_s_)) return;
   const double dt = std::min(stamp_s - stamp_s_, options_.max_predict_dt_s);
   stamp_s_ = stamp_s;
-  p_ += v_ * dt;
-  R_ = ExpSo3(w_ * dt) * R_;
+  p_f_ += v_f_ * dt;
+  fRo_ = ExpSo3(w_f_ * dt) * fRo_;
   Eigen::Matrix<double, 12, 12> F = Eigen::Matrix<double, 12, 12>::Identity();
   F.block<3, 3>(0, 6) = Eigen::Matrix3d::Identity() * dt;
   F.block<3, 3>(3, 9) = Eigen::Matrix3d::Identity() * dt;
@@ -56,44 +56,44 @@ void PoseEkf::Predict(double stamp_s) {
   P_ = F * P_ * F.transpose() + Q;
 }
 
-EkfUpdate PoseEkf::Innovation(const Eigen::Isometry3d& cMo_meas,
+EkfUpdate PoseEkf::Innovation(const Eigen::Isometry3d& fMo_meas,
                               const Eigen::Matrix<double, 6, 6>& R) const {
   EkfUpdate out;
-  if (!initialized_ || !cMo_meas.matrix().allFinite()) return out;
+  if (!initialized_ || !fMo_meas.matrix().allFinite()) return out;
   Eigen::Matrix<double, 6, 1> y;
-  y.head<3>() = cMo_meas.translation() - p_;
-  y.tail<3>() = ThetaU(cMo_meas.linear() * R_.transpose());
+  y.head<3>() = fMo_meas.translation() - p_f_;
+  y.tail<3>() = ThetaU(fMo_meas.linear() * fRo_.transpose());
   const Eigen::Matrix<double, 6, 6> S = P_.topLeftCorner<6, 6>() + R;
   out.nis = y.dot(S.ldlt().solve(y));
   out.accepted = std::isfinite(out.nis) && out.nis <= options_.gate_nis;
   return out;
 }
 
-EkfUpdate PoseEkf::Update(const Eigen::Isometry3d& cMo_meas, const Eigen::Matrix<double, 6, 6>& R) {
-  const EkfUpdate out = Innovation(cMo_meas, R);
+EkfUpdate PoseEkf::Update(const Eigen::Isometry3d& fMo_meas, const Eigen::Matrix<double, 6, 6>& R) {
+  const EkfUpdate out = Innovation(fMo_meas, R);
   if (!out.accepted) return out;
   Eigen::Matrix<double, 6, 1> y;
-  y.head<3>() = cMo_meas.translation() - p_;
-  y.tail<3>() = ThetaU(cMo_meas.linear() * R_.transpose());
+  y.head<3>() = fMo_meas.translation() - p_f_;
+  y.tail<3>() = ThetaU(fMo_meas.linear() * fRo_.transpose());
   const Eigen::Matrix<double, 6, 6> S = P_.topLeftCorner<6, 6>() + R;
   const Eigen::Matrix<double, 12, 6> K = P_.leftCols<6>() * S.inverse();
   const Eigen::Matrix<double, 12, 1> dx = K * y;
-  p_ += dx.segment<3>(0);
-  R_ = ExpSo3(dx.segment<3>(3)) * R_;
-  R_ = Eigen::Quaterniond(R_).normalized().toRotationMatrix();
-  v_ += dx.segment<3>(6);
-  w_ += dx.segment<3>(9);
+  p_f_ += dx.segment<3>(0);
+  fRo_ = ExpSo3(dx.segment<3>(3)) * fRo_;
+  fRo_ = Eigen::Quaterniond(fRo_).normalized().toRotationMatrix();
+  v_f_ += dx.segment<3>(6);
+  w_f_ += dx.segment<3>(9);
   Eigen::Matrix<double, 12, 12> IKH = Eigen::Matrix<double, 12, 12>::Identity();
   IKH.leftCols<6>() -= K;
   P_ = IKH * P_ * IKH.transpose() + K * R * K.transpose();
   return out;
 }
 
-Eigen::Isometry3d PoseEkf::cMo() const {
-  Eigen::Isometry3d cMo = Eigen::Isometry3d::Identity();
-  cMo.linear() = R_;
-  cMo.translation() = p_;
-  return cMo;
+Eigen::Isometry3d PoseEkf::fMo() const {
+  Eigen::Isometry3d fMo = Eigen::Isometry3d::Identity();
+  fMo.linear() = fRo_;
+  fMo.translation() = p_f_;
+  return fMo;
 }
 
 }  // namespace aerograsp

@@ -1,11 +1,14 @@
-// Extended Kalman filter on the object's pose in the camera frame with a
-// constant-velocity model (paper Sect. 3: "a simple kinematic model").
-// State: position p (m) and rotation cRo of the object in c, linear velocity
-// v (m/s) and angular velocity w (rad/s), both expressed in c. The covariance
-// is kept on the 12-D error state [dp, dtheta, dv, dw] with the rotation error
-// on the left: cRo = Exp(dtheta) * cRo_hat. Measurements are full poses cMo
-// (from ICP); an innovation whose Mahalanobis distance exceeds the gate is
-// rejected as an outlier and leaves the state untouched.
+// Extended Kalman filter on the object's pose in a filter frame f with a
+// constant-velocity model (paper Sect. 3: "a simple kinematic model"). f is
+// the caller's choice; the model holds best in a frame that does not move: the
+// object tracker runs the filter in the world (f = w) whenever it is given the
+// camera's pose, and in the camera (f = c) only when it is not.
+// State: position p_f (m) and rotation fRo of the object in f, linear velocity
+// v_f (m/s) and angular velocity w_f (rad/s), both expressed in f. The
+// covariance is kept on the 12-D error state [dp, dtheta, dv, dw] with the
+// rotation error on the left: fRo = Exp(dtheta) * fRo_hat. Measurements are
+// full poses fMo (from ICP); an innovation whose Mahalanobis distance exceeds
+// the gate is rejected as an outlier and leaves the state untouched.
 #pragma once
 
 #include <Eigen/Core>
@@ -21,8 +24,8 @@ struct PoseEkfOptions {
   double init_velocity_std_mps = 0.2;
   double init_angular_velocity_std_radps = 0.5;
   double gate_nis = 22.46;  ///< chi-square 6 dof at 99.9 %: innovations beyond it are outliers
-  double max_predict_dt_s =
-      1.0;  ///< longer gaps predict over this at most (a stale velocity must not run away)
+  /// Longer gaps predict over this at most (a stale velocity must not run away), s.
+  double max_predict_dt_s = 1.0;
 };
 
 /// The innovation of one update.
@@ -35,23 +38,25 @@ class PoseEkf {
  public:
   explicit PoseEkf(const PoseEkfOptions& options = {}) : options_(options) {}
 
-  /// Starts a track at cMo with zero velocity and the prior covariance.
-  void Initialize(const Eigen::Isometry3d& cMo, double stamp_s);
+  /// Starts a track at fMo with zero velocity and the prior covariance.
+  void Initialize(const Eigen::Isometry3d& fMo, double stamp_s);
   bool initialized() const { return initialized_; }
   void Reset() { initialized_ = false; }
 
   /// Propagates the state to stamp_s (no-op for stamp_s <= the current stamp).
   void Predict(double stamp_s);
   /// The innovation of a measurement without applying it.
-  EkfUpdate Innovation(const Eigen::Isometry3d& cMo_meas,
+  EkfUpdate Innovation(const Eigen::Isometry3d& fMo_meas,
                        const Eigen::Matrix<double, 6, 6>& R) const;
-  /// Fuses a measured cMo with covariance R (position m^2, then rotation rad^2,
+  /// Fuses a measured fMo with covariance R (position m^2, then rotation rad^2,
   /// rotation error on the left). Gated measurements are not applied.
-  EkfUpdate Update(const Eigen::Isometry3d& cMo_meas, const Eigen::Matrix<double, 6, 6>& R);
+  EkfUpdate Update(const Eigen::Isometry3d& fMo_meas, const Eigen::Matrix<double, 6, 6>& R);
 
-  Eigen::Isometry3d cMo() const;
-  const Eigen::Vector3d& v_c() const { return v_; }
-  const Eigen::Vector3d& w_c() const { return w_; }
+  /// The object's pose in the filter frame f.
+  Eigen::Isometry3d fMo() const;
+  /// The object's linear (m/s) and angular (rad/s) velocity, expressed in f.
+  const Eigen::Vector3d& v_f() const { return v_f_; }
+  const Eigen::Vector3d& w_f() const { return w_f_; }
   double stamp_s() const { return stamp_s_; }
   /// 12x12 error-state covariance [dp, dtheta, dv, dw].
   const Eigen::Matrix<double, 12, 12>& covariance() const { return P_; }
@@ -60,9 +65,10 @@ class PoseEkf {
   PoseEkfOptions options_;
   bool initialized_ = false;
   double stamp_s_ = 0.0;
-  Eigen::Vector3d p_ = Eigen::Vector3d::Zero(), v_ = Eigen::Vector3d::Zero(),
-                  w_ = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d R_ = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p_f_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_f_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d w_f_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d fRo_ = Eigen::Matrix3d::Identity();
   Eigen::Matrix<double, 12, 12> P_ = Eigen::Matrix<double, 12, 12>::Identity();
 };
 

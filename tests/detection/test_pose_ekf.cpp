@@ -38,13 +38,13 @@ TEST(PoseEkfTest, LearnsConstantVelocityAndPredictsAhead) {
     z.translation() += 0.001 * Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal());
     ASSERT_TRUE(ekf.Update(z, Noise(0.001, 0.01)).accepted) << "frame " << k;
   }
-  EXPECT_NEAR(ekf.v_c().x(), 0.06, 0.01);
-  EXPECT_NEAR(ekf.v_c().z(), -0.04, 0.01);
-  EXPECT_NEAR(ekf.w_c().norm(), 0.3, 0.05);
+  EXPECT_NEAR(ekf.v_f().x(), 0.06, 0.01);
+  EXPECT_NEAR(ekf.v_f().z(), -0.04, 0.01);
+  EXPECT_NEAR(ekf.w_f().norm(), 0.3, 0.05);
   // Predict 5 frames ahead without measurements: the motion carries on.
   const double t_ahead = 95 * dt;
   ekf.Predict(t_ahead);
-  const PoseError e = ComparePoses(MovingPose(t_ahead), ekf.cMo());
+  const PoseError e = ComparePoses(MovingPose(t_ahead), ekf.fMo());
   EXPECT_LT(e.translation_m, 0.003);
   EXPECT_LT(e.rotation_rad, 0.01);
   // A constant-pose model would be off by the motion of those 5 frames (> 10 mm).
@@ -60,13 +60,13 @@ TEST(PoseEkfTest, GatesAnOutlierAndLeavesTheStateAlone) {
     ekf.Update(MovingPose(k * dt), Noise(0.001, 0.01));
   }
   ekf.Predict(31 * dt);
-  const Eigen::Isometry3d before = ekf.cMo();
+  const Eigen::Isometry3d before = ekf.fMo();
   Eigen::Isometry3d outlier = MovingPose(31 * dt);
   outlier.translation().x() += 0.10;
   const EkfUpdate gated = ekf.Update(outlier, Noise(0.001, 0.01));
   EXPECT_FALSE(gated.accepted);
   EXPECT_GT(gated.nis, 22.46);
-  EXPECT_TRUE(ekf.cMo().isApprox(before));
+  EXPECT_TRUE(ekf.fMo().isApprox(before));
   // A rotation outlier is gated too.
   Eigen::Isometry3d turned = MovingPose(31 * dt);
   turned.linear() =
@@ -102,7 +102,7 @@ TEST(PoseEkfTest, NonFiniteMeasurementIsRejected) {
   Eigen::Isometry3d bad = MovingPose(0.0);
   bad.translation().y() = std::numeric_limits<double>::quiet_NaN();
   EXPECT_FALSE(ekf.Update(bad, Noise(0.001, 0.01)).accepted);
-  EXPECT_TRUE(ekf.cMo().matrix().allFinite());
+  EXPECT_TRUE(ekf.fMo().matrix().allFinite());
 }
 
 }  // namespace
