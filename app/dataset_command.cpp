@@ -96,7 +96,7 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out,
   labels << "index,visible,x0,y0,x1,y1,object_pixels,coverage\n";
 
   const WorldConfig world = WorldConfig::Load(DataPath("config/world_default.yaml"));
-  const CameraIntrinsics K;  // the D435 colour stream at 640x480 (FACTS.md)
+  const CameraIntrinsics K;  // the D435 colour stream at 640x480 (docs/hardware.md)
   // Distractors: the other shipped objects.
   std::vector<RenderMesh> distractor_meshes;
   for (const std::string& name : ShippedObjectNames()) {

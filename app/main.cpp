@@ -100,7 +100,7 @@ int main(int argc, char** argv) {
                                     "Dual-arm servo: convergence, iterations, step time, "
                                     "safe-volume entries; KDL IK on the same targets");
   aerograsp::AddServoBenchmarkOptions(servo_benchmark_cmd, &servo_benchmark);
-  // ---- benchmark servo-bus: closed-loop cycle on the simulated SCS bus (issue 8) ----
+  // ---- benchmark servo-bus: closed-loop cycle on the simulated SCS bus ----
   aerograsp::ServoBusBenchmarkOptions servo_bus_bench;
   CLI::App* servo_bus_bench_cmd =
       benchmark_cmd->add_subcommand("servo-bus",
@@ -138,7 +138,7 @@ int main(int argc, char** argv) {
                    "Perception YAML [the code's defaults]")
       ->check(CLI::ExistingFile);
   // ---- end benchmark perception ----
-  // ---- hardware-check: open each device of a hardware config (issue 8) ----
+  // ---- hardware-check: open each device of a hardware config ----
   aerograsp::HardwareCheckOptions hardware_check;
   CLI::App* hardware_check_cmd = app.add_subcommand(
       "hardware-check",
@@ -151,7 +151,7 @@ int main(int argc, char** argv) {
   hardware_check_cmd->add_option("--seed", hardware_check.seed, "World seed of simulated devices")
       ->capture_default_str();
   // ---- end hardware-check ----
-  // ---- plan: dual grasps of an object (issue 5) ----
+  // ---- plan: dual grasps of an object ----
   aerograsp::PlanCommandOptions plan;
   plan.config_path = aerograsp::DataPath("config/platform_4dof.yaml");
   std::vector<double> plan_xyz, plan_rpy;
@@ -249,7 +249,7 @@ int main(int argc, char** argv) {
   calibrate_cmd->add_flag(
       "--hand-guided", calibrate.hand_guided,
       "Torque off on the arm: place it by hand, Enter takes a sample, q solves");
-  // ---- replay and dataset: perception (issue 4) ----
+  // ---- replay and dataset: perception ----
   aerograsp::ReplayCommandOptions replay;
   std::vector<double> replay_init;
   CLI::App* replay_cmd = app.add_subcommand("replay",
@@ -342,7 +342,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1.0));
   // ---- end replay and dataset ----
 
-  // ---- mission: the simulated mission end to end (issue 7) ----
+  // ---- mission: the simulated mission end to end ----
   aerograsp::MissionCommandOptions mission;
   CLI::App* mission_cmd = app.add_subcommand("mission",
                                              "Fly a full grasping mission in the simulator: "
@@ -350,7 +350,7 @@ int main(int argc, char** argv) {
                                              "lift, home, land; report in DIR");
   aerograsp::AddMissionOptions(mission_cmd, &mission);
   // ---- end mission ----
-  // ---- bench: perception and servo against tags on a test stand (issue 9) ----
+  // ---- bench: perception and servo against tags on a test stand ----
   aerograsp::BenchCommandOptions bench;
   std::vector<double> bench_board_pose;
   CLI::App* bench_cmd =

@@ -21,7 +21,7 @@ struct ArmMountConfig {
   std::vector<double> home_rad;        ///< home joint positions (rad), one per joint, within limits
 };
 
-/// The two-finger gripper (FACTS.md: aperture not published; 0.10-0.15 m).
+/// The two-finger gripper (docs/hardware.md: aperture not published; 0.10-0.15 m).
 struct GripperConfig {
   double max_aperture_m{0.12};  ///< opening between the finger pads when open, (0, 0.3] m
   double finger_clearance_m{

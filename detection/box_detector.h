@@ -1,4 +1,4 @@
-// The single-class CNN detector (DESIGN.md, The detector): a CenterNet-style
+// The single-class CNN detector (docs/perception.md, The detector): a CenterNet-style
 // network trained by tools/train_detector.py, run with OpenCV's dnn on a
 // 160x120 RGB input; its one output holds, per cell of a 40x30 grid, the
 // centre-heatmap logit, the sub-cell offset of the centre and the log box size.

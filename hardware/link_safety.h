@@ -1,4 +1,4 @@
-// What the mission does when the autopilot link is lost (issue 8): both arms
+// What the mission does when the autopilot link is lost: both arms
 // hold where they are, so nothing swings while the vehicle runs its own
 // failsafe. The mission calls this every cycle with the latest vehicle state.
 #pragma once

@@ -11,7 +11,7 @@ bash scripts/build.sh
 BUILD_DIR=${BUILD_DIR:-build}
 OUT_DIR=${OUT_DIR:-$BUILD_DIR/main_job}
 # Seed 1 switches pairs when the first becomes unreachable; its first attempt closes on nothing;
-# on the second the left gripper holds and the right aims again (README, Mission).
+# on the second the left gripper holds and the right aims again (docs/mission.md).
 "$BUILD_DIR/app/aerograsp" mission --seed 1 --out "$OUT_DIR/mission"
 "$BUILD_DIR/app/aerograsp" record --out "$OUT_DIR/sequence" --frames 90 --seed 1 --motion crawl --overwrite
 "$BUILD_DIR/app/aerograsp" replay "$OUT_DIR/sequence" --out "$OUT_DIR/replay" --filter-frame world

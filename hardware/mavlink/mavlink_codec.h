@@ -32,7 +32,7 @@ struct MessageInfo {
   std::uint8_t crc_extra;
   std::uint8_t length;  ///< full payload length with extensions
 };
-/// The messages this project speaks (FACTS.md); null for others.
+/// The messages this project speaks (docs/hardware.md); null for others.
 const MessageInfo* FindMessage(std::uint32_t id);
 
 /// CRC-16/MCRF4XX (X.25) as MAVLink accumulates it.

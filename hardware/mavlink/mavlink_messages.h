@@ -1,4 +1,4 @@
-// The MAVLink messages the companion computer needs (FACTS.md, Autopilot),
+// The MAVLink messages the companion computer needs (docs/hardware.md, Autopilot),
 // with their fields in wire order (by size, extensions last, as the MAVLink
 // definitions lay them out). Each message lists its fields once, in Visit();
 // Pack() and Unpack() serialise them little-endian. Unpack zero-fills what a

@@ -1,4 +1,4 @@
-// The autopilot interface on PX4 over MAVLink 2 (FACTS.md, Autopilot).
+// The autopilot interface on PX4 over MAVLink 2 (docs/hardware.md, Autopilot).
 // - Heartbeat out at heartbeat_hz; the autopilot's HEARTBEAT, ATTITUDE,
 //   LOCAL_POSITION_NED, EXTENDED_SYS_STATE and STATUSTEXT in.
 // - Commands as COMMAND_LONG, each waiting for its COMMAND_ACK with a timeout

@@ -1,4 +1,4 @@
-// Both arms and grippers on one Feetech SCS bus (FACTS.md, Servo bus).
+// Both arms and grippers on one Feetech SCS bus (docs/hardware.md, Servo bus).
 // Each cycle: one SYNC_WRITE of goal position, time and speed (6 bytes from
 // address 42) to every servo of both arms, then a READ of every present
 // position, then the load, voltage and temperature of one servo (round robin,
@@ -44,7 +44,7 @@ struct ScsArmsConfig {
   bool torque_on_start{true};  ///< enable torque after reading the start positions
 
   /// IDs 10*k + i (arm k = 1 left, 2 right, joint i from 1) and gripper 10*k + 7
-  /// (FACTS.md); each joint's raw 0 at its lower limit and raw 1023 220 deg above
+  /// (docs/hardware.md); each joint's raw 0 at its lower limit and raw 1023 220 deg above
   /// it (the simulated servos' mapping, hardware/sim/world.h).
   static ScsArmsConfig Default(const Platform& platform);
 };

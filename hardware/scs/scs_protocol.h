@@ -1,4 +1,4 @@
-// The Feetech SCS servo protocol (FACTS.md, Servo bus): packet framing,
+// The Feetech SCS servo protocol (docs/hardware.md, Servo bus): packet framing,
 // checksum, instructions, the register map and the status error bits. Pure
 // functions and a byte-at-a-time parser; no I/O.
 //   instruction: 0xFF 0xFF ID LEN INSTR PARAMS... CHECKSUM
@@ -29,7 +29,7 @@ enum Instruction : std::uint8_t {
   kSyncWrite = 0x83,
 };
 
-/// Register addresses (FACTS.md).
+/// Register addresses (docs/hardware.md).
 namespace reg {
 constexpr std::uint8_t kId = 5;
 constexpr std::uint8_t kBaudRate = 6;

@@ -1,5 +1,5 @@
 // Joint angle <-> raw servo ticks through a per-joint calibration, as the
-// original arms did it (FACTS.md): two measured angles per joint, the joint
+// original arms did it (docs/hardware.md): two measured angles per joint, the joint
 // angle at raw 0 and at raw 1023; linear in between. A reversed servo has
 // angle_at_max_rad < angle_at_min_rad.
 #pragma once

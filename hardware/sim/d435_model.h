@@ -1,4 +1,4 @@
-// The D435's imperfections applied to a noise-free render (FACTS.md, Camera):
+// The D435's imperfections applied to a noise-free render (docs/hardware.md, Camera):
 // depth noise growing with z^2, quantisation to the depth unit, holes at depth
 // discontinuities (including the stereo shadow left of near objects), at
 // grazing angles and on dark surfaces, nothing outside [min, max] range; and

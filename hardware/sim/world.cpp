@@ -190,7 +190,7 @@ void World::SetGripper(Side side, GripperCommand command) {
 
 double World::ClosingWidth(Side side, bool* spans) const {
   // The fingers are pads along the approach axis z_e: from their tips, 0.02 m
-  // beyond the tool point (FACTS.md tool point), back finger_length_m. They
+  // beyond the tool point (docs/hardware.md, the tool point), back finger_length_m. They
   // close along the tool x axis and stop on whatever lies between them at any
   // depth of the pads: closing lines every 5 mm along the pads, each as long as
   // the open aperture, in the object frame.

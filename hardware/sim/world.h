@@ -20,7 +20,7 @@ namespace aerograsp {
 
 /// One arm's servos: each joint follows its target with a first-order lag and
 /// a speed limit; targets and readings are quantised like the Feetech servos
-/// (FACTS.md: 10 bits over about 220 deg, counted from the lower limit).
+/// (docs/hardware.md: 10 bits over about 220 deg, counted from the lower limit).
 class SimArm {
  public:
   SimArm(const ArmModel& arm, const ArmsSimConfig& config, const Eigen::VectorXd& q0_rad);

@@ -38,7 +38,7 @@ TEST_F(CalibrateIntrinsicsTest, RecoversTheSimulatedCamerasIntrinsics) {
   ASSERT_EQ(s["factory"]["fx"].get<double>(), truth.fx);
   EXPECT_GE(s["views_used"].get<int>(), 12);
   EXPECT_EQ(s["views_used"].get<int>() + s["views_rejected"].get<int>(), 15);
-  // Measured with 15 views on seeds 1-6 (README): the focal lengths within
+  // Measured with 15 views on seeds 1-6 (docs/intrinsics.md): the focal lengths within
   // 2.5 px (0.4 %), the principal point within 1.6 px, from corners that
   // libapriltag finds to 0.25-0.31 px rms on the rendered board. The
   // tolerances, 0.75 % and 3 px, leave about twice that.

@@ -120,7 +120,7 @@ TEST(ArmModelTest, SegmentsCarryTheGripperAndFingers) {
   EXPECT_EQ(last.collision.size(), 4u);  // wrist, housing, two fingers
   double mass = 0.0;
   for (const ArmSegment& s : arm.segments()) mass += s.mass_kg;
-  EXPECT_NEAR(mass, 0.632, 0.01);  // FACTS.md: 632 g per 4-DoF arm
+  EXPECT_NEAR(mass, 0.632, 0.01);  // 632 g per 4-DoF arm, docs/hardware.md
 }
 
 TEST(ArmModelTest, LimitsHelpers) {

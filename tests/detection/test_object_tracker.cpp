@@ -208,7 +208,7 @@ TEST(ObjectTrackerTest, AnObjectThatJumpsAlongItsLengthIsFoundAgainByItsOutline)
 
 TEST(ObjectTrackerTest, AHalfResolutionFrameGetsTwiceTheDepthNoiseTolerance) {
   // At 320x240 the depth imager's focal length in pixels halves and the D435's
-  // depth noise doubles (FACTS.md: z^2 s / (f b)): 18 mm at 1.4 m against 9.2.
+  // depth noise doubles (z^2 s / (f b), docs/hardware.md): 18 mm at 1.4 m against 9.2.
   // The options give the 640-pixel figure; the tracker scales it by the width.
   const CameraIntrinsics K = CameraIntrinsics{}.Scaled(0.5);
   RgbdRenderer renderer;

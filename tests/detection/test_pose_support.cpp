@@ -25,8 +25,8 @@ ColorImage Shifted(const ColorImage& color, int shift_px) {
 // 32 mm. Neither of two things contradicts the true pose: a model point next to
 // the border between the yellow body and a dark track landing a pixel over it,
 // and a strip of the body hidden behind the taller track, whose depth agrees
-// within the tolerance but whose colour is the track's. Before, they made the
-// true pose 3.5 % contradicted. A wrong colour still contradicts.
+// within the tolerance but whose colour is the track's. Counted against it, they
+// would make the true pose 3.5 % contradicted. A wrong colour still contradicts.
 TEST(PoseSupportTest, TheTruePoseAt1_5mIsNotContradictedByItsOwnEdges) {
   WorldConfig config = WorldConfig::Load(DataPath("config/world_distance_1.5m.yaml"));
   config.camera.d435.subpixel = 0.0;

@@ -171,7 +171,7 @@ TEST(WorldTest, ServoPositionsAreQuantisedAndSpeedLimited) {
   world.Step(3.0);
   const Eigen::VectorXd measured = arms.JointPositions(Side::kLeft);
   const double quantum = world.arm(Side::kLeft).quantum_rad();
-  EXPECT_NEAR(quantum, 220.0 / 1023.0 * M_PI / 180.0, 1e-12);  // ~0.21 deg (FACTS.md)
+  EXPECT_NEAR(quantum, 220.0 / 1023.0 * M_PI / 180.0, 1e-12);  // ~0.21 deg (docs/hardware.md)
   for (int i = 0; i < measured.size(); ++i) {
     const double counts = (measured[i] - model.lower_limits()[i]) / quantum;
     EXPECT_NEAR(counts, std::round(counts), 1e-6) << "joint " << i;
