@@ -32,7 +32,7 @@ struct TagBoardConfig {
   /// Reads the fields present in `node` (unknown keys are rejected).
   static TagBoardConfig FromNode(const ConfigNode& node);
   /// @throws ConfigError naming `source`, the key (under `prefix`) and the bound.
-  void Validate(const std::string& source, const std::string& prefix = "") const;
+  void Validate(const std::string& source, const std::string& prefix) const;
   /// Width and height of the printed board, m.
   Eigen::Vector2d Size() const;
 };

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/config.h"
 #include "core/parallel.h"
 #include "core/thread_clock.h"
 #include "detection/global_registration.h"
@@ -15,14 +16,20 @@ namespace {
 /// finds the object beyond itself).
 constexpr double kFullSlideM = 0.04;
 
-void Require(bool ok, const char* field, const char* what) {
-  if (!ok) throw std::invalid_argument(std::string("perception.") + field + ": " + what);
-}
+/// Throws ConfigError "<source>: <prefix><field>: <what>" unless `ok`.
+struct FieldCheck {
+  const std::string& source;
+  const std::string& prefix;
+  void operator()(bool ok, const char* field, const char* what) const {
+    if (!ok) throw ConfigError(source + ": " + prefix + field + ": " + what);
+  }
+};
 
 }  // namespace
 
-void PerceptionOptions::Validate() const {
-  track.Validate();
+void PerceptionOptions::Validate(const std::string& source, const std::string& prefix) const {
+  const FieldCheck Require{source, prefix};
+  track.Validate(source, prefix + "track.");
   Require(min_detection_score > 0.0f && min_detection_score < 1.0f, "min_detection_score",
           "must be in (0, 1)");
   Require(box_margin >= 0.0 && box_margin <= 2.0, "box_margin", "must be in [0, 2]");
@@ -109,7 +116,7 @@ ObjectTracker::ObjectTracker(const ObjectModel& object, const PerceptionOptions&
       detector_(std::move(detector)),
       ekf_(options.ekf),
       monitor_(options.track) {
-  options_.Validate();
+  options_.Validate("perception options", "perception.");
   model_ = BuildModelCloud(object.mesh_o, options_.model);
   min_half_extent_m_ = 0.5 * object.dimensions_m.minCoeff();
   if (!(min_half_extent_m_ > 0.0))

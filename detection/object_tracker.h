@@ -72,9 +72,9 @@ struct PerceptionOptions {
   double weak_direction_std_m = 0.0;
   /// Checks every field, the stages' options included (the bounds in their
   /// comments; detection/perception_config.h reads them from a file).
-  /// @throws std::invalid_argument naming the field ("perception.icp.max_iterations")
-  /// and its bound.
-  void Validate() const;
+  /// `prefix` is the key path of this section in its file, ending in "." ("" at
+  /// the top). @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 /// What the pipeline knows about the object after a frame.

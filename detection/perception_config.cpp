@@ -147,16 +147,7 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path,
   o.weak_direction_ratio = root.GetDouble("weak_direction_ratio", o.weak_direction_ratio);
   o.weak_direction_std_m = root.GetDouble("weak_direction_std_m", o.weak_direction_std_m);
 
-  // The bounds live in Validate(); its messages name the field path after
-  // "perception.", which is the key path in this file.
-  try {
-    o.Validate();
-  } catch (const std::invalid_argument& e) {
-    std::string message = e.what();
-    const std::string prefix = "perception.";
-    if (message.compare(0, prefix.size(), prefix) == 0) message.erase(0, prefix.size());
-    throw ConfigError(path + ": " + message);
-  }
+  o.Validate(path, "");
   return o;
 }
 

@@ -1,25 +1,28 @@
 #include "detection/track_monitor.h"
 
-#include <stdexcept>
+#include "core/config.h"
 
 namespace aerograsp {
 
 const char* ToString(TrackState state) { return state == TrackState::kFound ? "found" : "lost"; }
 
-void TrackMonitorOptions::Validate() const {
+void TrackMonitorOptions::Validate(const std::string& source, const std::string& prefix) const {
+  auto fail = [&](const char* field, const char* what) {
+    throw ConfigError(source + ": " + prefix + field + ": " + what);
+  };
   if (!(find_confidence > keep_confidence && find_confidence <= 1.0)) {
-    throw std::invalid_argument("track.find_confidence: must be in (keep_confidence, 1]");
+    fail("find_confidence", "must be in (keep_confidence, 1]");
   }
-  if (!(keep_confidence >= 0.0)) throw std::invalid_argument("track.keep_confidence: must be >= 0");
-  if (frames_to_find < 1) throw std::invalid_argument("track.frames_to_find: must be >= 1");
-  if (frames_to_lose < 1) throw std::invalid_argument("track.frames_to_lose: must be >= 1");
+  if (!(keep_confidence >= 0.0)) fail("keep_confidence", "must be >= 0");
+  if (frames_to_find < 1) fail("frames_to_find", "must be >= 1");
+  if (frames_to_lose < 1) fail("frames_to_lose", "must be >= 1");
   if (frames_to_refind < 1 || frames_to_refind > frames_to_find) {
-    throw std::invalid_argument("track.frames_to_refind: must be in [1, frames_to_find]");
+    fail("frames_to_refind", "must be in [1, frames_to_find]");
   }
 }
 
 TrackMonitor::TrackMonitor(const TrackMonitorOptions& options) : options_(options) {
-  options_.Validate();
+  options_.Validate("track options", "track.");
 }
 
 TrackState TrackMonitor::Update(double confidence, bool continues) {

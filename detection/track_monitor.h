@@ -21,8 +21,9 @@ struct TrackMonitorOptions {
   int frames_to_find = 2;        ///< >= 1
   int frames_to_refind = 1;      ///< frames that continue a lost track, [1, frames_to_find]
   int frames_to_lose = 3;        ///< >= 1
-  /// @throws std::invalid_argument naming the field that is out of range.
-  void Validate() const;
+  /// `prefix` is the key path of this section in its file, ending in "." ("" at
+  /// the top). @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 class TrackMonitor {

@@ -94,8 +94,8 @@ void AllHits(RTCScene scene, const Eigen::Vector3d& origin, int axis, double t_m
 
 }  // namespace
 
-void ContactOptions::Validate(const std::string& source) const {
-  CheckRange(source, "contacts.resolution_m", resolution_m, 0.001, 0.1, "m");
+void ContactOptions::Validate(const std::string& source, const std::string& prefix) const {
+  CheckRange(source, prefix + "resolution_m", resolution_m, 0.001, 0.1, "m");
 }
 
 ContactSet ComputeContactPairs(const TriangleMesh& mesh_o, const GripperConfig& gripper,

@@ -15,8 +15,9 @@ namespace aerograsp {
 struct ContactOptions {
   double resolution_m{0.015};  ///< spacing of the ray grid, [0.001, 0.1] m (paper: 0.015)
 
-  /// @throws ConfigError "<source>: contacts.resolution_m: ..." when out of range.
-  void Validate(const std::string& source) const;
+  /// `prefix` is the key path of this section in its file, ending in "." ("" at
+  /// the top). @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 /// A point on the object's surface with the mesh's outward unit normal there.

@@ -59,8 +59,8 @@ std::string DescribeReasons(const ArmStats& stats) {
 }
 
 void GraspPlannerConfig::Validate(const std::string& source, const GripperConfig& gripper) const {
-  contacts.Validate(source);
-  friction.Validate(source);
+  contacts.Validate(source, "contacts.");
+  friction.Validate(source, "friction.");
   CheckRange(source, "depth_min_m", depth_min_m, -0.02, 0.2, "m");
   CheckRange(source, "depth_max_m", depth_max_m, depth_min_m, gripper.finger_length_m, "m");
   CheckRange(source, "precatch_distance_m", precatch_distance_m, 0.0, 0.3, "m");

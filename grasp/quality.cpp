@@ -30,10 +30,10 @@ FILE* QhullErrorSink() {
 
 }  // namespace
 
-void FrictionConfig::Validate(const std::string& source) const {
-  CheckRange(source, "friction.mu", mu, 1e-6, 2.0, "");
-  CheckRange(source, "friction.cone_edges", cone_edges, 3, 16, "");
-  CheckRange(source, "friction.torsional_m", torsional_m, 0.0, 0.05, "m");
+void FrictionConfig::Validate(const std::string& source, const std::string& prefix) const {
+  CheckRange(source, prefix + "mu", mu, 1e-6, 2.0, "");
+  CheckRange(source, prefix + "cone_edges", cone_edges, 3, 16, "");
+  CheckRange(source, prefix + "torsional_m", torsional_m, 0.0, 0.05, "m");
 }
 
 void AppendContactWrenches(const Eigen::Vector3d& p_o, const Eigen::Vector3d& push_o,

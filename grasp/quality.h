@@ -17,15 +17,16 @@ using Wrench = Eigen::Matrix<double, 6, 1>;  ///< (force, torque / torque_scale_
 
 /// Friction model of a finger contact.
 struct FrictionConfig {
-  double mu{0.5};             ///< Coulomb coefficient, (0, 2]
-  int cone_edges{4};          ///< edges of the polyhedral friction cone, [3, 16]
-  double torsional_m{0.005};  ///< soft-finger torsional friction: largest torque about the
-                              ///< normal per newton of normal force (m), [0, 0.05]; 0 = point
-                              ///< contacts (a two-finger grasp then cannot resist a torque about
-                              ///< the line through its contacts)
+  double mu{0.5};     ///< Coulomb coefficient, (0, 2]
+  int cone_edges{4};  ///< edges of the polyhedral friction cone, [3, 16]
+  /// Soft-finger torsional friction: largest torque about the normal per newton of normal force
+  /// (m), [0, 0.05]; 0 = point contacts (a two-finger grasp then cannot resist a torque about the
+  /// line through its contacts)
+  double torsional_m{0.005};
 
-  /// @throws ConfigError "<source>: friction.<key>: ..." naming the bound.
-  void Validate(const std::string& source) const;
+  /// `prefix` is the key path of this section in its file, ending in "." ("" at
+  /// the top). @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 /// Appends the primitive wrenches of one contact at p_o (m) whose force pushes
@@ -41,9 +42,9 @@ void AppendContactWrenches(const Eigen::Vector3d& p_o, const Eigen::Vector3d& pu
 
 struct WrenchQuality {
   bool force_closure = false;  ///< the origin is strictly inside the wrench hull
-  double epsilon = 0.0;        ///< distance from the origin to the hull's boundary; 0 without
-                               ///< force closure
-  int facets = 0;              ///< hull facets (0 when the hull is not 6D)
+  /// Distance from the origin to the hull's boundary; 0 without force closure
+  double epsilon = 0.0;
+  int facets = 0;  ///< hull facets (0 when the hull is not 6D)
 };
 
 /// Exact quality of a wrench set by a 6D convex hull (Qhull). Sets whose affine

@@ -9,28 +9,29 @@
 
 namespace aerograsp {
 
-void ServoConfig::Validate(const std::string& source) const {
-  CheckRange(source, "servo.gain_per_s", gain_per_s, 1e-6, 50.0, "1/s");
-  CheckRange(source, "servo.switch_blend_per_s", switch_blend_per_s, 1e-6, 100.0, "1/s");
-  CheckRange(source, "servo.damping.singular_threshold", damping.singular_threshold, 1e-9, 1.0, "");
-  CheckRange(source, "servo.damping.max_damping", damping.max_damping, 1e-9, 1.0, "");
-  CheckRange(source, "servo.speed_fraction", speed_fraction, 1e-6, 1.0, "");
-  CheckRange(source, "servo.max_accel_rad_s2", max_accel_rad_s2, 1e-6, 1000.0, "rad/s^2");
-  CheckRange(source, "servo.limit_zone_rad", limit_zone_rad, 0.0, 1.0, "rad");
+void ServoConfig::Validate(const std::string& source, const std::string& prefix) const {
+  CheckRange(source, prefix + "gain_per_s", gain_per_s, 1e-6, 50.0, "1/s");
+  CheckRange(source, prefix + "switch_blend_per_s", switch_blend_per_s, 1e-6, 100.0, "1/s");
+  CheckRange(source, prefix + "damping.singular_threshold", damping.singular_threshold, 1e-9, 1.0,
+             "");
+  CheckRange(source, prefix + "damping.max_damping", damping.max_damping, 1e-9, 1.0, "");
+  CheckRange(source, prefix + "speed_fraction", speed_fraction, 1e-6, 1.0, "");
+  CheckRange(source, prefix + "max_accel_rad_s2", max_accel_rad_s2, 1e-6, 1000.0, "rad/s^2");
+  CheckRange(source, prefix + "limit_zone_rad", limit_zone_rad, 0.0, 1.0, "rad");
   for (int i = 0; i < 3; ++i) {
-    CheckRange(source, "servo.orientation_weights[" + std::to_string(i) + "]",
+    CheckRange(source, prefix + "orientation_weights[" + std::to_string(i) + "]",
                orientation_weights[i], 0.0, 1.0, "");
   }
-  CheckRange(source, "servo.stale_target_s", stale_target_s, 1e-6, 10.0, "s");
-  CheckRange(source, "servo.guide_near_rad", guide_near_rad, 0.0, 3.0, "rad");
-  CheckRange(source, "servo.guide_far_rad", guide_far_rad, guide_near_rad + 1e-6, 6.0, "rad");
-  CheckRange(source, "servo.guide_min", guide_min, 0.0, 1.0, "");
-  CheckRange(source, "servo.retarget_m", retarget_m, 0.0, 1.0, "m");
-  CheckRange(source, "servo.retarget_rad", retarget_rad, 0.0, M_PI, "rad");
-  CheckRange(source, "servo.unreachable_retry_s", unreachable_retry_s, 0.0, 60.0, "s");
-  CheckRange(source, "servo.path_check_step_rad", path_check_step_rad, 1e-6, 1.0, "rad");
-  CheckRange(source, "servo.random_vias", random_vias, 0, 1000, "");
-  ik.Validate(source, "servo.ik");
+  CheckRange(source, prefix + "stale_target_s", stale_target_s, 1e-6, 10.0, "s");
+  CheckRange(source, prefix + "guide_near_rad", guide_near_rad, 0.0, 3.0, "rad");
+  CheckRange(source, prefix + "guide_far_rad", guide_far_rad, guide_near_rad + 1e-6, 6.0, "rad");
+  CheckRange(source, prefix + "guide_min", guide_min, 0.0, 1.0, "");
+  CheckRange(source, prefix + "retarget_m", retarget_m, 0.0, 1.0, "m");
+  CheckRange(source, prefix + "retarget_rad", retarget_rad, 0.0, M_PI, "rad");
+  CheckRange(source, prefix + "unreachable_retry_s", unreachable_retry_s, 0.0, 60.0, "s");
+  CheckRange(source, prefix + "path_check_step_rad", path_check_step_rad, 1e-6, 1.0, "rad");
+  CheckRange(source, prefix + "random_vias", random_vias, 0, 1000, "");
+  ik.Validate(source, prefix + "ik.");
 }
 
 const char* ServoStatusName(ServoStatus status) {
@@ -62,7 +63,7 @@ ArmServo::ArmServo(const ArmModel& arm, const ServoConfig& config, ForbiddenPred
       seat_(seat),
       pbvs_(config.gain_per_s),
       ik_(arm, config.ik, config.orientation_weights) {
-  config_.Validate("servo config");
+  config_.Validate("servo config", "servo.");
   if (seat_ != 0 && seat_ != 1) {
     throw ConfigError("servo config: right-of-way seat " + std::to_string(seat_) +
                       " must be 0 or 1");

@@ -36,8 +36,8 @@ struct ServoConfig {
   DampingOptions damping{};         ///< singular_threshold, max_damping: (0, 1]
   double speed_fraction{0.8};       ///< of each joint's URDF velocity limit, (0, 1]
   double max_accel_rad_s2{30.0};    ///< per joint, smoothing, (0, 1000] rad/s^2
-  double limit_zone_rad{0.15};  ///< a joint this close to a limit and moving toward it gets less
-                                ///< weight in PBVS, [0, 1] rad
+  /// A joint this close to a limit and moving toward it gets less weight in PBVS, [0, 1] rad
+  double limit_zone_rad{0.15};
   /// Weights of the orientation error about the tool's x, y, z axes, [0, 1]
   /// each. The 4-DoF arm cannot reach every orientation: position always comes
   /// first, orientation is met within what position leaves free.
@@ -67,8 +67,9 @@ struct ServoConfig {
   double path_check_step_rad{0.02};  ///< (0, 1] rad
   ApproachIkOptions ik{};            ///< the joint-goal search
 
-  /// @throws ConfigError "<source>: servo.<field>: ..." for out-of-range values.
-  void Validate(const std::string& source) const;
+  /// `prefix` is the key path of this section in its file, ending in "." ("" at
+  /// the top). @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 enum class ServoStatus {

@@ -4,13 +4,13 @@
 
 namespace aerograsp {
 
-void GraspSequenceConfig::Validate(const std::string& source) const {
-  CheckRange(source, "grasp_sequence.precatch_distance_m", precatch_distance_m, 1e-6, 0.5, "m");
-  precatch_tolerance.Validate(source, "grasp_sequence.precatch_tolerance");
-  grasp_tolerance.Validate(source, "grasp_sequence.grasp_tolerance");
-  CheckRange(source, "grasp_sequence.precatch_timeout_s", precatch_timeout_s, 1e-6, 600.0, "s");
-  CheckRange(source, "grasp_sequence.grasp_timeout_s", grasp_timeout_s, 1e-6, 600.0, "s");
-  CheckRange(source, "grasp_sequence.close_time_s", close_time_s, 1e-6, 10.0, "s");
+void GraspSequenceConfig::Validate(const std::string& source, const std::string& prefix) const {
+  CheckRange(source, prefix + "precatch_distance_m", precatch_distance_m, 1e-6, 0.5, "m");
+  precatch_tolerance.Validate(source, prefix + "precatch_tolerance.");
+  grasp_tolerance.Validate(source, prefix + "grasp_tolerance.");
+  CheckRange(source, prefix + "precatch_timeout_s", precatch_timeout_s, 1e-6, 600.0, "s");
+  CheckRange(source, prefix + "grasp_timeout_s", grasp_timeout_s, 1e-6, 600.0, "s");
+  CheckRange(source, prefix + "close_time_s", close_time_s, 1e-6, 10.0, "s");
 }
 
 const char* GraspPhaseName(GraspPhase phase) {
@@ -31,7 +31,7 @@ const char* GraspPhaseName(GraspPhase phase) {
 
 GraspSequence::GraspSequence(ArmServo* servo, const GraspSequenceConfig& config)
     : servo_(servo), config_(config) {
-  config_.Validate("grasp sequence config");
+  config_.Validate("grasp sequence config", "grasp_sequence.");
 }
 
 void GraspSequence::Start(double now_s) {

@@ -22,8 +22,9 @@ struct GraspSequenceConfig {
   double grasp_timeout_s{3.0};  ///< from the pre-catch to the grasp pose, (0, 600] s
   double close_time_s{0.8};     ///< gripper closing (PlatformConfig gripper), (0, 10] s
 
-  /// @throws ConfigError "<source>: grasp_sequence.<field>: ..." for bad values.
-  void Validate(const std::string& source) const;
+  /// `prefix` is the key path of this section in its file, ending in "." ("" at
+  /// the top). @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 enum class GraspPhase {

@@ -35,26 +35,26 @@ Eigen::VectorXd DrawJointsWithinLimits(const ArmModel& arm, std::mt19937* rng) {
   return q;
 }
 
-void PoseTolerance::Validate(const std::string& source, const std::string& key) const {
-  CheckRange(source, key + ".position_m", position_m, 1e-9, 1.0, "m");
-  CheckRange(source, key + ".approach_rad", approach_rad, 1e-9, M_PI, "rad");
-  CheckRange(source, key + ".roll_rad", roll_rad, 1e-9, M_PI, "rad");
+void PoseTolerance::Validate(const std::string& source, const std::string& prefix) const {
+  CheckRange(source, prefix + "position_m", position_m, 1e-9, 1.0, "m");
+  CheckRange(source, prefix + "approach_rad", approach_rad, 1e-9, M_PI, "rad");
+  CheckRange(source, prefix + "roll_rad", roll_rad, 1e-9, M_PI, "rad");
 }
 
-void ApproachIkOptions::Validate(const std::string& source, const std::string& key) const {
-  CheckRange(source, key + ".iterations_per_seed", iterations_per_seed, 1, 10000, "");
-  CheckRange(source, key + ".random_seeds", random_seeds, 0, 10000, "");
-  CheckRange(source, key + ".max_step_rad", max_step_rad, 1e-6, 3.0, "rad");
-  tolerance.Validate(source, key + ".tolerance");
-  CheckRange(source, key + ".damping.singular_threshold", damping.singular_threshold, 1e-9, 1.0,
+void ApproachIkOptions::Validate(const std::string& source, const std::string& prefix) const {
+  CheckRange(source, prefix + "iterations_per_seed", iterations_per_seed, 1, 10000, "");
+  CheckRange(source, prefix + "random_seeds", random_seeds, 0, 10000, "");
+  CheckRange(source, prefix + "max_step_rad", max_step_rad, 1e-6, 3.0, "rad");
+  tolerance.Validate(source, prefix + "tolerance.");
+  CheckRange(source, prefix + "damping.singular_threshold", damping.singular_threshold, 1e-9, 1.0,
              "");
-  CheckRange(source, key + ".damping.max_damping", damping.max_damping, 1e-9, 1.0, "");
+  CheckRange(source, prefix + "damping.max_damping", damping.max_damping, 1e-9, 1.0, "");
 }
 
 ApproachIk::ApproachIk(const ArmModel& arm, const ApproachIkOptions& options,
                        const Eigen::Vector3d& orientation_weights)
     : arm_(arm), options_(options), weights_(orientation_weights) {
-  options_.Validate("ik options", "ik");
+  options_.Validate("ik options", "ik.");
 }
 
 bool ApproachIk::Converged(const ApproachError& error) const {

@@ -43,8 +43,9 @@ struct PoseTolerance {
     return error.position_b.norm() <= position_m && error.approach_rad <= approach_rad &&
            std::abs(error.roll_rad) <= roll_rad;
   }
-  /// @throws ConfigError "<source>: <key>.<field>: ..." for out-of-range values.
-  void Validate(const std::string& source, const std::string& key) const;
+  /// `prefix` is the key path of this section in its file, ending in "." ("" at
+  /// the top). @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 struct ApproachIkOptions {
@@ -54,8 +55,9 @@ struct ApproachIkOptions {
   PoseTolerance tolerance{1e-4, 1e-3, 1e-3};  ///< what a solution must meet
   DampingOptions damping{0.02, 0.02};         ///< max_damping is also capped by the error (m)
 
-  /// @throws ConfigError naming `source` and the key.
-  void Validate(const std::string& source, const std::string& key) const;
+  /// `prefix` is the key path of this section in its file, ending in "." ("" at
+  /// the top). @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 struct ApproachIkResult {

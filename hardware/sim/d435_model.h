@@ -22,8 +22,8 @@ struct D435Config {
   double depth_hfov_deg{87.0};     ///< depth imager horizontal field of view (FACTS), [30, 120] deg
   double subpixel{0.08};           ///< disparity RMS (FACTS), [0, 1] px
   double grazing_start_deg{70.0};  ///< incidence beyond which depth starts to drop out, [0, 90) deg
-  double grazing_end_deg{
-      85.0};                 ///< incidence beyond which depth is always missing, (start, 90] deg
+  /// Incidence beyond which depth is always missing, (start, 90] deg
+  double grazing_end_deg{85.0};
   double edge_jump_m{0.03};  ///< depth step between neighbours that counts as an edge, (0, 1] m
   double edge_hole_probability{0.5};  ///< chance that an edge pixel has no depth, [0, 1]
   double dark_start{0.85};            ///< darkness (1 - luminance) where dropouts start, [0, 1]
@@ -34,7 +34,7 @@ struct D435Config {
   /// Reads the fields present in `node` (a map; unknown keys are rejected).
   static D435Config FromNode(const ConfigNode& node);
   /// @throws ConfigError naming `source`, the key (under `prefix`) and the bound.
-  void Validate(const std::string& source, const std::string& prefix = "") const;
+  void Validate(const std::string& source, const std::string& prefix) const;
 
   /// Focal length of the depth imager in pixels of an image `width_px` wide.
   double DepthFocalPx(int width_px) const;

@@ -257,9 +257,9 @@ TEST(ObjectTrackerTest, AHalfResolutionFrameGetsTwiceTheDepthNoiseTolerance) {
 TEST(ObjectTrackerTest, AWeakDirectionNeedsItsStdInRange) {
   PerceptionOptions options;
   options.weak_direction_std_m = -0.01;
-  EXPECT_THROW(options.Validate(), std::invalid_argument);
+  EXPECT_THROW(options.Validate("perception.yaml", ""), ConfigError);
   options.weak_direction_std_m = 0.02;
-  EXPECT_NO_THROW(options.Validate());
+  EXPECT_NO_THROW(options.Validate("perception.yaml", ""));
 }
 
 TEST(ObjectTrackerTest, KnownFirstPoseSkipsGlobalRegistration) {

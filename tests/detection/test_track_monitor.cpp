@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "core/config.h"
 #include "detection/track_monitor.h"
 
 namespace aerograsp {
@@ -61,22 +62,22 @@ TEST(TrackMonitorTest, NanCountsAsNothing) {
 TEST(TrackMonitorTest, BadOptionsAreRejectedByName) {
   TrackMonitorOptions o;
   o.keep_confidence = 0.7;
-  EXPECT_THROW({ TrackMonitor m(o); }, std::invalid_argument);
+  EXPECT_THROW({ TrackMonitor m(o); }, ConfigError);
   o = {};
   o.frames_to_lose = 0;
   try {
-    o.Validate();
+    o.Validate("track.yaml", "track.");
     FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("frames_to_lose"), std::string::npos);
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(), "track.yaml: track.frames_to_lose: must be >= 1");
   }
   o = {};
   o.frames_to_refind = 3;  // more than frames_to_find
   try {
-    o.Validate();
+    o.Validate("track.yaml", "track.");
     FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("frames_to_refind"), std::string::npos);
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(), "track.yaml: track.frames_to_refind: must be in [1, frames_to_find]");
   }
 }
 

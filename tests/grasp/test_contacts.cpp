@@ -107,7 +107,7 @@ TEST(ContactsTest, BadResolutionIsRejectedWithItsKey) {
   ContactOptions options;
   options.resolution_m = 0.5;
   try {
-    options.Validate("plan.yaml");
+    options.Validate("plan.yaml", "contacts.");
     FAIL() << "expected ConfigError";
   } catch (const ConfigError& e) {
     EXPECT_THAT(e.what(), ::testing::HasSubstr("plan.yaml: contacts.resolution_m"));

@@ -162,10 +162,10 @@ TEST(QualityTest, WeightShareIsEvenWithTheCentreOfMassBetweenTheGrasps) {
 
 TEST(QualityTest, FrictionConfigValidationNamesTheKey) {
   FrictionConfig f;
-  EXPECT_NO_THROW(f.Validate("plan.yaml"));
+  EXPECT_NO_THROW(f.Validate("plan.yaml", "friction."));
   f.cone_edges = 2;
   try {
-    f.Validate("plan.yaml");
+    f.Validate("plan.yaml", "friction.");
     FAIL();
   } catch (const ConfigError& e) {
     EXPECT_THAT(e.what(), ::testing::HasSubstr("plan.yaml: friction.cone_edges"));

@@ -224,18 +224,18 @@ TEST(ArmServoTest, ForbiddenRegionShortensOrRefusesTheStep) {
 }
 
 TEST(ServoConfigTest, DefaultsAreValidAndBadValuesNamed) {
-  EXPECT_NO_THROW(ServoConfig{}.Validate("servo.yaml"));
+  EXPECT_NO_THROW(ServoConfig{}.Validate("servo.yaml", "servo."));
   ServoConfig c;
   c.gain_per_s = -1;
   try {
-    c.Validate("servo.yaml");
+    c.Validate("servo.yaml", "servo.");
     FAIL();
   } catch (const ConfigError& e) {
     EXPECT_THAT(e.what(), ::testing::HasSubstr("servo.yaml: servo.gain_per_s: -1 1/s is below"));
   }
   c = ServoConfig{};
   c.orientation_weights.y() = 2.0;
-  EXPECT_THROW(c.Validate("servo.yaml"), ConfigError);
+  EXPECT_THROW(c.Validate("servo.yaml", "servo."), ConfigError);
 }
 
 }  // namespace

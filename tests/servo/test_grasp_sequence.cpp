@@ -198,11 +198,11 @@ TEST(GraspSequenceTest, AGivenPreCatchPoseIsTheOneServoedTo) {
 }
 
 TEST(GraspSequenceConfigTest, DefaultsAreValidAndBadValuesNamed) {
-  EXPECT_NO_THROW(GraspSequenceConfig{}.Validate("servo.yaml"));
+  EXPECT_NO_THROW(GraspSequenceConfig{}.Validate("servo.yaml", "grasp_sequence."));
   GraspSequenceConfig c;
   c.grasp_timeout_s = 0.0;
   try {
-    c.Validate("servo.yaml");
+    c.Validate("servo.yaml", "grasp_sequence.");
     FAIL();
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("servo.yaml: grasp_sequence.grasp_timeout_s"),
