@@ -323,7 +323,7 @@ TEST(ObjectTrackerTest, NoGlobalRegistrationForAnObjectOutsideItsRange) {
   }
   PerceptionOptions bad;
   bad.min_global_range_m = 2.0;  // above the maximum
-  EXPECT_THROW(ObjectTracker(ObjectModel::Load("crawler"), bad, nullptr), std::invalid_argument);
+  EXPECT_THROW(ObjectTracker(ObjectModel::Load("crawler"), bad, nullptr), ConfigError);
 }
 
 // detect_every_frames 3: the CNN runs on every frame until the track is found,
@@ -490,8 +490,10 @@ TEST(ObjectTrackerTest, BadOptionsAreRejectedByName) {
   try {
     ObjectTracker tracker(ObjectModel::Load("crawler"), options, nullptr);
     FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("icp.start_distance_m"), std::string::npos);
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(
+        e.what(),
+        "perception options: perception.icp.start_distance_m: must be below model.margin_m");
   }
 }
 
