@@ -30,17 +30,18 @@ namespace aerograsp {
 
 struct ScsArmsConfig {
   std::string port{"/dev/ttyUSB0"};  ///< serial device of the bus adapter
-  int baud{1000000};                 ///< FACTS: 1 Mbaud
+  int baud{1000000};                 ///< the SCS bus: 1 Mbaud
   double reply_timeout_s{0.005};     ///< wait for a status reply, (0, 1] s
   bool local_echo{false};            ///< the adapter echoes sent bytes (one-wire TTL boards)
   std::array<std::vector<ServoCalibration>, 2> joints;  ///< per side (left, right), one per joint
   std::array<GripperServoConfig, 2> grippers;           ///< per side
-  double stale_after_s{0.2};  ///< watchdog: hold when targets are older, (0, 10] s (FACTS: 0.2)
-  double max_step_rad{
-      0.349};             ///< largest change of a command per cycle, (0, pi] rad (FACTS: 20 deg)
-  int goal_time_ms{0};    ///< GOAL_TIME register, 0 = as fast as allowed, [0, 65535]
-  int goal_speed{0};      ///< GOAL_SPEED register, 0 = maximum, [0, 65535]
-  double rate_hz{100.0};  ///< cycle rate of the driver's thread, (0, 1000] Hz
+  /// Watchdog: hold when targets are older, (0, 10] s (0.2 s, as the original arms)
+  double stale_after_s{0.2};
+  /// Largest change of a command per cycle, (0, pi] rad (20 deg, as the original arms)
+  double max_step_rad{0.349};
+  int goal_time_ms{0};         ///< GOAL_TIME register, 0 = as fast as allowed, [0, 65535]
+  int goal_speed{0};           ///< GOAL_SPEED register, 0 = maximum, [0, 65535]
+  double rate_hz{100.0};       ///< cycle rate of the driver's thread, (0, 1000] Hz
   bool torque_on_start{true};  ///< enable torque after reading the start positions
 
   /// IDs 10*k + i (arm k = 1 left, 2 right, joint i from 1) and gripper 10*k + 7

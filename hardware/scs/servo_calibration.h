@@ -30,8 +30,8 @@ struct ServoCalibration {
 /// The gripper servo: a screw drives the fingers, so only the two ends matter.
 struct GripperServoConfig {
   int id = 0;            ///< bus id, [0, 253]
-  int raw_open = 1023;   ///< fingers fully open (FACTS: 1023), [0, 1023]
-  int raw_closed = 350;  ///< fingers closed (FACTS: ~350), [0, 1023], differs from raw_open
+  int raw_open = 1023;   ///< fingers fully open (SCS: 1023), [0, 1023]
+  int raw_closed = 350;  ///< fingers closed (SCS: ~350), [0, 1023], differs from raw_open
 };
 
 }  // namespace aerograsp

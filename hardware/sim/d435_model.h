@@ -16,11 +16,11 @@ namespace aerograsp {
 
 struct D435Config {
   double depth_scale_m{0.001};     ///< metres per depth unit, (0, 0.01]
-  double min_range_m{0.2};         ///< nothing closer (FACTS: ~0.2 m at 640x480), [0.05, 2] m
+  double min_range_m{0.2};         ///< nothing closer (D435: ~0.2 m at 640x480), [0.05, 2] m
   double max_range_m{6.0};         ///< nothing farther, (min_range_m, 20] m
-  double baseline_m{0.050};        ///< stereo baseline (FACTS), (0, 0.2] m
-  double depth_hfov_deg{87.0};     ///< depth imager horizontal field of view (FACTS), [30, 120] deg
-  double subpixel{0.08};           ///< disparity RMS (FACTS), [0, 1] px
+  double baseline_m{0.050};        ///< stereo baseline (D435), (0, 0.2] m
+  double depth_hfov_deg{87.0};     ///< depth imager horizontal field of view (D435), [30, 120] deg
+  double subpixel{0.08};           ///< disparity RMS (D435), [0, 1] px
   double grazing_start_deg{70.0};  ///< incidence beyond which depth starts to drop out, [0, 90) deg
   /// Incidence beyond which depth is always missing, (start, 90] deg
   double grazing_end_deg{85.0};

@@ -47,7 +47,7 @@ struct VehicleSimConfig {
   double drift_std_m{0.02};           ///< stationary spread of the slow drift, [0, 1] m
   double drift_time_constant_s{8.0};  ///< correlation time of the drift, (0, 1000] s
   double response_time_s{0.6};     ///< first-order time constant of setpoint following, (0, 10] s
-  double delay_s{0.15};            ///< setpoint-to-response delay (FACTS: ~150 ms), [0, 2] s
+  double delay_s{0.15};            ///< setpoint-to-response delay (PX4: ~150 ms), [0, 2] s
   double max_speed_mps{1.0};       ///< (0, 20] m/s
   double offboard_timeout_s{0.5};  ///< no setpoint for this long in offboard: hold, (0, 10] s
   double landed_height_m{0.30};    ///< body origin above the ground when landed, [0, 2] m
@@ -56,9 +56,9 @@ struct VehicleSimConfig {
 struct ArmsSimConfig {
   double lag_s{0.05};         ///< servo first-order lag, (0, 2] s
   double speed_scale{1.0};    ///< fraction of the URDF velocity limits the servos reach, (0, 2]
-  int position_counts{1024};  ///< position resolution (FACTS: 10 bits), [2, 65536]
+  int position_counts{1024};  ///< position resolution (SCS: 10 bits), [2, 65536]
   double position_range_deg{
-      220.0};  ///< angle spanned by the counts (FACTS: about +-110 deg), (0, 360] deg
+      220.0};  ///< angle spanned by the counts (SCS: about +-110 deg), (0, 360] deg
 };
 
 struct CameraSimConfig {
