@@ -140,7 +140,7 @@ class ObjectTracker {
  public:
   /// `detector` may be null: then every crop is the whole frame (global
   /// registration on the whole frame when there is no prior).
-  /// @throws std::invalid_argument for options out of range.
+  /// @throws ConfigError naming the option and its bound for options out of range.
   ObjectTracker(const ObjectModel& object, const PerceptionOptions& options,
                 std::unique_ptr<BoxDetector> detector);
   ~ObjectTracker();
