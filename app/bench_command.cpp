@@ -36,6 +36,7 @@
 #include "grasp/planner.h"
 #include "hardware/hardware_factory.h"
 #include "hardware/sim/world.h"
+#include "mission/grasp_policy.h"
 #include "servo/arm_servo.h"
 #include "servo/collision_predicate.h"
 #include "servo/grasp_sequence.h"
@@ -47,18 +48,12 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kRadToDeg = 180.0 / M_PI;
 constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
-constexpr double kServoRateHz = 100.0;         // as the mission's default servo_rate_hz
-constexpr double kPlanPeriodS = 0.2;           // grasp re-evaluation, as the mission's 5 Hz
 constexpr double kMaxTagReprojectionPx = 1.0;  // a board pose above this is not used (as calibrate)
 // A board pose from fewer tags is not used: from one 36 mm tag (the grippers
 // hide the others) its rotation was 4.1 deg RMS off the truth, from two 0.5, from three 0.4.
 constexpr int kMinBoardTags = 2;
 constexpr double kTrackingWithinM =
     0.01;  // an arm tracks its target from the first cycle this close
-constexpr double kBranchJumpRad =
-    0.3;  // a re-solved grasp this far in joint space is another IK branch,
-constexpr double kBranchDriftRadPerS =
-    0.5;  // ... plus this per second since the last one accepted (OnSameIkBranch)
 constexpr double kBoardAboveSurfaceM = 0.0005;  // the printed board lies this far above the face
 
 /// The bench's board: one row of three 36 mm tags (44 x 132 mm), which fits
@@ -227,6 +222,9 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
     throw ConfigError(
         "--board-pose: not a rigid transform (a unit quaternion and a finite position are needed)");
   }
+  const MissionConfig mission =
+      MissionConfig::Load(options.mission_config.empty() ? DataPath("config/mission_default.yaml")
+                                                         : options.mission_config);
   const PerceptionOptions perception = options.perception_config.empty()
                                            ? PerceptionOptions{}
                                            : LoadPerceptionOptions(options.perception_config);
@@ -271,19 +269,17 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
   ObjectTracker tracker(object, perception, std::move(box_detector));
   const ObjectSymmetry& symmetry = tracker.model().symmetry;
 
-  // Grasps as the mission plans them (contacts 2.5 cm behind the tool point);
-  // the pre-catch pose, which the planner checks for reach, is the hover point.
+  // Grasps as the mission plans them; the pre-catch pose, which the planner
+  // checks for reach, is the hover point.
   const bool hover = options.hover_m > 0.0;
-  GraspPlannerConfig planner_config;
-  planner_config.depth_min_m = 0.025;
-  planner_config.edge_margin_m = MissionConfig{}.grasp_edge_margin_m;
+  GraspPlannerConfig planner_config = mission.planner;
   if (hover) planner_config.precatch_distance_m = options.hover_m;
   planner_config.Validate(cli, platform.config().gripper);
   GraspPlanner planner(
       platform, GraspObject{object.name, object.mesh_o, object.mass_kg, object.center_of_mass_o},
       ComputeContactPairs(object.mesh_o, platform.config().gripper, planner_config.contacts),
       planner_config);
-  // The servo and grasp sequence as the mission sets them (app/mission_runner.cpp).
+  // The servo and grasp sequence of the mission's config.
   const PlatformCollision collision(platform);
   Eigen::VectorXd q[2];
   std::unique_ptr<ArmServo> servo[2];
@@ -291,21 +287,13 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
   for (int a = 0; a < 2; ++a) {
     q[a] = hw->arms().JointPositions(kSides[a]);
     const ArmModel& arm = platform.arm(kSides[a]);
-    ServoConfig servo_config;
+    ServoConfig servo_config = mission.ServoFor(arm.dof());
     servo_config.via_rad = {arm.Clamp(Eigen::VectorXd::Zero(arm.dof())), platform.home(kSides[a])};
-    if (arm.dof() < 6)
-      servo_config.ik.tolerance = PoseTolerance{1e-4, 0.10, 0.15};  // position exactly, axes nearly
-    servo_config.gain_per_s = 15.0;
-    servo_config.unreachable_retry_s = 0.1;
     servo[a] = std::make_unique<ArmServo>(
         arm, servo_config,
-        MakeCollisionPredicate(collision, kSides[a], MissionConfig{}.servo_margin_m, &q[1 - a]));
-    GraspSequenceConfig sequence_config;
+        MakeCollisionPredicate(collision, kSides[a], mission.servo_margin_m, &q[1 - a]));
+    GraspSequenceConfig sequence_config = mission.grasp_sequence;
     sequence_config.precatch_distance_m = planner_config.precatch_distance_m;
-    sequence_config.precatch_tolerance.position_m = 0.01;
-    sequence_config.precatch_timeout_s = 10.0;
-    sequence_config.grasp_timeout_s = 5.0;
-    sequence_config.grasp_tolerance.position_m = 0.006;
     sequence_config.close_time_s = platform.config().gripper.close_time_s;
     sequence[a] = std::make_unique<GraspSequence>(servo[a].get(), sequence_config);
     sequence[a]->HoldAtPreCatch(
@@ -324,7 +312,7 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
 
   const Eigen::Isometry3d wMd = world->wMd();  // fixed on the stand
   const Eigen::Isometry3d& dMc = platform.dMc();
-  const double dt_s = 1.0 / kServoRateHz;
+  const double dt_s = 1.0 / mission.servo_rate_hz;
   const double frame_period_s = 1.0 / world->config().camera.frame_rate_hz;
   const double t_start = world->now_s();
   auto place_object = [&](double t_s) {
@@ -446,13 +434,14 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
 
     // Grasp (re-)evaluation where perception sees the object now.
     if (estimate && t + 1e-9 >= next_plan_s) {
-      next_plan_s += kPlanPeriodS;
+      next_plan_s += 1.0 / mission.reevaluate_rate_hz;
       PlanQuery query;
       query.dMo = dMc * estimate->cMo;
       query.q_left = q[0];
       query.q_right = q[1];
       query.gravity_d = (wMd.linear().transpose() * Eigen::Vector3d::UnitZ()).normalized();
-      const SwitchDecision decision = planner.Reevaluate(query, choice);
+      const SwitchDecision decision =
+          DecideSwitch(planner.Plan(query), choice, mission.policy.switch_margin);
       ++plans;
       if (decision.status == SwitchDecision::Status::kNoGrasp) {
         ++no_grasp_plans;
@@ -489,8 +478,7 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
         Infeasibility why = Infeasibility::kNone;
         if (planner.EvaluateArm(side, pair[a], dMo, q[a], &solved, &why) &&
             (reached_q[a].size() == 0 ||
-             OnSameIkBranch(solved.q_grasp, reached_q[a], kBranchJumpRad, kBranchDriftRadPerS,
-                            t - reached_t[a]))) {
+             OnFollowedBranch(solved.q_grasp, reached_q[a], t - reached_t[a], mission.policy))) {
           reached_q[a] = solved.q_grasp;
           reached_t[a] = t;
           reached_bMg[a] = platform.arm(side).ForwardKinematics(solved.q_grasp);
@@ -504,7 +492,7 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
         // A briefly lost object is held where it was last found (the mission
         // holds its world pose for lost_timeout_s); after that the target is stale and the arm
         // holds.
-        const bool held = t - estimate->stamp_s < MissionConfig{}.lost_timeout_s;
+        const bool held = t - estimate->stamp_s < mission.policy.lost_timeout_s;
         sequence[a]->SetGrasp(reached_bMg[a], reached_bMp[a], held ? t : estimate->stamp_s);
         GraspCommand command;
         const GraspPhase phase = sequence[a]->Step(q[a], t, dt_s, &command);

@@ -43,6 +43,9 @@ struct BenchCommandOptions {
   std::optional<Eigen::Isometry3d> oMt;
   std::string perception_config;  ///< perception YAML (detection/perception_config.h); empty: the
                                   ///< code's defaults
+  /// The mission YAML whose planner, servo, grasp-sequence and policy settings
+  /// the bench uses (app/mission_config.h); empty: data/config/mission_default.yaml.
+  std::string mission_config;
 };
 
 /// @throws ConfigError for bad options, a bad perception YAML or a hardware config the bench cannot

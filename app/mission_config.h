@@ -1,14 +1,30 @@
-// The mission's settings (data/config/mission_default.yaml is the reference):
-// the simulated world it flies in, its waypoints, where the object should sit
-// in the body frame for the grasp, loop rates, tolerances and time limits.
-// Frame w is NED with its origin at the take-off point; d is FRD.
+// The mission's settings, one validated tree (data/config/mission_default.yaml
+// is the reference and equals the defaults here): the simulated world it flies
+// in, its waypoints, where the object should sit in the body frame for the
+// grasp, loop rates, tolerances and time limits, and the nested settings of
+// the grasp policy, the grasp planner, the arm servo and the grasp sequence.
+// `bench` reads the same tree. Frame w is NED with its origin at the take-off
+// point; d is FRD.
 #pragma once
 
 #include <Eigen/Geometry>
 #include <optional>
 #include <string>
 
+#include "grasp/planner.h"
+#include "mission/grasp_policy.h"
+#include "servo/arm_servo.h"
+#include "servo/grasp_sequence.h"
+
 namespace aerograsp {
+
+/// The planner as the mission sets it: contacts 2.5 cm to 10 cm behind the
+/// tool point, grasps 1.5 cm clear of the faces' edges first.
+GraspPlannerConfig MissionPlannerDefaults();
+/// The servo as the mission sets it (gain 15/s, retry 0.1 s).
+ServoConfig MissionServoDefaults();
+/// The grasp sequence as the mission sets it.
+GraspSequenceConfig MissionSequenceDefaults();
 
 struct MissionConfig {
   std::string source;                       ///< the file (for messages)
@@ -24,7 +40,6 @@ struct MissionConfig {
   /// (FRD: ahead, right, below), each [-1, 1] m.
   Eigen::Vector3d grasp_dto_m{0.075, 0.0, 0.47};
   double arrive_tolerance_m{0.15};  ///< a waypoint counts as reached within this, (0, 5] m
-  double near_tolerance_m{0.03};    ///< the object is "near" within this of grasp_dto_m, (0, 1] m
   /// Tracking never takes the vehicle farther than this from the approach
   /// waypoint, and an object seen farther than this from it is not followed, (0, 10] m.
   double tracking_radius_m{1.0};
@@ -34,21 +49,22 @@ struct MissionConfig {
   double reevaluate_rate_hz{5.0};  ///< background grasp re-evaluation, (0, 100] Hz
   double object_filter_s{
       0.5};  ///< low-pass time constant of the tracked object position, (0, 10] s
-  double settle_s{
-      0.2};  ///< both arms at their pre-catch poses this long before moving in, [0, 5] s
-  int max_attempts{12};        ///< grasp attempts (plans) before giving up, [1, 100]
-  double lost_timeout_s{2.0};  ///< object lost this long while grasping: plan again, (0, 60] s
   double search_timeout_s{
-      20.0};  ///< at the waypoint without finding the object: give up, (0, 600] s
-  double planning_timeout_s{
-      10.0};                     ///< near the object without a feasible grasp: give up, (0, 600] s
-  double timeout_s{180.0};       ///< the whole mission, (0, 3600] s
+      20.0};                ///< at the waypoint without finding the object: give up, (0, 600] s
+  double timeout_s{180.0};  ///< the whole mission, (0, 3600] s
   double servo_margin_m{0.005};  ///< arms' clearance to the safe volume and each other, [0, 0.05] m
-  /// Grasps whose contacts stay on their faces with the object this much
-  /// further along them rank first (GraspPlannerConfig::edge_margin_m): the
-  /// estimate is worst along an extrusion, where only its ends fix it;
-  /// [0, 0.05] m.
-  double grasp_edge_margin_m{0.015};
+
+  GraspPolicyConfig policy;                               ///< `policy`
+  GraspPlannerConfig planner = MissionPlannerDefaults();  ///< `planner`
+  /// `servo`; ik.tolerance is a 6-DoF arm's, servo_ik_tolerance_4dof a 4-DoF arm's.
+  ServoConfig servo = MissionServoDefaults();
+  /// `servo.ik_tolerance_4dof`: a 4-DoF arm's approach axis follows from the
+  /// tool position, so the planned axis is met only within a few degrees when
+  /// the object moves: position exactly, approach axis and roll nearly.
+  PoseTolerance servo_ik_tolerance_4dof{1e-4, 0.10, 0.15};
+  /// `grasp_sequence`; precatch_distance_m is the planner's, close_time_s the
+  /// platform gripper's.
+  GraspSequenceConfig grasp_sequence = MissionSequenceDefaults();
 
   /// Camera-to-arm calibrations written by `aerograsp calibrate`
   /// (calibration_<arm>.yaml), resolved against this file's folder; the arm's
@@ -59,6 +75,9 @@ struct MissionConfig {
   /// The files' cMb (the arm base in the camera frame), read by Load.
   std::optional<Eigen::Isometry3d> calibrated_cMb[2];
 
+  /// The servo settings for an arm of `dof` joints.
+  ServoConfig ServoFor(int dof) const;
+
   /// Reads a mission YAML; absent keys keep their defaults.
   /// @throws ConfigError "<file>: <key>: ..." for unknown keys, wrong types or values out of range.
   static MissionConfig Load(const std::string& path);
@@ -66,6 +85,8 @@ struct MissionConfig {
   /// calibration file "<file>: calibration_left: <calibration file>: <key>: ..."
   /// (missing, malformed, not a rigid transform, or of the other arm).
   void Validate() const;
+  /// Every setting as YAML that Load reads back to the same values (paths as they are).
+  std::string ToYaml() const;
 };
 
 }  // namespace aerograsp

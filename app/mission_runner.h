@@ -1,8 +1,13 @@
 // One mission (paper Sect. 5): take-off, fly to the approach waypoint, find
 // the object, hold it in the arms' workspace, plan a dual grasp, servo both
 // arms to their pre-catch poses, move in and close, lift, fly home and land.
-// The five state machines (mission/state_machines.h) decide; this runner
-// feeds them and carries out their states on the devices.
+// The runner schedules; the grasp policy (mission/grasp_policy.h) and the five
+// state machines (mission/state_machines.h) decide; the vehicle legs
+// (app/mission_vehicle.h), the grasp scheduler (app/mission_grasp.h) and the
+// arms (app/mission_arms.h) carry their answers out on the devices. The loop
+// sees only what the robot sees; in simulation an evaluator
+// (app/mission_evaluator.h) compares with the world's truth. docs/mission.md
+// has the whole picture.
 //
 // Runtime: the servo loop at servo_rate_hz, perception at the camera's rate
 // on its own thread (a frame's result is used one camera period after it was
@@ -41,19 +46,25 @@ struct MissionResult {
   bool success = false;         ///< landed with the object held by both grippers, no emergency
   std::string failure;          ///< why not, one line (empty on success)
   double time_to_grasp_s = -1;  ///< from the start to both grippers holding; < 0: never
-  double pose_rmse_m =
-      -1;  ///< object position estimate vs truth over the frames found while grasping; < 0: none
+  double pose_rmse_m = -1;      ///< object position estimate vs truth over the frames found while
+                            ///< grasping; < 0: none (or no truth: hardware)
   double rotation_rmse_deg = -1;
-  int grasp_switches = 0;       ///< re-evaluation switched the followed dual grasp
-  int attempts = 0;             ///< plans started
-  int safe_volume_entries = 0;  ///< times an arm entered the safe volume (true joints)
-  int emergency_stops = 0;
-  double sim_time_s = 0;  ///< mission time
+  int grasp_switches = 0;  ///< re-evaluation switched the followed dual grasp
+  /// Grasp attempts: dual grasps planned plus re-aims of a free arm while the
+  /// other gripper holds (the planner machine's max_attempts counts failed plans only).
+  int attempts = 0;
+  /// Times an arm entered the safe volume: by the true joints in simulation
+  /// (the evaluator), by the measured ones on hardware (the safety stop acts on
+  /// the measured ones in both).
+  int safe_volume_entries = 0;
+  int emergency_stops = 0;  ///< 0 or 1: the stop is latched, later causes are only logged
+  double sim_time_s = 0;    ///< mission time
   double wall_time_s = 0;
   double realtime_factor = 0;  ///< sim_time_s / wall_time_s
   int frames = 0;              ///< camera frames processed
-  int global_registrations =
-      0;  ///< frames on which the tracker searched the whole crop (no usable prior)
+  /// Frames on which the tracker ran a global registration (no usable prior,
+  /// or the local registration from it failed).
+  int global_registrations = 0;
   double perception_ms_median = 0;  ///< thread CPU per frame
   double render_ms_median = 0;      ///< simulated camera: wall time per frame
 };

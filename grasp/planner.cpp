@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <sstream>
 #include <stdexcept>
 
 #include "core/collision.h"
@@ -15,10 +14,6 @@ using Clock = std::chrono::steady_clock;
 
 double Seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
-}
-
-bool SamePairs(const DualGrasp& d, const SwitchState& s) {
-  return d.left.pair == s.left_pair && d.right.pair == s.right_pair;
 }
 
 /// Best first; ties broken by the pair indices so the order is deterministic.
@@ -72,7 +67,6 @@ void GraspPlannerConfig::Validate(const std::string& source, const GripperConfig
   CheckRange(source, "quality_weight", quality_weight, 0.0, 100.0, "");
   CheckRange(source, "task_weight", task_weight, 0.0, 100.0, "");
   CheckRange(source, "cost_weight_per_rad", cost_weight_per_rad, 0.0, 10.0, "");
-  CheckRange(source, "switch_margin", switch_margin, 0.0, 10.0, "");
   CheckRange(source, "reach_margin_m", reach_margin_m, 0.0, 0.1, "m");
   CheckRange(source, "edge_margin_m", edge_margin_m, 0.0, 0.05, "m");
 }
@@ -310,66 +304,6 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
   put_first(&result.ranked);
   ps.valid = static_cast<long long>(result.ranked.size());
   return result;
-}
-
-bool OnSameIkBranch(const Eigen::VectorXd& q_new_rad, const Eigen::VectorXd& q_last_rad,
-                    double jump_rad, double drift_rad_per_s, double since_s) {
-  return (q_new_rad - q_last_rad).cwiseAbs().maxCoeff() < jump_rad + drift_rad_per_s * since_s;
-}
-
-SwitchDecision GraspPlanner::Reevaluate(const PlanQuery& query, const SwitchState& state) const {
-  const PlanResult plan = Plan(query);
-  SwitchDecision decision;
-  const DualGrasp* current = nullptr;
-  for (const DualGrasp& d : plan.ranked) {
-    if (SamePairs(d, state)) {
-      current = &d;
-      break;
-    }
-  }
-  decision.current_feasible = current != nullptr;
-  std::ostringstream why;
-  if (plan.ranked.empty()) {
-    decision.status = SwitchDecision::Status::kNoGrasp;
-    why << "no feasible dual grasp (left " << plan.left_stats.feasible << ", right "
-        << plan.right_stats.feasible << " feasible single grasps)";
-    decision.reason = why.str();
-    decision.next = SwitchState{};
-    return decision;
-  }
-  const DualGrasp& best = plan.ranked.front();
-  if (current && best.score <= current->score + config_.switch_margin) {
-    decision.status = SwitchDecision::Status::kKeep;
-    decision.grasp = *current;
-    why << "keep pair (" << current->left.pair << ", " << current->right.pair << "), score "
-        << current->score;
-  } else {
-    decision.status = SwitchDecision::Status::kSwitch;
-    decision.grasp = best;
-    if (state.left_pair < 0) {
-      why << "first choice";
-    } else if (!current) {
-      why << "pair (" << state.left_pair << ", " << state.right_pair << ") became unreachable";
-      Infeasibility wl = Infeasibility::kNone, wr = Infeasibility::kNone;
-      ArmGrasp unused;
-      if (state.left_pair < static_cast<int>(contacts_.pairs.size()) &&
-          state.right_pair < static_cast<int>(contacts_.pairs.size())) {
-        EvaluateArm(Side::kLeft, state.left_pair, query.dMo, query.q_left, &unused, &wl);
-        EvaluateArm(Side::kRight, state.right_pair, query.dMo, query.q_right, &unused, &wr);
-        why << " (left: " << InfeasibilityName(wl) << ", right: " << InfeasibilityName(wr);
-        if (wl == Infeasibility::kNone && wr == Infeasibility::kNone)
-          why << ", pair: arms or quality";
-        why << ")";
-      }
-    } else {
-      why << "pair (" << best.left.pair << ", " << best.right.pair << ") scores " << best.score
-          << " > current " << current->score << " + margin " << config_.switch_margin;
-    }
-    why << " -> pair (" << best.left.pair << ", " << best.right.pair << ")";
-  }
-  decision.reason = why.str();
-  decision.next = SwitchState{decision.grasp.left.pair, decision.grasp.right.pair};
-  return decision;
 }
 
 }  // namespace aerograsp

@@ -1,14 +1,15 @@
 // Dual-arm grasp planning (paper Sect. 4): per-arm feasibility of every
 // contact pair (grasp-axis IK with joint limits, pre-catch pose, collisions of
 // the arm and its open fingers with the object, the safe volume and the other
-// arm), dual pairs ranked by quality and by cost from the current arm state,
-// and the online re-evaluation that tells the app when to switch pairs.
+// arm), dual pairs ranked by quality and by cost from the current arm state.
+// Which pair to follow and when to switch is the grasp policy's
+// (mission/grasp_policy.h), over these rankings.
 //
 // Frames: d body (FRD), b arm base, o object, g grasp (= tool frame e at the
 // grasp: z approach, x closing). Units m, rad. The planner is an immutable
-// description built once per object; Plan and Reevaluate are const, keep no
-// state but a cache of exact qualities (behind a mutex) and may run
-// concurrently (the app runs Reevaluate in its own thread).
+// description built once per object; Plan is const, keeps no state but a
+// cache of exact qualities (behind a mutex) and may run concurrently (the
+// mission re-plans in its own thread).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -46,8 +47,6 @@ struct GraspPlannerConfig {
   double quality_weight{1.0};   ///< score per unit of epsilon, [0, 100]
   double task_weight{0.05};     ///< score per unit of the weight-share term, [0, 100]
   double cost_weight_per_rad{0.005};  ///< score lost per rad of joint travel (both arms), [0, 10]
-  double switch_margin{0.01};         ///< a feasible current pair is left only for one scoring
-                                      ///< this much more, [0, 10]
   /// A pair counts as robust for an arm when it stays feasible with the object
   /// moved this far along +-x, +-y and +-z of d (the sway and the vehicle's
   /// tracking error move it so while the arms servo); robust dual grasps rank
@@ -150,29 +149,6 @@ struct PlanResult {
   PairStats pair_stats;
 };
 
-/// The current choice the app follows (state kept by the caller).
-struct SwitchState {
-  int left_pair = -1;  ///< -1: none yet
-  int right_pair = -1;
-};
-
-struct SwitchDecision {
-  enum class Status { kKeep, kSwitch, kNoGrasp };
-  Status status = Status::kNoGrasp;
-  DualGrasp grasp;  ///< the pair to follow now (valid unless kNoGrasp)
-  bool current_feasible = false;
-  std::string reason;  ///< one line for the log
-  SwitchState next;    ///< state for the next call
-};
-
-/// Whether a grasp solved again (joints q_new_rad) is on the IK branch of the
-/// last one followed (q_last_rad): no joint moved jump_rad + drift_rad_per_s *
-/// since_s or more. A solution far in joint space is another branch or depth,
-/// and following it would throw the arm across; the allowance grows with the
-/// time since the last one (the object moves on while a pair is out of reach).
-bool OnSameIkBranch(const Eigen::VectorXd& q_new_rad, const Eigen::VectorXd& q_last_rad,
-                    double jump_rad, double drift_rad_per_s, double since_s);
-
 class GraspPlanner {
  public:
   /// Copies what it needs from `platform`. Precomputes, per contact pair, its wrenches (torques
@@ -202,11 +178,6 @@ class GraspPlanner {
   /// themselves; the rest follow by bound). Robust dual grasps come first,
   /// and among each, those clear of edges.
   PlanResult Plan(const PlanQuery& query) const;
-
-  /// The best pair now, or kNoGrasp. Keeps the current pair while it is valid
-  /// and no pair scores `switch_margin` more (hysteresis: no flapping between
-  /// near-equal pairs); switches when it became unreachable, with the reason.
-  SwitchDecision Reevaluate(const PlanQuery& query, const SwitchState& state) const;
 
   /// Exact wrench-hull quality of one pair alone (a single grasp) or of two
   /// pairs together (a dual grasp; pass -1 as `other` for a single one).

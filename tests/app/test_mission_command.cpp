@@ -145,10 +145,20 @@ TEST(MissionConfigTest, TheShippedConfigLoadsAndBadFieldsAreNamed) {
     return std::string("no error");
   };
   EXPECT_NE(message("servo_rate_hz: 5\n").find("servo_rate_hz"), std::string::npos);
-  EXPECT_NE(message("near_tolerance_m: -1\n").find("near_tolerance_m"), std::string::npos);
+  EXPECT_NE(message("policy:\n  near_tolerance_m: -1\n").find("policy.near_tolerance_m"),
+            std::string::npos);
   EXPECT_NE(message("approach_w_m: [1, 2]\n").find("approach_w_m"), std::string::npos);
   EXPECT_NE(message("servo_rate: 100\n").find("servo_rate"), std::string::npos);  // unknown key
-  EXPECT_NE(message("max_attempts: 0\n").find("max_attempts"), std::string::npos);
+  EXPECT_NE(message("policy:\n  max_attempts: 0\n").find("policy.max_attempts"), std::string::npos);
+  // Nested settings name their section, key and bound; unknown nested keys are named too.
+  const std::string gain = message("servo:\n  gain_per_s: 60\n");
+  EXPECT_THAT(gain, ::testing::HasSubstr("mission.yaml: servo.gain_per_s"));
+  EXPECT_THAT(gain, ::testing::HasSubstr("50"));
+  EXPECT_THAT(message("planner:\n  depth_max_m: 0.5\n"),
+              ::testing::HasSubstr("mission.yaml: planner: depth_max_m"));
+  EXPECT_THAT(message("grasp_sequence:\n  grasp_tolerance:\n    position_m: 0\n"),
+              ::testing::HasSubstr("grasp_sequence.grasp_tolerance.position_m"));
+  EXPECT_THAT(message("servo:\n  gain: 15\n"), ::testing::HasSubstr("servo.gain: unknown key"));
   EXPECT_NE(message("perception: no_such_perception.yaml\n").find("no_such_perception.yaml"),
             std::string::npos);
   EXPECT_EQ(shipped.perception, DataDir() + "/config/perception_mission.yaml");
@@ -156,6 +166,29 @@ TEST(MissionConfigTest, TheShippedConfigLoadsAndBadFieldsAreNamed) {
   EXPECT_EQ(perception.track.frames_to_refind, 2);  // the mission's three changes from the defaults
   EXPECT_EQ(perception.cloud.normal_radius_m, 0.015);
   EXPECT_EQ(perception.weak_direction_std_m, 0.02);
+  fs::remove_all(dir);
+}
+
+// The shipped file is the reference: it reads back from its own YAML, and the
+// code's defaults are its values.
+TEST(MissionConfigTest, TheShippedFileAndTheDefaultsRoundTripThroughYamlAndAgree) {
+  const std::string path = DataDir() + "/config/mission_default.yaml";
+  const MissionConfig shipped = MissionConfig::Load(path);
+  const fs::path dir = TempDir("round_trip");
+  fs::create_directories(dir);
+  const auto reload = [&](const MissionConfig& c) {
+    const fs::path copy = dir / "mission.yaml";
+    std::ofstream(copy) << c.ToYaml();
+    return MissionConfig::Load(copy.string());
+  };
+  EXPECT_EQ(reload(shipped).ToYaml(), shipped.ToYaml());
+  MissionConfig defaults;
+  defaults.source = "defaults";
+  defaults.world = shipped.world;  // the paths as the file resolves them
+  defaults.perception = shipped.perception;
+  EXPECT_NO_THROW(defaults.Validate());
+  EXPECT_EQ(reload(defaults).ToYaml(), defaults.ToYaml());
+  EXPECT_EQ(defaults.ToYaml(), shipped.ToYaml());
   fs::remove_all(dir);
 }
 
@@ -189,8 +222,7 @@ TEST(MissionRunnerTest, APlannedGraspSetByItsJointsHoldsTheObjectInTheSimulator)
   const Platform& platform = world.platform();
   world.Step(0.01);
   const Eigen::Isometry3d dMo = world.wMd().inverse() * world.wMo();
-  GraspPlannerConfig planner_config;
-  planner_config.depth_min_m = 0.025;
+  const GraspPlannerConfig planner_config = mission.planner;  // as the mission plans
   const ObjectModel& object = world.object();
   GraspPlanner planner(
       platform, GraspObject{object.name, object.mesh_o, object.mass_kg, object.center_of_mass_o},

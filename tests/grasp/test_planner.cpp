@@ -5,12 +5,16 @@
 #include "core/config.h"
 #include "core/transforms.h"
 #include "grasp/planner.h"
+#include "mission/grasp_policy.h"
 #include "tests/common/test_meshes.h"
 
 namespace aerograsp {
 namespace {
 
 using ::testing::HasSubstr;
+
+/// The grasp policy's switching rule over the planner's rankings, at its default margin.
+const double kSwitchMargin = GraspPolicyConfig{}.switch_margin;
 
 Platform LoadPlatform() {
   return Platform::Load(std::string(AEROGRASP_DATA_DIR) + "/config/platform_4dof.yaml");
@@ -143,17 +147,17 @@ TEST_F(ShippedPlanTest, ObjectOutOfReachHasNoGraspAndSaysWhy) {
   EXPECT_EQ(DescribeReasons(plan.left_stats),
             std::to_string(plan.left_stats.candidates) + " unreachable");
   EXPECT_EQ(DescribeReasons(ArmStats{}), "");
-  const SwitchDecision d = planner_.Reevaluate(far, SwitchState{});
+  const SwitchDecision d = DecideSwitch(plan, SwitchState{}, kSwitchMargin);
   EXPECT_EQ(d.status, SwitchDecision::Status::kNoGrasp);
   EXPECT_THAT(d.reason, HasSubstr("no feasible dual grasp"));
 }
 
 TEST_F(ShippedPlanTest, KeepsTheCurrentPairUntilItBecomesUnreachable) {
-  SwitchDecision first = planner_.Reevaluate(query_, SwitchState{});
+  SwitchDecision first = DecideSwitch(planner_.Plan(query_), SwitchState{}, kSwitchMargin);
   ASSERT_EQ(first.status, SwitchDecision::Status::kSwitch);
   EXPECT_THAT(first.reason, HasSubstr("first choice"));
   // Same pose: keep.
-  SwitchDecision again = planner_.Reevaluate(query_, first.next);
+  SwitchDecision again = DecideSwitch(planner_.Plan(query_), first.next, kSwitchMargin);
   EXPECT_EQ(again.status, SwitchDecision::Status::kKeep);
   EXPECT_TRUE(again.current_feasible);
   // Move the object to where the current pair is out of reach but others are
@@ -172,7 +176,7 @@ TEST_F(ShippedPlanTest, KeepsTheCurrentPairUntilItBecomesUnreachable) {
       current_valid |= d.left.pair == first.next.left_pair && d.right.pair == first.next.right_pair;
     }
     if (current_valid) continue;
-    const SwitchDecision d = planner_.Reevaluate(moved, first.next);
+    const SwitchDecision d = DecideSwitch(plan, first.next, kSwitchMargin);
     switched = true;
     EXPECT_EQ(d.status, SwitchDecision::Status::kSwitch);
     EXPECT_FALSE(d.current_feasible);
@@ -186,7 +190,7 @@ TEST_F(ShippedPlanTest, KeepsTheCurrentPairUntilItBecomesUnreachable) {
 TEST_F(ShippedPlanTest, HysteresisStopsFlappingUnderSway) {
   // The object sways +-1 cm and +-1 deg about its placement; with the switch
   // margin the choice changes far less often than the best pair does.
-  SwitchState state = planner_.Reevaluate(query_, SwitchState{}).next;
+  SwitchState state = DecideSwitch(planner_.Plan(query_), SwitchState{}, kSwitchMargin).next;
   int switches = 0, best_changes = 0;
   int previous_best_left = state.left_pair, previous_best_right = state.right_pair;
   for (int k = 0; k < 16; ++k) {
@@ -194,8 +198,8 @@ TEST_F(ShippedPlanTest, HysteresisStopsFlappingUnderSway) {
     const double s = std::sin(0.7 * k);
     q.dMo.translation() += Eigen::Vector3d(0.01 * s, 0.01 * std::cos(1.3 * k), 0.0);
     q.dMo = q.dMo * Eigen::AngleAxisd(0.017 * s, Eigen::Vector3d::UnitX());
-    const SwitchDecision d = planner_.Reevaluate(q, state);
     const PlanResult plan = planner_.Plan(q);
+    const SwitchDecision d = DecideSwitch(plan, state, kSwitchMargin);
     if (!plan.ranked.empty()) {
       const DualGrasp& b = plan.ranked.front();
       best_changes += b.left.pair != previous_best_left || b.right.pair != previous_best_right;

@@ -1,0 +1,218 @@
+#include "mission/grasp_policy.h"
+
+#include <fmt/format.h>
+
+#include <sstream>
+
+#include "core/config.h"
+
+namespace aerograsp {
+namespace {
+
+const char* const kArmNames[2] = {"left", "right"};
+
+bool SamePairs(const DualGrasp& d, const SwitchState& s) {
+  return d.left.pair == s.left_pair && d.right.pair == s.right_pair;
+}
+
+}  // namespace
+
+void GraspPolicyConfig::Validate(const std::string& source) const {
+  CheckRange(source, "policy.near_tolerance_m", near_tolerance_m, 1e-6, 1.0, "m");
+  CheckRange(source, "policy.settle_s", settle_s, 0.0, 5.0, "s");
+  CheckRange(source, "policy.max_attempts", max_attempts, 1, 100, "");
+  CheckRange(source, "policy.lost_timeout_s", lost_timeout_s, 1e-6, 60.0, "s");
+  CheckRange(source, "policy.planning_timeout_s", planning_timeout_s, 1e-6, 600.0, "s");
+  CheckRange(source, "policy.switch_margin", switch_margin, 0.0, 10.0, "");
+  CheckRange(source, "policy.unreachable_to_switch", unreachable_to_switch, 1, 100, "");
+  CheckRange(source, "policy.branch_jump_rad", branch_jump_rad, 1e-6, 6.3, "rad");
+  CheckRange(source, "policy.branch_drift_rad_per_s", branch_drift_rad_per_s, 0.0, 10.0, "rad/s");
+  CheckRange(source, "policy.max_reaims", max_reaims, 0, 100, "");
+  CheckRange(source, "policy.home_tolerance_m", home_tolerance_m, 1e-6, 0.2, "m");
+}
+
+bool ShouldPlan(bool planner_idle, bool object_found, double off_m,
+                const GraspPolicyConfig& config) {
+  return planner_idle && object_found && off_m < config.near_tolerance_m;
+}
+
+const DualGrasp* FirstChoice(const PlanResult& plan) {
+  return plan.ranked.empty() ? nullptr : &plan.ranked.front();
+}
+
+SwitchDecision DecideSwitch(const PlanResult& plan, const SwitchState& followed,
+                            double switch_margin, const WhyUnreachable& why_unreachable) {
+  SwitchDecision decision;
+  const DualGrasp* current = nullptr;
+  for (const DualGrasp& d : plan.ranked) {
+    if (SamePairs(d, followed)) {
+      current = &d;
+      break;
+    }
+  }
+  decision.current_feasible = current != nullptr;
+  std::ostringstream why;
+  if (plan.ranked.empty()) {
+    decision.status = SwitchDecision::Status::kNoGrasp;
+    why << "no feasible dual grasp (left " << plan.left_stats.feasible << ", right "
+        << plan.right_stats.feasible << " feasible single grasps)";
+    decision.reason = why.str();
+    decision.next = SwitchState{};
+    return decision;
+  }
+  const DualGrasp& best = plan.ranked.front();
+  if (current && best.score <= current->score + switch_margin) {
+    decision.status = SwitchDecision::Status::kKeep;
+    decision.grasp = *current;
+    why << "keep pair (" << current->left.pair << ", " << current->right.pair << "), score "
+        << current->score;
+  } else {
+    decision.status = SwitchDecision::Status::kSwitch;
+    decision.grasp = best;
+    if (followed.left_pair < 0) {
+      why << "first choice";
+    } else if (!current) {
+      why << "pair (" << followed.left_pair << ", " << followed.right_pair
+          << ") became unreachable";
+      const auto reasons = why_unreachable ? why_unreachable() : std::nullopt;
+      if (reasons) {
+        why << " (left: " << InfeasibilityName(reasons->first)
+            << ", right: " << InfeasibilityName(reasons->second);
+        if (reasons->first == Infeasibility::kNone && reasons->second == Infeasibility::kNone)
+          why << ", pair: arms or quality";
+        why << ")";
+      }
+    } else {
+      why << "pair (" << best.left.pair << ", " << best.right.pair << ") scores " << best.score
+          << " > current " << current->score << " + margin " << switch_margin;
+    }
+    why << " -> pair (" << best.left.pair << ", " << best.right.pair << ")";
+  }
+  decision.reason = why.str();
+  decision.next = SwitchState{decision.grasp.left.pair, decision.grasp.right.pair};
+  return decision;
+}
+
+ReevaluationAction OnReevaluation(const SwitchDecision& decision, bool closing,
+                                  const GraspPolicyConfig& config, GraspPolicyState* state) {
+  // A pair unreachable at one re-evaluation may be reachable at the next (the
+  // sway brings the object back): switch only when it stays unreachable.
+  const bool proposes = decision.status == SwitchDecision::Status::kSwitch;
+  state->switch_proposals_in_a_row = proposes ? state->switch_proposals_in_a_row + 1 : 0;
+  if (proposes && !closing && state->switch_proposals_in_a_row >= config.unreachable_to_switch) {
+    state->switch_proposals_in_a_row = 0;
+    state->followed = decision.next;
+    return ReevaluationAction::kSwitch;
+  }
+  if (decision.status == SwitchDecision::Status::kKeep) {
+    state->followed = decision.next;
+    return ReevaluationAction::kKeep;
+  }
+  return ReevaluationAction::kNone;
+}
+
+bool Closing(GraspPhase left, GraspPhase right) {
+  const auto closing = [](GraspPhase p) {
+    return p == GraspPhase::kClose || p == GraspPhase::kDone;
+  };
+  return closing(left) || closing(right);
+}
+
+bool OnFollowedBranch(const Eigen::VectorXd& q_new_rad, const Eigen::VectorXd& q_last_rad,
+                      double since_s, const GraspPolicyConfig& config) {
+  return (q_new_rad - q_last_rad).cwiseAbs().maxCoeff() <
+         config.branch_jump_rad + config.branch_drift_rad_per_s * since_s;
+}
+
+std::optional<std::string> PlanningGiveUp(double planning_for_s, bool object_found,
+                                          const GraspPolicyConfig& config) {
+  if (planning_for_s <= config.planning_timeout_s) return std::nullopt;
+  return object_found
+             ? fmt::format("no feasible dual grasp within {:.0f} s", config.planning_timeout_s)
+             : fmt::format("the object was not in view for {:.0f} s to plan again",
+                           config.planning_timeout_s);
+}
+
+AttemptDecision DecideAttempt(const AttemptView& view, const GraspPolicyState& state,
+                              const GraspPolicyConfig& config) {
+  AttemptDecision d;
+  std::string retry;
+  for (int a = 0; a < 2; ++a) {
+    if (view.phase[a] == GraspPhase::kTimedOut)
+      retry = fmt::format("{} arm timed out", kArmNames[a]);
+  }
+  if (view.lost_for_s >= 0 && view.lost_for_s > config.lost_timeout_s &&
+      !view.one_gripper_carries) {
+    retry = fmt::format("object lost for {:.1f} s", view.lost_for_s);
+  }
+  const bool done = view.phase[0] == GraspPhase::kDone && view.phase[1] == GraspPhase::kDone;
+  // One gripper holds: it stays closed (opened, it would drop the object).
+  // Once it has closed and the other's attempt has ended (closed on nothing,
+  // timed out, or the object hidden by the fingers), the free arm aims again.
+  if (view.holds[0] != view.holds[1]) {
+    const int holder = view.holds[0] ? 0 : 1;
+    const GraspPhase free_phase = view.phase[1 - holder];
+    const bool free_ended =
+        free_phase == GraspPhase::kDone || free_phase == GraspPhase::kTimedOut || !retry.empty();
+    if (view.phase[holder] != GraspPhase::kDone) {
+      if (free_ended) {
+        d.action = AttemptAction::kWait;  // still closing
+        return d;
+      }
+    } else if (free_ended && state.reaims < config.max_reaims && !view.reaim_unavailable) {
+      d.action = AttemptAction::kReaim;
+      d.holder = holder;
+      return d;
+    }
+  }
+  if (done && !(view.holds[0] && view.holds[1])) {
+    retry = fmt::format(
+        "the grippers closed without holding the object (left {} at {:.0f} mm, right {} at {:.0f} "
+        "mm)",
+        view.holds[0] ? "holds" : "empty", 1e3 * view.aperture_m[0],
+        view.holds[1] ? "holds" : "empty", 1e3 * view.aperture_m[1]);
+  }
+  if (!retry.empty()) {
+    d.action = AttemptAction::kRetry;
+    d.reason = retry;
+  }
+  return d;
+}
+
+PlannerStep NextPlannerStep(PlannerState state, bool both_at_precatch, double time_in_state_s,
+                            bool both_done, bool both_hold, const GraspPolicyConfig& config) {
+  switch (state) {
+    case PlannerState::kServoing:
+      return both_at_precatch ? PlannerStep::kAtPreCatch : PlannerStep::kNone;
+    case PlannerState::kApproachPose:
+      return time_in_state_s >= config.settle_s ? PlannerStep::kGoIn : PlannerStep::kNone;
+    case PlannerState::kGrasping:
+      return both_done && both_hold ? PlannerStep::kClosed : PlannerStep::kNone;
+    default:
+      return PlannerStep::kNone;
+  }
+}
+
+int RankReaim(const std::vector<ArmGrasp>& candidates,
+              const std::function<bool(const ArmGrasp&)>& clears) {
+  // Grasps clear of the faces' edges first (one near an end closes past it
+  // with a few millimetres of error), then the nearest the arm's joints.
+  int best = -1;
+  for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
+    const ArmGrasp& g = candidates[i];
+    if (!clears(g)) continue;
+    if (best < 0 ||
+        std::make_pair(!g.clear_of_edges, g.cost_rad) <
+            std::make_pair(!candidates[best].clear_of_edges, candidates[best].cost_rad)) {
+      best = i;
+    }
+  }
+  return best;
+}
+
+bool HoldLastWorldPose(bool seen_before, bool found, double lost_for_s,
+                       const GraspPolicyConfig& config) {
+  return seen_before && !found && lost_for_s >= 0 && lost_for_s <= config.lost_timeout_s;
+}
+
+}  // namespace aerograsp

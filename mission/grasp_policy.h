@@ -1,0 +1,179 @@
+// The grasp policy: every decision of a mission's grasp, as pure functions of
+// explicit inputs (no devices, clock, threads or ground truth). The mission
+// runner (app/mission_runner.h) reads the devices, asks the policy and carries
+// out its answer; the planner state machine (mission/state_machines.h) keeps
+// the attempt's state.
+//
+// The rules, in the order a grasp meets them:
+//  - plan trigger: plan when the object is in view and within
+//    near_tolerance_m of its grasp point under the body (ShouldPlan);
+//  - first choice: the best ranked dual grasp (FirstChoice);
+//  - switch: at each re-evaluation the followed pair is kept while it is
+//    ranked and no pair scores switch_margin more, else the best is proposed
+//    (DecideSwitch);
+//  - debounce: a proposed switch is taken only after unreachable_to_switch
+//    proposals in a row and never while a gripper closes (OnReevaluation);
+//  - IK-branch gate: a followed pair solved again is taken only on the IK
+//    branch it was followed on (OnFollowedBranch);
+//  - close: both arms at their pre-catch poses, settle_s there, then in and
+//    close; grasped when both grippers hold (NextPlannerStep);
+//  - retry: an arm's sequence timed out, the object lost for lost_timeout_s,
+//    or both grippers closed without holding (DecideAttempt);
+//  - re-aim: one gripper holds, the other's attempt ended: the free arm aims
+//    at the pair clear of edges, nearest its joints, that clears the holding
+//    arm, at most max_reaims times an attempt (DecideAttempt, RankReaim);
+//  - give up: no plan within planning_timeout_s (PlanningGiveUp); after
+//    max_attempts failed attempts the planner machine fails.
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "grasp/planner.h"
+#include "mission/state_machines.h"
+#include "servo/grasp_sequence.h"
+
+namespace aerograsp {
+
+/// The policy's settings (the `policy` section of the mission config).
+struct GraspPolicyConfig {
+  /// Plan when the object is this near its grasp point under the body, (0, 1] m.
+  double near_tolerance_m{0.03};
+  double settle_s{
+      0.2};  ///< both arms at their pre-catch poses this long before moving in, [0, 5] s
+  int max_attempts{12};        ///< failed attempts (plans) before giving up, [1, 100]
+  double lost_timeout_s{2.0};  ///< object lost this long while grasping: plan again, (0, 60] s
+  double planning_timeout_s{
+      10.0};  ///< without a feasible grasp (or the object in view), (0, 600] s
+  /// A ranked followed pair is left only for one scoring this much more, [0, 10] (score units).
+  double switch_margin{0.01};
+  /// Re-evaluations in a row proposing a switch before it is taken, [1, 100].
+  int unreachable_to_switch{5};
+  /// Joint change between solutions beyond which a re-solved grasp is another IK branch, (0, 6.3]
+  /// rad.
+  double branch_jump_rad{0.15};
+  /// ... plus this much per second since the last accepted solution, [0, 10] rad/s.
+  double branch_drift_rad_per_s{0.5};
+  int max_reaims{3};  ///< re-aims of the free arm per attempt while the other holds, [0, 100]
+  double home_tolerance_m{0.01};  ///< an arm this near its home tool position is back, (0, 0.2] m
+
+  /// @throws ConfigError "<source>: policy.<field>: ..." naming the bound.
+  void Validate(const std::string& source) const;
+};
+
+/// The dual grasp the runner follows (contact-pair indices, -1: none yet).
+struct SwitchState {
+  int left_pair = -1;
+  int right_pair = -1;
+};
+
+/// One re-evaluation's proposal.
+struct SwitchDecision {
+  enum class Status { kKeep, kSwitch, kNoGrasp };
+  Status status = Status::kNoGrasp;
+  DualGrasp grasp;  ///< the pair to follow now (valid unless kNoGrasp)
+  bool current_feasible = false;
+  std::string reason;  ///< one line for the log
+  SwitchState next;    ///< the followed pair if this proposal is taken
+};
+
+/// What the policy keeps between decisions (owned by the runner, passed in).
+struct GraspPolicyState {
+  SwitchState followed;
+  int switch_proposals_in_a_row = 0;  ///< re-evaluations in a row that proposed a switch
+  int reaims = 0;                     ///< re-aims of the free arm in this attempt
+};
+
+/// Why each arm cannot take the followed pair (asked only when it left the ranking).
+using WhyUnreachable = std::function<std::optional<std::pair<Infeasibility, Infeasibility>>()>;
+
+/// Plan trigger: the planner is idle, the object in view and within
+/// near_tolerance_m of its grasp point (off_m from it).
+bool ShouldPlan(bool planner_idle, bool object_found, double off_m,
+                const GraspPolicyConfig& config);
+
+/// The dual grasp a new plan follows: the best ranked, null when none.
+const DualGrasp* FirstChoice(const PlanResult& plan);
+
+/// The switching rule: keep the followed pair while it is ranked and the best
+/// scores at most switch_margin more (no flapping between near-equal pairs);
+/// else propose the best, saying why (first choice, the followed pair became
+/// unreachable, or a better one). kNoGrasp when nothing is ranked.
+SwitchDecision DecideSwitch(const PlanResult& plan, const SwitchState& followed,
+                            double switch_margin, const WhyUnreachable& why_unreachable = {});
+
+/// What the runner does with a re-evaluation's proposal.
+enum class ReevaluationAction {
+  kNone,    ///< nothing (no grasp, or a switch not yet confirmed)
+  kKeep,    ///< the followed pair stays (state.followed = decision.next)
+  kSwitch,  ///< follow decision.grasp (state.followed = decision.next)
+};
+
+/// The debounce: a switch is taken once unreachable_to_switch re-evaluations in
+/// a row proposed one, and not while either gripper closes (`closing`).
+/// Updates state->switch_proposals_in_a_row and, on kKeep / kSwitch, state->followed.
+ReevaluationAction OnReevaluation(const SwitchDecision& decision, bool closing,
+                                  const GraspPolicyConfig& config, GraspPolicyState* state);
+
+/// True while a gripper closes or has closed (no switch then).
+bool Closing(GraspPhase left, GraspPhase right);
+
+/// The IK-branch gate: a grasp solved again (q_new_rad) is followed only when
+/// no joint moved branch_jump_rad + branch_drift_rad_per_s * since_s or more
+/// from the last accepted solution (q_last_rad, since_s ago): a solution far in
+/// joint space is another branch or depth and would throw the arm across.
+bool OnFollowedBranch(const Eigen::VectorXd& q_new_rad, const Eigen::VectorXd& q_last_rad,
+                      double since_s, const GraspPolicyConfig& config);
+
+/// Give up planning: no plan for planning_timeout_s. The cause, or none.
+std::optional<std::string> PlanningGiveUp(double planning_for_s, bool object_found,
+                                          const GraspPolicyConfig& config);
+
+/// An attempt in progress as the robot sees it.
+struct AttemptView {
+  GraspPhase phase[2] = {GraspPhase::kPreCatch, GraspPhase::kPreCatch};  ///< left, right
+  bool holds[2] = {false, false};                                        ///< the grippers' readings
+  double aperture_m[2] = {0.0, 0.0};                                     ///< the grippers' openings
+  double lost_for_s = -1.0;          ///< the object out of view this long; < 0: in view
+  bool one_gripper_carries = false;  ///< a re-aim is under way (one gripper holds)
+  bool reaim_unavailable = false;    ///< the free arm found no pair this cycle
+};
+
+enum class AttemptAction {
+  kContinue,  ///< go on (NextPlannerStep)
+  kWait,      ///< the holding gripper is still closing
+  kReaim,     ///< aim the free arm again (holder holds)
+  kRetry,     ///< end the attempt and plan again (reason)
+};
+
+struct AttemptDecision {
+  AttemptAction action = AttemptAction::kContinue;
+  int holder = -1;     ///< kReaim: the holding arm (0 left, 1 right)
+  std::string reason;  ///< kRetry: one line
+};
+
+/// Retry reasons and the re-aim rule (see the file comment).
+AttemptDecision DecideAttempt(const AttemptView& view, const GraspPolicyState& state,
+                              const GraspPolicyConfig& config);
+
+/// The next planner signal of an attempt going on.
+enum class PlannerStep { kNone, kAtPreCatch, kGoIn, kClosed };
+PlannerStep NextPlannerStep(PlannerState state, bool both_at_precatch, double time_in_state_s,
+                            bool both_done, bool both_hold, const GraspPolicyConfig& config);
+
+/// The free arm's re-aim: among `candidates` that `clears` (of the holding
+/// arm), those clear of edges first, then the nearest the arm's joints
+/// (cost_rad). The index, or -1 when none clears.
+int RankReaim(const std::vector<ArmGrasp>& candidates,
+              const std::function<bool(const ArmGrasp&)>& clears);
+
+/// While the object is briefly lost (lost_for_s in [0, lost_timeout_s]) after
+/// it was seen within the tracking radius, it is held at its last world pose.
+bool HoldLastWorldPose(bool seen_before, bool found, double lost_for_s,
+                       const GraspPolicyConfig& config);
+
+}  // namespace aerograsp

@@ -1,0 +1,294 @@
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "core/config.h"
+#include "mission/grasp_policy.h"
+
+namespace aerograsp {
+namespace {
+
+using ::testing::HasSubstr;
+
+DualGrasp Dual(int left, int right, double score) {
+  DualGrasp d;
+  d.left.pair = left;
+  d.left.side = Side::kLeft;
+  d.right.pair = right;
+  d.right.side = Side::kRight;
+  d.score = score;
+  return d;
+}
+
+PlanResult Ranked(std::vector<DualGrasp> ranked) {
+  PlanResult plan;
+  plan.ranked = std::move(ranked);
+  return plan;
+}
+
+SwitchDecision Proposal(SwitchDecision::Status status, int left = 1, int right = 2) {
+  SwitchDecision d;
+  d.status = status;
+  d.grasp = Dual(left, right, 1.0);
+  d.next = {left, right};
+  return d;
+}
+
+// ---- Plan trigger -------------------------------------------------------------------
+
+TEST(GraspPolicyTest, PlansOnlyWithTheObjectInViewNearItsGraspPoint) {
+  const GraspPolicyConfig config;  // near_tolerance_m 0.03
+  EXPECT_TRUE(ShouldPlan(true, true, 0.02, config));
+  EXPECT_FALSE(ShouldPlan(true, true, 0.04, config));   // too far from the grasp point
+  EXPECT_FALSE(ShouldPlan(true, false, 0.02, config));  // not in view
+  EXPECT_FALSE(ShouldPlan(false, true, 0.02, config));  // a plan is under way
+}
+
+TEST(GraspPolicyTest, ANewPlanFollowsTheBestRankedGrasp) {
+  const PlanResult plan = Ranked({Dual(3, 4, 0.9), Dual(1, 2, 0.5)});
+  ASSERT_NE(FirstChoice(plan), nullptr);
+  EXPECT_EQ(FirstChoice(plan)->left.pair, 3);
+  EXPECT_EQ(FirstChoice(Ranked({})), nullptr);
+}
+
+// ---- Switch -------------------------------------------------------------------------
+
+TEST(GraspPolicyTest, KeepsTheFollowedPairWhileNoneScoresTheMarginMore) {
+  const PlanResult plan = Ranked({Dual(1, 2, 1.005), Dual(3, 4, 1.0)});
+  const SwitchDecision d = DecideSwitch(plan, {3, 4}, 0.01);
+  EXPECT_EQ(d.status, SwitchDecision::Status::kKeep);
+  EXPECT_TRUE(d.current_feasible);
+  EXPECT_EQ(d.grasp.left.pair, 3);
+  EXPECT_EQ(d.next.left_pair, 3);
+  EXPECT_EQ(d.next.right_pair, 4);
+}
+
+TEST(GraspPolicyTest, ProposesAPairScoringMoreThanTheMargin) {
+  const PlanResult plan = Ranked({Dual(1, 2, 1.02), Dual(3, 4, 1.0)});
+  const SwitchDecision d = DecideSwitch(plan, {3, 4}, 0.01);
+  EXPECT_EQ(d.status, SwitchDecision::Status::kSwitch);
+  EXPECT_TRUE(d.current_feasible);
+  EXPECT_EQ(d.next.left_pair, 1);
+  EXPECT_EQ(d.next.right_pair, 2);
+  EXPECT_THAT(d.reason, HasSubstr("scores"));
+}
+
+TEST(GraspPolicyTest, ProposesTheBestWhenTheFollowedPairLeftTheRankingAndSaysWhy) {
+  const PlanResult plan = Ranked({Dual(1, 2, 0.5)});
+  const SwitchDecision d = DecideSwitch(plan, {7, 8}, 0.01, [] {
+    return std::make_optional(std::make_pair(Infeasibility::kUnreachable, Infeasibility::kNone));
+  });
+  EXPECT_EQ(d.status, SwitchDecision::Status::kSwitch);
+  EXPECT_FALSE(d.current_feasible);
+  EXPECT_EQ(d.next.left_pair, 1);
+  EXPECT_EQ(d.reason,
+            "pair (7, 8) became unreachable (left: unreachable, right: feasible) -> pair (1, 2)");
+}
+
+TEST(GraspPolicyTest, TheFirstProposalIsTheBestAndNothingRankedIsNoGrasp) {
+  const SwitchDecision first = DecideSwitch(Ranked({Dual(1, 2, 0.5)}), SwitchState{}, 0.01);
+  EXPECT_EQ(first.status, SwitchDecision::Status::kSwitch);
+  EXPECT_THAT(first.reason, HasSubstr("first choice"));
+  const SwitchDecision none = DecideSwitch(Ranked({}), {1, 2}, 0.01);
+  EXPECT_EQ(none.status, SwitchDecision::Status::kNoGrasp);
+  EXPECT_EQ(none.next.left_pair, -1);
+  EXPECT_THAT(none.reason, HasSubstr("no feasible dual grasp"));
+}
+
+// ---- Debounce -----------------------------------------------------------------------
+
+TEST(GraspPolicyTest, ASwitchIsTakenOnlyAfterEnoughProposalsInARow) {
+  GraspPolicyConfig config;
+  config.unreachable_to_switch = 5;
+  GraspPolicyState state;
+  state.followed = {3, 4};
+  const SwitchDecision proposal = Proposal(SwitchDecision::Status::kSwitch, 1, 2);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(OnReevaluation(proposal, false, config, &state), ReevaluationAction::kNone) << i;
+    EXPECT_EQ(state.followed.left_pair, 3);
+  }
+  EXPECT_EQ(OnReevaluation(proposal, false, config, &state), ReevaluationAction::kSwitch);
+  EXPECT_EQ(state.followed.left_pair, 1);
+  EXPECT_EQ(state.followed.right_pair, 2);
+  EXPECT_EQ(state.switch_proposals_in_a_row, 0);
+}
+
+TEST(GraspPolicyTest, AKeepBetweenProposalsRestartsTheCount) {
+  GraspPolicyConfig config;
+  config.unreachable_to_switch = 3;
+  GraspPolicyState state;
+  const SwitchDecision proposal = Proposal(SwitchDecision::Status::kSwitch, 1, 2);
+  OnReevaluation(proposal, false, config, &state);
+  OnReevaluation(proposal, false, config, &state);
+  EXPECT_EQ(OnReevaluation(Proposal(SwitchDecision::Status::kKeep, 3, 4), false, config, &state),
+            ReevaluationAction::kKeep);
+  EXPECT_EQ(state.followed.left_pair, 3);
+  EXPECT_EQ(OnReevaluation(proposal, false, config, &state), ReevaluationAction::kNone);
+  EXPECT_EQ(OnReevaluation(proposal, false, config, &state), ReevaluationAction::kNone);
+  EXPECT_EQ(OnReevaluation(proposal, false, config, &state), ReevaluationAction::kSwitch);
+}
+
+TEST(GraspPolicyTest, NoSwitchWhileAGripperCloses) {
+  GraspPolicyConfig config;
+  config.unreachable_to_switch = 1;
+  GraspPolicyState state;
+  state.followed = {3, 4};
+  const SwitchDecision proposal = Proposal(SwitchDecision::Status::kSwitch, 1, 2);
+  EXPECT_EQ(
+      OnReevaluation(proposal, Closing(GraspPhase::kGrasp, GraspPhase::kClose), config, &state),
+      ReevaluationAction::kNone);
+  EXPECT_EQ(state.followed.left_pair, 3);
+  EXPECT_TRUE(Closing(GraspPhase::kDone, GraspPhase::kPreCatch));
+  EXPECT_FALSE(Closing(GraspPhase::kGrasp, GraspPhase::kTimedOut));
+  EXPECT_EQ(OnReevaluation(proposal, false, config, &state), ReevaluationAction::kSwitch);
+}
+
+// ---- IK-branch gate -----------------------------------------------------------------
+
+TEST(GraspPolicyTest, AResolvedGraspOnAnotherIkBranchIsNotFollowed) {
+  GraspPolicyConfig config;
+  config.branch_jump_rad = 0.15;
+  config.branch_drift_rad_per_s = 0.5;
+  const Eigen::VectorXd last = Eigen::VectorXd::Zero(4);
+  Eigen::VectorXd near = last, far = last;
+  near[1] = 0.1;
+  far[1] = 0.3;
+  EXPECT_TRUE(OnFollowedBranch(near, last, 0.0, config));
+  EXPECT_FALSE(OnFollowedBranch(far, last, 0.0, config));
+  // The allowance grows with the time since the last accepted solution.
+  EXPECT_TRUE(OnFollowedBranch(far, last, 0.5, config));
+}
+
+// ---- Close --------------------------------------------------------------------------
+
+TEST(GraspPolicyTest, ArmsSettleAtTheirPreCatchPosesBeforeMovingInAndCloseWhenBothHold) {
+  GraspPolicyConfig config;
+  config.settle_s = 0.2;
+  EXPECT_EQ(NextPlannerStep(PlannerState::kServoing, false, 1.0, false, false, config),
+            PlannerStep::kNone);
+  EXPECT_EQ(NextPlannerStep(PlannerState::kServoing, true, 0.0, false, false, config),
+            PlannerStep::kAtPreCatch);
+  EXPECT_EQ(NextPlannerStep(PlannerState::kApproachPose, true, 0.1, false, false, config),
+            PlannerStep::kNone);
+  EXPECT_EQ(NextPlannerStep(PlannerState::kApproachPose, true, 0.2, false, false, config),
+            PlannerStep::kGoIn);
+  EXPECT_EQ(NextPlannerStep(PlannerState::kGrasping, false, 1.0, true, false, config),
+            PlannerStep::kNone);
+  EXPECT_EQ(NextPlannerStep(PlannerState::kGrasping, false, 1.0, true, true, config),
+            PlannerStep::kClosed);
+}
+
+// ---- Retry, re-aim, give up ---------------------------------------------------------
+
+TEST(GraspPolicyTest, AnArmThatTimedOutEndsTheAttempt) {
+  AttemptView view;
+  view.phase[1] = GraspPhase::kTimedOut;
+  const AttemptDecision d = DecideAttempt(view, GraspPolicyState{}, GraspPolicyConfig{});
+  EXPECT_EQ(d.action, AttemptAction::kRetry);
+  EXPECT_EQ(d.reason, "right arm timed out");
+}
+
+TEST(GraspPolicyTest, AnObjectLostTooLongEndsTheAttemptUnlessAGripperCarriesIt) {
+  GraspPolicyConfig config;
+  config.lost_timeout_s = 2.0;
+  AttemptView view;
+  view.lost_for_s = 1.5;
+  EXPECT_EQ(DecideAttempt(view, GraspPolicyState{}, config).action, AttemptAction::kContinue);
+  view.lost_for_s = 2.5;
+  const AttemptDecision d = DecideAttempt(view, GraspPolicyState{}, config);
+  EXPECT_EQ(d.action, AttemptAction::kRetry);
+  EXPECT_EQ(d.reason, "object lost for 2.5 s");
+  view.one_gripper_carries = true;
+  EXPECT_EQ(DecideAttempt(view, GraspPolicyState{}, config).action, AttemptAction::kContinue);
+}
+
+TEST(GraspPolicyTest, GrippersClosedWithoutHoldingEndTheAttempt) {
+  AttemptView view;
+  view.phase[0] = view.phase[1] = GraspPhase::kDone;
+  view.aperture_m[0] = view.aperture_m[1] = 0.0;
+  const AttemptDecision d = DecideAttempt(view, GraspPolicyState{}, GraspPolicyConfig{});
+  EXPECT_EQ(d.action, AttemptAction::kRetry);
+  EXPECT_THAT(d.reason, HasSubstr("closed without holding the object (left empty at 0 mm"));
+  view.holds[0] = view.holds[1] = true;
+  EXPECT_EQ(DecideAttempt(view, GraspPolicyState{}, GraspPolicyConfig{}).action,
+            AttemptAction::kContinue);
+}
+
+TEST(GraspPolicyTest, TheFreeArmReaimsWhileTheOtherGripperHolds) {
+  GraspPolicyConfig config;
+  config.max_reaims = 3;
+  AttemptView view;
+  view.phase[0] = view.phase[1] = GraspPhase::kDone;
+  view.holds[1] = true;  // the right holds, the left closed on nothing
+  GraspPolicyState state;
+  AttemptDecision d = DecideAttempt(view, state, config);
+  EXPECT_EQ(d.action, AttemptAction::kReaim);
+  EXPECT_EQ(d.holder, 1);
+  // Out of re-aims, or no pair for the free arm: the attempt ends.
+  state.reaims = 3;
+  EXPECT_EQ(DecideAttempt(view, state, config).action, AttemptAction::kRetry);
+  state.reaims = 0;
+  view.reaim_unavailable = true;
+  EXPECT_EQ(DecideAttempt(view, state, config).action, AttemptAction::kRetry);
+}
+
+TEST(GraspPolicyTest, TheHoldingGripperFinishesClosingBeforeTheFreeArmReaims) {
+  AttemptView view;
+  view.phase[0] = GraspPhase::kClose;  // the left holds but is still closing
+  view.phase[1] = GraspPhase::kTimedOut;
+  view.holds[0] = true;
+  EXPECT_EQ(DecideAttempt(view, GraspPolicyState{}, GraspPolicyConfig{}).action,
+            AttemptAction::kWait);
+  // While the free arm still tries, the attempt goes on.
+  view.phase[1] = GraspPhase::kGrasp;
+  EXPECT_EQ(DecideAttempt(view, GraspPolicyState{}, GraspPolicyConfig{}).action,
+            AttemptAction::kContinue);
+}
+
+TEST(GraspPolicyTest, PlanningGivesUpAfterItsTimeoutSayingWhy) {
+  GraspPolicyConfig config;
+  config.planning_timeout_s = 10.0;
+  EXPECT_FALSE(PlanningGiveUp(9.9, true, config));
+  EXPECT_EQ(PlanningGiveUp(10.1, true, config).value_or(""), "no feasible dual grasp within 10 s");
+  EXPECT_EQ(PlanningGiveUp(10.1, false, config).value_or(""),
+            "the object was not in view for 10 s to plan again");
+}
+
+TEST(GraspPolicyTest, TheFreeArmAimsAtAPairClearOfEdgesThenTheNearest) {
+  std::vector<ArmGrasp> candidates(4);
+  for (int i = 0; i < 4; ++i) candidates[i].pair = 10 + i;
+  candidates[0].cost_rad = 0.1;  // nearest, but near an edge
+  candidates[0].clear_of_edges = false;
+  candidates[1].cost_rad = 0.5;
+  candidates[2].cost_rad = 0.3;
+  candidates[3].cost_rad = 0.2;  // near, but too near the holding arm
+  const auto clears = [](const ArmGrasp& g) { return g.pair != 13; };
+  EXPECT_EQ(RankReaim(candidates, clears), 2);
+  EXPECT_EQ(RankReaim(candidates, [](const ArmGrasp&) { return false; }), -1);
+  candidates.resize(1);
+  EXPECT_EQ(RankReaim(candidates, clears), 0);  // near an edge is better than none
+}
+
+TEST(GraspPolicyTest, ABrieflyLostObjectIsHeldAtItsLastWorldPose) {
+  GraspPolicyConfig config;
+  config.lost_timeout_s = 2.0;
+  EXPECT_TRUE(HoldLastWorldPose(true, false, 1.0, config));
+  EXPECT_FALSE(HoldLastWorldPose(true, false, 2.5, config));   // lost too long
+  EXPECT_FALSE(HoldLastWorldPose(true, true, -1.0, config));   // in view
+  EXPECT_FALSE(HoldLastWorldPose(false, false, 1.0, config));  // never seen within the radius
+}
+
+TEST(GraspPolicyConfigTest, ABadValueNamesTheFileKeyAndBound) {
+  GraspPolicyConfig config;
+  EXPECT_NO_THROW(config.Validate("mission.yaml"));
+  config.unreachable_to_switch = 0;
+  try {
+    config.Validate("mission.yaml");
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("mission.yaml: policy.unreachable_to_switch"));
+    EXPECT_THAT(e.what(), HasSubstr("1"));
+  }
+}
+
+}  // namespace
+}  // namespace aerograsp
