@@ -58,6 +58,7 @@ std::vector<Field> Fields(MissionConfig* c) {
       {"", "setpoint_rate_hz", &c->setpoint_rate_hz},
       {"", "reevaluate_rate_hz", &c->reevaluate_rate_hz},
       {"", "object_filter_s", &c->object_filter_s},
+      {"", "predict_max_s", &c->predict_max_s},
       {"", "search_timeout_s", &c->search_timeout_s},
       {"", "timeout_s", &c->timeout_s},
       {"", "servo_margin_m", &c->servo_margin_m},
@@ -238,6 +239,7 @@ void MissionConfig::Validate() const {
   CheckRange(s, "setpoint_rate_hz", setpoint_rate_hz, 2.0, 100.0, "Hz");
   CheckRange(s, "reevaluate_rate_hz", reevaluate_rate_hz, 1e-6, 100.0, "Hz");
   CheckRange(s, "object_filter_s", object_filter_s, 1e-6, 10.0, "s");
+  CheckRange(s, "predict_max_s", predict_max_s, 0.0, 1.0, "s");
   CheckRange(s, "search_timeout_s", search_timeout_s, 1e-6, 600.0, "s");
   CheckRange(s, "timeout_s", timeout_s, 1e-6, 3600.0, "s");
   CheckRange(s, "servo_margin_m", servo_margin_m, 0.0, 0.05, "m");

@@ -39,7 +39,8 @@ void TrackedObject::Update(double t, const ObjectEstimate& estimate, const Eigen
     // Held by one gripper the object moves with it: each frame's estimate
     // refines where it sits in that gripper (it was taken from the estimate
     // when the gripper closed, often while the fingers hid the object).
-    Eigen::Isometry3d eMo = dMe_(holder_).inverse() * dMc * estimate_.cMo;
+    const Eigen::Isometry3d dMo_estimate = dMc * estimate_.cMo;  // at the frame
+    Eigen::Isometry3d eMo = dMe_(holder_).inverse() * dMo_estimate;
     eMo.linear() = ClosestSymmetricRotation(eMo.linear(), eMo_held_.linear(), symmetry_);
     eMo_held_.translation() += alpha_ * (eMo.translation() - eMo_held_.translation());
     eMo_held_.linear() = Eigen::Quaterniond(eMo_held_.linear())
@@ -75,9 +76,10 @@ Eigen::Isometry3d TrackedObject::dMo(double t, const Eigen::Isometry3d& wMd) con
   if (HeldInWorld(t)) return dMw * wMo_last_;
   // The filter runs in the world (the object crawls slowly there, while the
   // camera sways): the vehicle's pose now brings it into the body, moved on
-  // with its velocity (at most 0.2 s ahead).
+  // with its velocity.
   Eigen::Isometry3d wMo = estimate_.fMo;
-  wMo.translation() += estimate_.v_f * std::clamp(t - estimate_.stamp_s, 0.0, 0.2);
+  wMo.translation() +=
+      estimate_.v_f * std::clamp(t - estimate_.stamp_s, 0.0, config_.predict_max_s);
   return dMw * wMo;
 }
 
