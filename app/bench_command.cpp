@@ -14,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "app/mission_arms.h"
 #include "app/mission_config.h"
 #include "app/mission_plots.h"
 #include "app/mission_record.h"
@@ -38,7 +39,6 @@
 #include "hardware/sim/world.h"
 #include "mission/grasp_policy.h"
 #include "servo/arm_servo.h"
-#include "servo/collision_predicate.h"
 #include "servo/grasp_sequence.h"
 
 namespace aerograsp {
@@ -286,16 +286,10 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
   std::unique_ptr<GraspSequence> sequence[2];
   for (int a = 0; a < 2; ++a) {
     q[a] = hw->arms().JointPositions(kSides[a]);
-    const ArmModel& arm = platform.arm(kSides[a]);
-    ServoConfig servo_config = mission.ServoFor(arm.dof());
-    servo_config.via_rad = {arm.Clamp(Eigen::VectorXd::Zero(arm.dof())), platform.home(kSides[a])};
-    servo[a] = std::make_unique<ArmServo>(
-        arm, servo_config,
-        MakeCollisionPredicate(collision, kSides[a], mission.servo_margin_m, &q[1 - a]));
-    GraspSequenceConfig sequence_config = mission.grasp_sequence;
-    sequence_config.precatch_distance_m = planner_config.precatch_distance_m;
-    sequence_config.close_time_s = platform.config().gripper.close_time_s;
-    sequence[a] = std::make_unique<GraspSequence>(servo[a].get(), sequence_config);
+    ArmController c = MakeArmController(mission, platform, kSides[a], collision, &q[1 - a],
+                                        planner_config.precatch_distance_m);
+    servo[a] = std::move(c.servo);
+    sequence[a] = std::move(c.sequence);
     sequence[a]->HoldAtPreCatch(
         hover);  // hover: stay at the pre-catch pose; else move in (the gripper stays open)
   }

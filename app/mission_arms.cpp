@@ -14,6 +14,23 @@ const char* const kArmNames[2] = {"left", "right"};
 
 }  // namespace
 
+ArmController MakeArmController(const MissionConfig& config, const Platform& platform, Side side,
+                                const PlatformCollision& collision,
+                                const Eigen::VectorXd* q_other_rad, double precatch_distance_m) {
+  const ArmModel& arm = platform.arm(side);
+  ServoConfig servo_config = config.ServoFor(arm.dof());
+  servo_config.via_rad = {arm.Clamp(Eigen::VectorXd::Zero(arm.dof())), platform.home(side)};
+  ArmController c;
+  c.servo = std::make_unique<ArmServo>(
+      arm, servo_config,
+      MakeCollisionPredicate(collision, side, config.servo_margin_m, q_other_rad));
+  GraspSequenceConfig sequence_config = config.grasp_sequence;
+  sequence_config.precatch_distance_m = precatch_distance_m;
+  sequence_config.close_time_s = platform.config().gripper.close_time_s;
+  c.sequence = std::make_unique<GraspSequence>(c.servo.get(), sequence_config);
+  return c;
+}
+
 GraspArms::GraspArms(const Platform& platform, const GraspPlanner& planner,
                      const PlatformCollision& collision, const MissionConfig& config,
                      const Eigen::VectorXd* q, MissionEvaluator* evaluator,
@@ -25,16 +42,10 @@ GraspArms::GraspArms(const Platform& platform, const GraspPlanner& planner,
       evaluator_(evaluator),
       log_(std::move(log)) {
   for (int a = 0; a < 2; ++a) {
-    const ArmModel& arm = platform.arm(kSides[a]);
-    ServoConfig servo_config = config.ServoFor(arm.dof());
-    servo_config.via_rad = {arm.Clamp(Eigen::VectorXd::Zero(arm.dof())), platform.home(kSides[a])};
-    servo_[a] = std::make_unique<ArmServo>(
-        arm, servo_config,
-        MakeCollisionPredicate(collision, kSides[a], config.servo_margin_m, &q_[1 - a]));
-    GraspSequenceConfig sequence_config = config.grasp_sequence;
-    sequence_config.precatch_distance_m = config.planner.precatch_distance_m;
-    sequence_config.close_time_s = platform.config().gripper.close_time_s;
-    sequence_[a] = std::make_unique<GraspSequence>(servo_[a].get(), sequence_config);
+    ArmController c = MakeArmController(config, platform, kSides[a], collision, &q_[1 - a],
+                                        config.planner.precatch_distance_m);
+    servo_[a] = std::move(c.servo);
+    sequence_[a] = std::move(c.sequence);
   }
 }
 

@@ -22,6 +22,19 @@ namespace aerograsp {
 class MissionEvaluator;
 class PlatformCollision;
 
+/// One arm's servo and grasp sequence as the mission config sets them: the
+/// servo settings for its joint count, vias through the zero and home poses,
+/// kept clear of the safe volume and of the other arm (at its measured joints
+/// *q_other_rad) by servo_margin_m; the sequence's pre-catch pose
+/// precatch_distance_m back along the approach.
+struct ArmController {
+  std::unique_ptr<ArmServo> servo;
+  std::unique_ptr<GraspSequence> sequence;  ///< drives `servo`
+};
+ArmController MakeArmController(const MissionConfig& config, const Platform& platform, Side side,
+                                const PlatformCollision& collision,
+                                const Eigen::VectorXd* q_other_rad, double precatch_distance_m);
+
 /// The object as the arms follow it this cycle.
 struct FollowView {
   Eigen::Isometry3d dMo = Eigen::Isometry3d::Identity();  ///< the object now, in d

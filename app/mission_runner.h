@@ -47,7 +47,7 @@ struct MissionResult {
   std::string failure;          ///< why not, one line (empty on success)
   double time_to_grasp_s = -1;  ///< from the start to both grippers holding; < 0: never
   double pose_rmse_m = -1;      ///< object position estimate vs truth over the frames found while
-                            ///< grasping; < 0: none (or no truth: hardware)
+                                ///< grasping; < 0: none (or no truth: hardware)
   double rotation_rmse_deg = -1;
   int grasp_switches = 0;  ///< re-evaluation switched the followed dual grasp
   /// Grasp attempts: dual grasps planned plus re-aims of a free arm while the
