@@ -1,4 +1,4 @@
-// The perception pipeline of one object (DESIGN.md, Modules): detector box ->
+// The perception pipeline of one object (docs/design.md, Modules): detector box ->
 // crop -> local cloud -> (global init when there is no prior) -> ICP seeded by
 // the EKF prediction -> depth support check -> EKF update with gating ->
 // confidence and found / lost. One call per frame; no threads, no files (the

@@ -1,4 +1,4 @@
-// Recorded RGB-D sequences (DESIGN.md, Data formats): a folder with
+// Recorded RGB-D sequences (docs/recordings.md): a folder with
 //   sequence.yaml     intrinsics, depth scale, depth-to-colour transform,
 //                     object id, frame rate, frame count; optional: the colour
 //                     lens model, and the depth camera's own intrinsics and lens
