@@ -243,15 +243,15 @@ void MissionConfig::Validate() const {
   CheckRange(s, "search_timeout_s", search_timeout_s, 1e-6, 600.0, "s");
   CheckRange(s, "timeout_s", timeout_s, 1e-6, 3600.0, "s");
   CheckRange(s, "servo_margin_m", servo_margin_m, 0.0, 0.05, "m");
-  policy.Validate(s);
+  policy.Validate(s, "policy.");
   // The depth range is checked against the gripper's fingers when the
   // platform is known (GraspPlanner); here against the longest allowed.
   GripperConfig longest;
   longest.finger_length_m = 0.3;
   planner.Validate(s + ": planner", longest);
-  servo.Validate(s);
-  servo_ik_tolerance_4dof.Validate(s, "servo.ik_tolerance_4dof");
-  grasp_sequence.Validate(s);
+  servo.Validate(s, "servo.");
+  servo_ik_tolerance_4dof.Validate(s, "servo.ik_tolerance_4dof.");
+  grasp_sequence.Validate(s, "grasp_sequence.");
   LoadCalibration(s, "calibration_left", calibration_left, Side::kLeft);
   LoadCalibration(s, "calibration_right", calibration_right, Side::kRight);
 }

@@ -17,18 +17,18 @@ bool SamePairs(const DualGrasp& d, const SwitchState& s) {
 
 }  // namespace
 
-void GraspPolicyConfig::Validate(const std::string& source) const {
-  CheckRange(source, "policy.near_tolerance_m", near_tolerance_m, 1e-6, 1.0, "m");
-  CheckRange(source, "policy.settle_s", settle_s, 0.0, 5.0, "s");
-  CheckRange(source, "policy.max_attempts", max_attempts, 1, 100, "");
-  CheckRange(source, "policy.lost_timeout_s", lost_timeout_s, 1e-6, 60.0, "s");
-  CheckRange(source, "policy.planning_timeout_s", planning_timeout_s, 1e-6, 600.0, "s");
-  CheckRange(source, "policy.switch_margin", switch_margin, 0.0, 10.0, "");
-  CheckRange(source, "policy.unreachable_to_switch", unreachable_to_switch, 1, 100, "");
-  CheckRange(source, "policy.branch_jump_rad", branch_jump_rad, 1e-6, 6.3, "rad");
-  CheckRange(source, "policy.branch_drift_rad_per_s", branch_drift_rad_per_s, 0.0, 10.0, "rad/s");
-  CheckRange(source, "policy.max_reaims", max_reaims, 0, 100, "");
-  CheckRange(source, "policy.home_tolerance_m", home_tolerance_m, 1e-6, 0.2, "m");
+void GraspPolicyConfig::Validate(const std::string& source, const std::string& prefix) const {
+  CheckRange(source, prefix + "near_tolerance_m", near_tolerance_m, 1e-6, 1.0, "m");
+  CheckRange(source, prefix + "settle_s", settle_s, 0.0, 5.0, "s");
+  CheckRange(source, prefix + "max_attempts", max_attempts, 1, 100, "");
+  CheckRange(source, prefix + "lost_timeout_s", lost_timeout_s, 1e-6, 60.0, "s");
+  CheckRange(source, prefix + "planning_timeout_s", planning_timeout_s, 1e-6, 600.0, "s");
+  CheckRange(source, prefix + "switch_margin", switch_margin, 0.0, 10.0, "");
+  CheckRange(source, prefix + "unreachable_to_switch", unreachable_to_switch, 1, 100, "");
+  CheckRange(source, prefix + "branch_jump_rad", branch_jump_rad, 1e-6, 6.3, "rad");
+  CheckRange(source, prefix + "branch_drift_rad_per_s", branch_drift_rad_per_s, 0.0, 10.0, "rad/s");
+  CheckRange(source, prefix + "max_reaims", max_reaims, 0, 100, "");
+  CheckRange(source, prefix + "home_tolerance_m", home_tolerance_m, 1e-6, 0.2, "m");
 }
 
 bool ShouldPlan(bool planner_idle, bool object_found, double off_m,

@@ -61,8 +61,8 @@ struct GraspPolicyConfig {
   int max_reaims{3};  ///< re-aims of the free arm per attempt while the other holds, [0, 100]
   double home_tolerance_m{0.01};  ///< an arm this near its home tool position is back, (0, 0.2] m
 
-  /// @throws ConfigError "<source>: policy.<field>: ..." naming the bound.
-  void Validate(const std::string& source) const;
+  /// @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 /// The dual grasp the runner follows (contact-pair indices, -1: none yet).

@@ -279,10 +279,10 @@ TEST(GraspPolicyTest, ABrieflyLostObjectIsHeldAtItsLastWorldPose) {
 
 TEST(GraspPolicyConfigTest, ABadValueNamesTheFileKeyAndBound) {
   GraspPolicyConfig config;
-  EXPECT_NO_THROW(config.Validate("mission.yaml"));
+  EXPECT_NO_THROW(config.Validate("mission.yaml", "policy."));
   config.unreachable_to_switch = 0;
   try {
-    config.Validate("mission.yaml");
+    config.Validate("mission.yaml", "policy.");
     FAIL() << "no error";
   } catch (const ConfigError& e) {
     EXPECT_THAT(e.what(), HasSubstr("mission.yaml: policy.unreachable_to_switch"));
