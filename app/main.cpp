@@ -209,7 +209,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"left", "right"}));
   calibrate_cmd->add_flag(
       "--intrinsics", calibrate.intrinsics,
-      "Calibrate the camera's intrinsics from a board shown in varied poses (not an arm)");
+      "Calibrate the camera's intrinsics from a board shown in varied poses (not an arm); with "
+      "--hardware the board is held by hand and the wizard says which image parts and tilts "
+      "are still missing");
   calibrate_cmd->add_option("--out", calibrate.out_dir,
                             "Folder for the samples, the calibration and the report");
   calibrate_cmd
@@ -230,7 +232,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.005, 1.0));
   calibrate_cmd
       ->add_option("--poses", calibrate.poses,
-                   "Arm poses (or board views, with --intrinsics) to visit")
+                   "Arm poses (or board views, with --intrinsics; with --intrinsics --hardware "
+                   "the fewest hand-held samples) to visit")
       ->capture_default_str()
       ->check(CLI::Range(4, 100));
   calibrate_cmd->add_option("--seed", calibrate.seed, "World and pose-planning seed")
