@@ -470,6 +470,11 @@ void RunHandHeldIntrinsics(const CalibrateCommandOptions& options, IntrinsicsHar
       file.board.rows, file.board.cols, 1e3 * file.board.tag_size_m, board_tags,
       coverage_config.grid_cols, coverage_config.grid_rows, coverage_config.min_tilt_deg,
       options.poses);
+  if (!options.out_dir.empty()) {  // the board to print
+    fs::create_directories(options.out_dir);
+    WriteBoardSvg(file.board, (fs::path(options.out_dir) / "board.svg").string());
+    out << fmt::format("the board to print: {}/board.svg\n", options.out_dir);
+  }
   if (options.dry_run) {
     out << "dry run: nothing was recorded\n";
     return;

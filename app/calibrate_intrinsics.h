@@ -79,7 +79,8 @@ std::unique_ptr<IntrinsicsHardware> OpenIntrinsicsHardware(const std::string& ha
                                                            std::uint64_t seed, std::ostream& out);
 
 /// The board held by hand: checks the camera (a frame of its intrinsics'
-/// size), prints what coverage is needed, stops there with `dry_run`; else
+/// size), prints what coverage is needed, writes the board to print
+/// (DIR/board.svg, when `options.out_dir` is given), stops there with `dry_run`; else
 /// grabs frames, detects the board in each and takes a frame as a sample when
 /// the whole board is seen, still (no corner moved more than a pixel since the
 /// previous frame) and adds to the coverage (calib/coverage.h: a 3 x 3 grid of

@@ -204,6 +204,7 @@ TEST_F(CalibrateIntrinsicsTest, AHandHeldBoardReachesTheSimulatorsAccuracy) {
   EXPECT_LT(s["rms_px"].get<double>(), 0.5);
   EXPECT_TRUE(fs::exists(fs::path(folder_) / "views" / "014.png"));
   EXPECT_TRUE(fs::exists(fs::path(folder_) / "camera.xml"));
+  EXPECT_TRUE(fs::exists(fs::path(folder_) / "board.svg"));
 }
 
 TEST_F(CalibrateIntrinsicsTest, CtrlCStopsTheSamplingAndSolvesWithTheSamplesTaken) {
