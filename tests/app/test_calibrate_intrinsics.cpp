@@ -251,6 +251,26 @@ TEST_F(CalibrateIntrinsicsTest, ADryRunChecksTheCameraAndRecordsNothing) {
   EXPECT_FALSE(fs::exists(folder_));
 }
 
+TEST_F(CalibrateIntrinsicsTest, AHandRigsBoardIsTheOneLookedForAndPrinted) {
+  fs::create_directories(folder_);
+  const std::string path = (fs::path(folder_) / "hand.yaml").string();
+  std::ofstream(path) << "platform: " << DataPath("config/platform_4dof.yaml") << "\n"
+                      << "world: " << DataPath("config/world_default.yaml") << "\n"
+                      << "arms: {backend: sim}\nautopilot: {backend: sim}\ncamera: {backend: sim}\n"
+                      << "calibration:\n  mount: hand\n  board: {family: tag36h11, rows: 3, "
+                         "cols: 4, tag_size_m: 0.04, spacing_m: 0.01, margin_m: 0.01}\n";
+  CalibrateCommandOptions options;
+  options.intrinsics = true;
+  options.dry_run = true;
+  options.hardware_path = path;
+  options.out_dir = (fs::path(folder_) / "out").string();
+  std::ostringstream out, progress;
+  RunCalibrateCommand(options, out, progress);
+  EXPECT_THAT(out.str(), HasSubstr("hold the 3 x 4 board of 40 mm tags (all 12 tags in view)"));
+  EXPECT_TRUE(fs::exists(fs::path(options.out_dir) / "board.svg"));
+  EXPECT_FALSE(fs::exists(fs::path(options.out_dir) / "views"));
+}
+
 TEST_F(CalibrateIntrinsicsTest, ADryRunWithoutTheRealCameraNamesIt) {
   CalibrateCommandOptions options;
   options.intrinsics = true;
