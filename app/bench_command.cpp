@@ -225,9 +225,11 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
   const MissionConfig mission =
       MissionConfig::Load(options.mission_config.empty() ? DataPath("config/mission_default.yaml")
                                                          : options.mission_config);
-  const PerceptionOptions perception = options.perception_config.empty()
-                                           ? PerceptionOptions{}
-                                           : LoadPerceptionOptions(options.perception_config);
+  // The mission's perception file unless one is given: the bench tests what the mission flies.
+  const std::string perception_file =
+      options.perception_config.empty() ? mission.perception : options.perception_config;
+  const PerceptionOptions perception =
+      perception_file.empty() ? PerceptionOptions{} : LoadPerceptionOptions(perception_file);
 
   HardwareConfig hw_config;
   if (options.hardware_path.empty()) {
@@ -533,8 +535,7 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
   summary["object"] = object.name;
   summary["hardware"] = hw_config.source;
   summary["seed"] = options.seed;
-  summary["perception"] =
-      options.perception_config.empty() ? "code defaults" : options.perception_config;
+  summary["perception"] = perception_file.empty() ? "code defaults" : perception_file;
   summary["frames"] = frame;
   summary["tag_frames"] = tag_frames;
   summary["found_frames"] = found_frames;

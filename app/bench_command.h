@@ -41,8 +41,8 @@ struct BenchCommandOptions {
   /// The board (frame t) on the object (frame o); empty: centred on the top of
   /// the object, printed face up (for the crawler: in the recess between its tracks).
   std::optional<Eigen::Isometry3d> oMt;
-  std::string perception_config;  ///< perception YAML (detection/perception_config.h); empty: the
-                                  ///< code's defaults
+  /// Perception YAML (detection/perception_config.h); empty: the one the mission config names.
+  std::string perception_config;
   /// The mission YAML whose planner, servo, grasp-sequence and policy settings
   /// the bench uses (app/mission_config.h); empty: data/config/mission_default.yaml.
   std::string mission_config;

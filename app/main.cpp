@@ -399,7 +399,7 @@ int main(int argc, char** argv) {
   bench_cmd
       ->add_option(
           "--perception", bench.perception_config,
-          "Perception YAML (see data/config/perception_default.yaml) [the code's defaults]")
+          "Perception YAML (see data/config/perception_default.yaml) [the mission config's]")
       ->check(CLI::ExistingFile);
   // ---- end bench ----
 
