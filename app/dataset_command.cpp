@@ -115,7 +115,7 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out,
   const Platform platform = Platform::Load(world.platform);
   const std::vector<RenderMesh> arm_meshes[2] = {ArmRenderMeshes(platform.arm(Side::kLeft)),
                                                  ArmRenderMeshes(platform.arm(Side::kRight))};
-  const double object_half_height = -object.mesh_o.BoundsMin().z();  // o: z up, as ObjectOnPipe
+  const double object_half_height = 0.5 * object.dimensions_m.z();  // o: z up, as ObjectOnPipe
 
   FastRandom rng(options.seed * 0x9E3779B97F4A7C15ull + 17);
   std::unique_ptr<RgbdRenderer> renderer;
@@ -159,7 +159,8 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out,
       }
     }
     const bool support_view = with_support_views && rng.Uniform() < options.on_support;
-    Eigen::Isometry3d wMo = Eigen::Isometry3d::Identity(), wMc = Eigen::Isometry3d::Identity();
+    // The object is placed by its bounding-box centre (PlaceByCentre), whatever o's origin.
+    Eigen::Isometry3d wMcentre = Eigen::Isometry3d::Identity(), wMc = Eigen::Isometry3d::Identity();
     double distance = 0.0;
     if (support_view) {
       // The object as the world places it (ObjectOnPipe): on top of the support pipe, its
@@ -168,7 +169,7 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out,
       const double yaw = rng.Uniform() < 0.7
                              ? rng.Uniform(-0.2, 0.2) + (rng.Uniform() < 0.5 ? 0.0 : M_PI)
                              : rng.Uniform(-M_PI, M_PI);
-      wMo = ObjectOnPipe(scene, object_half_height, along, yaw);
+      wMcentre = ObjectOnPipe(scene, object_half_height, along, yaw);
       // The vehicle's camera: 0.3-2.0 m away, above the pipe (elevation 25-80 deg), mostly from
       // across the pipe (as the mission approaches it), now and then from any side.
       const Eigen::Vector3d axis_w = PipeFrame(scene).linear().col(0);
@@ -186,7 +187,7 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out,
       const double u = out_of_view ? (rng.Uniform() < 0.5 ? -400.0 : 1040.0)
                                    : rng.Uniform(-20.0, K.width + 20.0);
       const double v = rng.Uniform(-20.0, K.height + 20.0);
-      wMc = CameraLookingAt(wMo.translation(), to_camera, distance, K, u, v,
+      wMc = CameraLookingAt(wMcentre.translation(), to_camera, distance, K, u, v,
                             rng.Uniform(-0.15, 0.15));
       // The arms where the vehicle carries them, joints near home.
       const Eigen::Isometry3d wMd = wMc * platform.dMc().inverse();
@@ -209,14 +210,15 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out,
       }
       // The object near the pipe, upright-ish most of the time.
       const Eigen::Vector3d pipe = world.scene.pipe_center_w_m;
-      wMo.translation() = pipe + Eigen::Vector3d(rng.Uniform(-1.0, 1.0), rng.Uniform(-0.6, 0.6),
-                                                 rng.Uniform(-0.5, 1.0));
+      wMcentre.translation() =
+          pipe +
+          Eigen::Vector3d(rng.Uniform(-1.0, 1.0), rng.Uniform(-0.6, 0.6), rng.Uniform(-0.5, 1.0));
       if (rng.Uniform() < 0.6) {
         // z up in o is -z in NED: roll pi, then yaw and a small tilt.
-        wMo.linear() = RotationFromRpy(Eigen::Vector3d(
+        wMcentre.linear() = RotationFromRpy(Eigen::Vector3d(
             M_PI + rng.Uniform(-0.3, 0.3), rng.Uniform(-0.3, 0.3), rng.Uniform(-M_PI, M_PI)));
       } else {
-        wMo.linear() = RandomRotation(&rng);
+        wMcentre.linear() = RandomRotation(&rng);
       }
       // The camera: distance 0.3-2.5 m (more samples near), above the object.
       distance = 0.3 + 2.2 * std::pow(rng.Uniform(), 1.3);
@@ -230,8 +232,9 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out,
                                    : rng.Uniform(-20.0, K.width + 20.0);
       const double v = rng.Uniform(-20.0, K.height + 20.0);
       const double roll = rng.Uniform(-0.4, 0.4);
-      wMc = CameraLookingAt(wMo.translation(), to_camera, distance, K, u, v, roll);
+      wMc = CameraLookingAt(wMcentre.translation(), to_camera, distance, K, u, v, roll);
     }
+    const Eigen::Isometry3d wMo = PlaceByCentre(wMcentre, object.mesh_o);
     renderer->SetPose(object_id, wMo);
     // Occluders between the camera and the object (sometimes), else far away.
     for (int id : occluder_ids) {
@@ -240,7 +243,7 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out,
       if (rng.Uniform() < 0.3) {
         const double f = rng.Uniform(0.3, 0.8);
         wMk.translation() =
-            wMc.translation() * (1.0 - f) + wMo.translation() * f +
+            wMc.translation() * (1.0 - f) + wMcentre.translation() * f +
             Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal()) * 0.08 * distance;
       } else {
         wMk.translation() = Eigen::Vector3d(0, 0, 100.0);
@@ -250,11 +253,11 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out,
     for (int id : distractor_ids) {
       Eigen::Isometry3d wMk = Eigen::Isometry3d::Identity();
       wMk.linear() = RandomRotation(&rng);
-      wMk.translation() =
-          rng.Uniform() < 0.4
-              ? wMo.translation() + Eigen::Vector3d(rng.Uniform(-0.8, 0.8), rng.Uniform(-0.8, 0.8),
-                                                    rng.Uniform(-0.3, 0.3))
-              : Eigen::Vector3d(0, 0, 100.0);
+      wMk.translation() = rng.Uniform() < 0.4
+                              ? wMcentre.translation() + Eigen::Vector3d(rng.Uniform(-0.8, 0.8),
+                                                                         rng.Uniform(-0.8, 0.8),
+                                                                         rng.Uniform(-0.3, 0.3))
+                              : Eigen::Vector3d(0, 0, 100.0);
       renderer->SetPose(id, wMk);
     }
     Lighting lighting;

@@ -10,6 +10,7 @@
 #include "app/dataset_command.h"
 #include "app/hardware_check_command.h"
 #include "app/mission_command.h"
+#include "app/object_command.h"
 #include "app/perception_benchmark.h"
 #include "app/plan_command.h"
 #include "app/record_command.h"
@@ -158,8 +159,7 @@ int main(int argc, char** argv) {
   CLI::App* plan_cmd = app.add_subcommand(
       "plan",
       "Rank the dual grasps of an object (shipped name or mesh path); table, PNG, summary.json");
-  plan_cmd
-      ->add_option("object", plan.object, "Shipped object (crawler, pipe, u_shape) or a mesh file")
+  plan_cmd->add_option("object", plan.object, "Object name (shipped or imported) or a mesh file")
       ->required();
   plan_cmd->add_option("--out", plan.out_dir, "Output folder (summary.json, grasps.png)")
       ->required();
@@ -167,8 +167,9 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::ExistingFile);
   plan_cmd
-      ->add_option("--object-xyz", plan_xyz,
-                   "Object position in the body frame d (FRD), m [default 0.10 0 0.46]")
+      ->add_option(
+          "--object-xyz", plan_xyz,
+          "Object centre (bounding box) in the body frame d (FRD), m [default 0.10 0 0.46]")
       ->expected(3);
   plan_cmd
       ->add_option("--object-rpy", plan_rpy, "Object roll pitch yaw in d, deg [default 180 0 90]")
@@ -353,6 +354,32 @@ int main(int argc, char** argv) {
                                              "lift, home, land; report in DIR");
   aerograsp::AddMissionOptions(mission_cmd, &mission);
   // ---- end mission ----
+  // ---- object import: a user's own object ----
+  aerograsp::ObjectImportOptions object_import;
+  CLI::App* object_cmd = app.add_subcommand("object", "Manage objects: import a user's mesh");
+  object_cmd->require_subcommand(1);
+  CLI::App* import_cmd = object_cmd->add_subcommand(
+      "import",
+      "Check, repair and measure a mesh (PLY, OBJ, STL, ViSP .cao; mass, symmetry) and store it "
+      "as an object every command finds by name (docs/objects.md)");
+  import_cmd->add_option("mesh", object_import.mesh_path, "Mesh file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  import_cmd->add_option("--name", object_import.name, "Object name (--object NAME)")->required();
+  import_cmd->add_option("--units", object_import.units, "Length unit of the file")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"m", "cm", "mm"}));
+  import_cmd->add_option("--mass", object_import.mass_kg,
+                         "Mass, kg [the volume at 300 kg/m^3, an estimate]");
+  import_cmd->add_option("--objects-dir", object_import.objects_dir,
+                         "Folder to store it in [$AEROGRASP_OBJECTS_DIR, else data/objects]");
+  import_cmd
+      ->add_option("--config", object_import.config_path,
+                   "Import settings [data/config/object_import.yaml]")
+      ->check(CLI::ExistingFile);
+  import_cmd->add_flag("--overwrite", object_import.overwrite,
+                       "Replace an object of that name in the folder");
+  // ---- end object import ----
   // ---- bench: perception and servo against tags on a test stand ----
   aerograsp::BenchCommandOptions bench;
   std::vector<double> bench_board_pose;
@@ -441,6 +468,7 @@ int main(int argc, char** argv) {
     }
     if (*dataset_cmd) aerograsp::RunDatasetCommand(dataset, std::cout, std::cerr);
     if (*mission_cmd) aerograsp::RunMissionCommand(mission, std::cout, std::cerr);
+    if (*import_cmd) aerograsp::RunObjectImport(object_import, std::cout);
     if (*bench_cmd) {
       if (!bench_board_pose.empty())
         bench.oMt = aerograsp::PoseFromValues(bench_board_pose, "--board-pose");

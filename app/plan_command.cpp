@@ -17,6 +17,7 @@
 #include "app/summary_file.h"
 #include "core/config.h"
 #include "core/data_dir.h"
+#include "core/object_model.h"
 #include "core/platform.h"
 #include "core/transforms.h"
 #include "grasp/contact_cache.h"
@@ -32,39 +33,16 @@ double MsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-/// A shipped object by name (data/objects/NAME/object.yaml) or a mesh file.
+/// An object by name (an object folder, ObjectModel::Load) or a mesh file,
+/// whose mass is `--mass` (a bare mesh carries none).
 GraspObject LoadObject(const PlanCommandOptions& options, std::string* source) {
+  const ObjectModel model = ObjectModel::Load(options.object);
   GraspObject object;
-  const std::string yaml = DataPath("objects/" + options.object + "/object.yaml");
-  const bool is_name =
-      options.object.find('/') == std::string::npos && fs::path(options.object).extension().empty();
-  if (is_name && fs::exists(yaml)) {
-    const ConfigNode node = ConfigNode::LoadFile(yaml);
-    object.name = node.GetString("name", options.object);
-    const std::string mesh_path = node.GetPath("mesh");
-    object.mesh_o = LoadClosedMesh(mesh_path);
-    object.mass_kg = node.GetDouble("mass_kg");
-    CheckPositive(yaml, "mass_kg", object.mass_kg, "kg");
-    object.com_o = node.GetVector3("center_of_mass_m");
-    *source = mesh_path;
-    return object;
-  }
-  if (is_name) {
-    std::vector<std::string> shipped;
-    for (const auto& entry : fs::directory_iterator(DataPath("objects"))) {
-      if (entry.is_directory()) shipped.push_back(entry.path().filename().string());
-    }
-    std::sort(shipped.begin(), shipped.end());
-    std::string names;
-    for (const std::string& n : shipped) names += (names.empty() ? "" : ", ") + n;
-    throw MeshError(options.object + ": not a shipped object (" + names +
-                    ") and not a mesh file (give a path to a .ply, .obj or .stl)");
-  }
-  object.name = fs::path(options.object).stem().string();
-  object.mesh_o = LoadClosedMesh(options.object);
-  object.mass_kg = options.mass_kg;
-  object.com_o = ComputeMassProperties(object.mesh_o).center_of_mass;
-  *source = options.object;
+  object.name = model.name;
+  object.mesh_o = model.mesh_o;
+  object.mass_kg = model.mass_estimated ? options.mass_kg : model.mass_kg;
+  object.com_o = model.center_of_mass_o;
+  *source = model.source;
   return object;
 }
 
@@ -194,7 +172,9 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
 
   const GraspPlanner planner(platform, object, contacts, config);
   PlanQuery query;
-  query.dMo = MakeTransform(options.object_xyz_m, options.object_rpy_deg * M_PI / 180.0);
+  // The object's bounding-box centre where asked, whatever its frame's origin.
+  query.dMo = PlaceByCentre(
+      MakeTransform(options.object_xyz_m, options.object_rpy_deg * M_PI / 180.0), object.mesh_o);
   query.q_left = platform.home(Side::kLeft);
   query.q_right = platform.home(Side::kRight);
 
@@ -228,11 +208,13 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
       "Object '{}' ({}): {} triangles, mass {:.3f} kg, centre of mass [{:.4f} {:.4f} {:.4f}] m\n",
       object.name, mesh_source, object.mesh_o.triangles.size(), object.mass_kg, object.com_o.x(),
       object.com_o.y(), object.com_o.z());
+  const Eigen::Vector3d centre_o = PlacementCentre(object.mesh_o);
   out << fmt::format(
-      "Placed at dMo xyz [{:.3f} {:.3f} {:.3f}] m, rpy [{:.1f} {:.1f} {:.1f}] deg (body frame d, "
-      "FRD); arms at home\n",
-      options.object_xyz_m.x(), options.object_xyz_m.y(), options.object_xyz_m.z(),
-      options.object_rpy_deg.x(), options.object_rpy_deg.y(), options.object_rpy_deg.z());
+      "Placed with its bounding-box centre ([{:.4f} {:.4f} {:.4f}] m in o) at xyz [{:.3f} {:.3f} "
+      "{:.3f}] m, rpy [{:.1f} {:.1f} {:.1f}] deg (body frame d, FRD); arms at home\n",
+      centre_o.x(), centre_o.y(), centre_o.z(), options.object_xyz_m.x(), options.object_xyz_m.y(),
+      options.object_xyz_m.z(), options.object_rpy_deg.x(), options.object_rpy_deg.y(),
+      options.object_rpy_deg.z());
   out << fmt::format(
       "Friction: mu {:.2f}, {}-edge cones, torsional {:.4f} m (soft finger); torques about the "
       "centre of mass / {:.3f} m\n",
@@ -300,7 +282,10 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
   j["object"] = object.name;
   j["mesh"] = mesh_source;
   j["platform"] = options.config_path;
-  j["dMo_xyz_m"] = {options.object_xyz_m.x(), options.object_xyz_m.y(), options.object_xyz_m.z()};
+  j["centre_xyz_m"] = {options.object_xyz_m.x(), options.object_xyz_m.y(),
+                       options.object_xyz_m.z()};
+  j["dMo_xyz_m"] = {query.dMo.translation().x(), query.dMo.translation().y(),
+                    query.dMo.translation().z()};
   j["dMo_rpy_deg"] = {options.object_rpy_deg.x(), options.object_rpy_deg.y(),
                       options.object_rpy_deg.z()};
   j["resolution_m"] = contacts.resolution_m;

@@ -10,11 +10,12 @@
 namespace aerograsp {
 
 struct PlanCommandOptions {
-  std::string object;       ///< a shipped object name (data/objects/NAME) or a mesh path
+  std::string object;       ///< an object name (shipped or imported) or a mesh path
   std::string out_dir;      ///< summary.json and grasps.png go here (created)
   std::string config_path;  ///< platform YAML
-  /// Where the object is placed for planning: its frame o in the body frame d
-  /// (FRD: x forward, y right, z down). Default: 0.10 m ahead of the body
+  /// Where the object is placed for planning: its bounding-box centre
+  /// (PlacementCentre, the origin of o for the shipped objects) and the axes of
+  /// o in the body frame d (FRD: x forward, y right, z down). Default: 0.10 m ahead of the body
   /// centre, centred between the arms, 0.46 m below it, upright (roll 180 deg
   /// turns the object's z-up into d's z-down) with its long x axis across the
   /// vehicle (yaw 90 deg) so each arm can take one end. Why there: the shoulders

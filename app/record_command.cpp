@@ -63,7 +63,9 @@ void RunRecordCommand(const RecordCommandOptions& options, std::ostream& out,
   SequenceInfo info;
   info.intrinsics = camera.intrinsics();
   info.depth_scale_m = camera.depth_scale_m();
-  info.object = world.object().name;
+  // What finds the object again: its name, or the absolute path of its file
+  // (`replay` then needs no --object).
+  info.object = world.object().reference;
   info.frame_rate_hz = config.camera.frame_rate_hz;
   info.description =
       fmt::format("aerograsp simulator, world {}, seed {}, object {} ({})", world_path,

@@ -187,7 +187,13 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
     throw std::invalid_argument(options.sequence +
                                 ": the recording names no object; give --object");
   }
-  const ObjectModel object = ObjectModel::Load(object_name);
+  // A relative path in sequence.yaml is relative to the sequence folder.
+  const fs::path beside = fs::path(options.sequence) / object_name;
+  const ObjectModel object =
+      ObjectModel::Load(options.object.empty() && fs::path(object_name).is_relative() &&
+                                !fs::exists(object_name) && fs::exists(beside)
+                            ? beside.string()
+                            : object_name);
 
   std::unique_ptr<BoxDetector> detector;
   std::string detector_path = options.detector;

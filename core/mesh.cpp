@@ -233,10 +233,10 @@ MeshCheck CheckMesh(const TriangleMesh& mesh) {
   return check;
 }
 
-TriangleMesh LoadMesh(const std::string& path) {
+TriangleMesh LoadMeshAnyScale(const std::string& path) {
   const std::string ext = LowerExtension(path);
-  if (ext != ".ply" && ext != ".obj" && ext != ".stl") {
-    Fail(path, "unknown mesh format '" + ext + "' (expected .ply, .obj or .stl)");
+  if (ext != ".ply" && ext != ".obj" && ext != ".stl" && ext != ".cao") {
+    Fail(path, "unknown mesh format '" + ext + "' (expected .ply, .obj, .stl or .cao)");
   }
   const std::string data = ReadWholeFile(path);
   TriangleMesh mesh;
@@ -244,9 +244,17 @@ TriangleMesh LoadMesh(const std::string& path) {
     mesh = mesh_formats::LoadPly(path, data);
   } else if (ext == ".obj") {
     mesh = mesh_formats::LoadObj(path, data);
+  } else if (ext == ".cao") {
+    mesh = mesh_formats::LoadCao(path, data);
   } else {
     mesh = mesh_formats::LoadStl(path, data);
   }
+  if (mesh.triangles.empty()) Fail(path, "no triangles");
+  return mesh;
+}
+
+TriangleMesh LoadMesh(const std::string& path) {
+  TriangleMesh mesh = LoadMeshAnyScale(path);
   CheckLoaded(path, mesh);
   return mesh;
 }
@@ -272,18 +280,30 @@ MassProperties ComputeMassProperties(const TriangleMesh& mesh) {
   const Eigen::Vector3d r = ReferencePoint(mesh);
   double volume6 = 0.0;
   Eigen::Vector3d moment24 = Eigen::Vector3d::Zero();  // 24 * integral of (p - r) dV
+  // 120 * integral of (p - r)(p - r)^T dV: per tetrahedron (r, a, b, c),
+  // det * (a a^T + b b^T + c c^T + s s^T) with s = a + b + c.
+  Eigen::Matrix3d second120 = Eigen::Matrix3d::Zero();
   for (const Eigen::Vector3i& t : mesh.triangles) {
     const Eigen::Vector3d a = mesh.vertices[static_cast<std::size_t>(t[0])] - r;
     const Eigen::Vector3d b = mesh.vertices[static_cast<std::size_t>(t[1])] - r;
     const Eigen::Vector3d c = mesh.vertices[static_cast<std::size_t>(t[2])] - r;
     const double v6 = a.dot(b.cross(c));
     volume6 += v6;
-    moment24 += v6 * (a + b + c);
+    const Eigen::Vector3d s = a + b + c;
+    moment24 += v6 * s;
+    second120 +=
+        v6 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
   }
   MassProperties properties;
   properties.volume_m3 = volume6 / 6.0;
   // A mesh without volume has no centre of mass; report the reference point.
-  properties.center_of_mass = volume6 != 0.0 ? Eigen::Vector3d(r + moment24 / (4.0 * volume6)) : r;
+  const Eigen::Vector3d offset =
+      volume6 != 0.0 ? Eigen::Vector3d(moment24 / (4.0 * volume6)) : Eigen::Vector3d::Zero();
+  properties.center_of_mass = r + offset;
+  // Second moment about the centre of mass (parallel axis), then the inertia.
+  const Eigen::Matrix3d second =
+      second120 / 120.0 - properties.volume_m3 * offset * offset.transpose();
+  properties.inertia_unit_density = second.trace() * Eigen::Matrix3d::Identity() - second;
   return properties;
 }
 

@@ -49,14 +49,18 @@ struct MeshCheck {
   std::string Describe() const;
 };
 
-/// Loads a PLY (ASCII or binary little/big endian), OBJ or STL (ASCII or
-/// binary) mesh, chosen by the file's extension (case-insensitive). Vertex
+/// Loads a PLY (ASCII or binary little/big endian), OBJ, STL (ASCII or
+/// binary) or ViSP .cao mesh, chosen by the file's extension (case-insensitive). Vertex
 /// colours are read from PLY (red/green/blue uchar) and from OBJ `v x y z r g b`
 /// lines (floats 0..1).
 /// @throws MeshError naming the path when the file is missing, unreadable, of
 /// an unknown format, truncated, has no triangles, a non-finite coordinate, an
 /// index out of range, or an extent over 10 m (probably millimetres).
 TriangleMesh LoadMesh(const std::string& path);
+
+/// LoadMesh without the extent check, for a caller that applies the file's
+/// units itself (object import).
+TriangleMesh LoadMeshAnyScale(const std::string& path);
 
 /// Counts the defects of a mesh (see MeshCheck). Linear time in the triangles.
 MeshCheck CheckMesh(const TriangleMesh& mesh);
@@ -77,11 +81,14 @@ void SaveMeshPly(const TriangleMesh& mesh, const std::string& path);
 std::vector<double> IntersectRay(const TriangleMesh& mesh, const Eigen::Vector3d& origin,
                                  const Eigen::Vector3d& direction);
 
-/// Volume (m^3) and centre of mass (in the mesh frame, uniform density) of a
-/// closed mesh, by the divergence theorem.
+/// Volume (m^3), centre of mass (in the mesh frame, uniform density) and the
+/// inertia at unit density of a closed mesh, by the divergence theorem.
 struct MassProperties {
   double volume_m3 = 0.0;
   Eigen::Vector3d center_of_mass = Eigen::Vector3d::Zero();
+  /// Inertia tensor about the centre of mass, axes of the mesh frame, at a
+  /// density of 1 kg/m^3 (kg m^2 per kg/m^3, i.e. m^5): times the density.
+  Eigen::Matrix3d inertia_unit_density = Eigen::Matrix3d::Zero();
 };
 MassProperties ComputeMassProperties(const TriangleMesh& mesh);
 

@@ -805,6 +805,172 @@ TriangleMesh LoadStl(const std::string& path, const std::string& data) {
 }
 
 // ---------------------------------------------------------------------------
+// ViSP .cao
+
+namespace {
+
+// The .cao body as numbers with their line numbers: comments (# to the end of
+// the line) and attributes (tokens with '=', e.g. name=side) left out.
+class CaoTokens {
+ public:
+  CaoTokens(const std::string& path, const std::string& data) : path_(path) {
+    Lines lines(data);
+    const char* begin = nullptr;
+    const char* end = nullptr;
+    while (lines.Next(&begin, &end)) {
+      const char* hash =
+          static_cast<const char*>(std::memchr(begin, '#', static_cast<std::size_t>(end - begin)));
+      LineTokens tokens(begin, hash ? hash : end);
+      std::string_view token;
+      while (tokens.Next(&token)) {
+        if (token.find('=') != std::string_view::npos) continue;
+        tokens_.emplace_back(std::string(token), lines.number());
+      }
+    }
+  }
+
+  bool Done() const { return next_ >= tokens_.size(); }
+  std::size_t Line() const {
+    return next_ < tokens_.size() ? tokens_[next_].second
+                                  : (tokens_.empty() ? 1 : tokens_.back().second);
+  }
+  const std::string& Peek() const { return tokens_.at(next_).first; }
+  void Skip() { ++next_; }
+
+  double Number(const char* what) {
+    if (Done()) Fail(path_, "file is truncated: expected " + std::string(what));
+    const auto& [text, line] = tokens_[next_];
+    double value = 0.0;
+    const char* end = text.data() + text.size();
+    if (ParseDouble(text.data(), end, &value) != end || !std::isfinite(value)) {
+      Fail(path_, LinePrefix(line) + "expected " + std::string(what) + ", found '" + text + "'");
+    }
+    ++next_;
+    return value;
+  }
+
+  std::int64_t Integer(const char* what, std::int64_t min, std::int64_t max) {
+    const std::size_t line = Line();
+    const double value = Number(what);
+    if (value != std::floor(value) || value < static_cast<double>(min) ||
+        value > static_cast<double>(max)) {
+      Fail(path_, LinePrefix(line) + "expected " + std::string(what) + " in [" +
+                      std::to_string(min) + ", " + std::to_string(max) + "], found " +
+                      FormatNumber(value));
+    }
+    return static_cast<std::int64_t>(value);
+  }
+
+ private:
+  std::string path_;
+  std::vector<std::pair<std::string, std::size_t>> tokens_;
+  std::size_t next_ = 0;
+};
+
+}  // namespace
+
+TriangleMesh LoadCao(const std::string& path, const std::string& data) {
+  CaoTokens tokens(path, data);
+  if (tokens.Done() || tokens.Peek() != "V1") {
+    if (!tokens.Done() && tokens.Peek().rfind("load(", 0) == 0) {
+      Fail(path, LinePrefix(tokens.Line()) +
+                     "load(...) includes another .cao file, which import does not follow: "
+                     "merge the files into one");
+    }
+    Fail(path, "not a ViSP .cao file (it does not start with 'V1')");
+  }
+  tokens.Skip();
+  constexpr std::int64_t kMaxCount = 50000000;
+  TriangleMesh mesh;
+  const std::int64_t points = tokens.Integer("the number of 3D points", 0, kMaxCount);
+  for (std::int64_t i = 0; i < points; ++i) {
+    Eigen::Vector3d p;
+    for (int a = 0; a < 3; ++a) p[a] = tokens.Number("a point coordinate");
+    mesh.vertices.push_back(p);
+  }
+  const std::int64_t last_point = points - 1;
+  // 3D lines: point pairs; a line is kept only as a side of a face.
+  const std::int64_t line_count = tokens.Integer("the number of 3D lines", 0, kMaxCount);
+  std::vector<std::array<int, 2>> lines;
+  std::vector<std::size_t> line_at;  // the file line of each, for messages
+  for (std::int64_t i = 0; i < line_count; ++i) {
+    line_at.push_back(tokens.Line());
+    const auto a = static_cast<int>(tokens.Integer("a 3D line's first point", 0, last_point));
+    const auto b = static_cast<int>(tokens.Integer("a 3D line's second point", 0, last_point));
+    lines.push_back({a, b});
+  }
+  std::vector<char> line_used(lines.size(), 0);
+  std::vector<int> polygon;
+  const std::int64_t faces_from_lines =
+      tokens.Integer("the number of faces from 3D lines", 0, kMaxCount);
+  for (std::int64_t f = 0; f < faces_from_lines; ++f) {
+    const std::size_t at = tokens.Line();
+    const std::int64_t n = tokens.Integer("a face's number of lines", 3, kMaxCount);
+    std::vector<std::array<int, 2>> sides;
+    for (std::int64_t k = 0; k < n; ++k) {
+      const auto l = static_cast<std::size_t>(
+          tokens.Integer("a 3D line index", 0, static_cast<std::int64_t>(lines.size()) - 1));
+      line_used[l] = 1;
+      sides.push_back(lines[l]);
+    }
+    // Chain the sides into one closed polygon.
+    polygon.assign({sides[0][0], sides[0][1]});
+    sides.erase(sides.begin());
+    while (!sides.empty()) {
+      const auto next = std::find_if(sides.begin(), sides.end(), [&](const auto& side) {
+        return side[0] == polygon.back() || side[1] == polygon.back();
+      });
+      if (next == sides.end()) {
+        Fail(path, LinePrefix(at) + "face " + std::to_string(f) +
+                       " from 3D lines: its lines do not form one closed loop");
+      }
+      polygon.push_back((*next)[0] == polygon.back() ? (*next)[1] : (*next)[0]);
+      sides.erase(next);
+    }
+    if (polygon.back() != polygon.front()) {
+      Fail(path, LinePrefix(at) + "face " + std::to_string(f) +
+                     " from 3D lines: its lines do not form one closed loop");
+    }
+    polygon.pop_back();
+    AddFan(polygon.data(), polygon.size(), &mesh.triangles);
+  }
+  for (std::size_t l = 0; l < lines.size(); ++l) {
+    if (!line_used[l]) {
+      Fail(path, LinePrefix(line_at[l]) + "3D line " + std::to_string(l) +
+                     " bounds no face: a line alone has no surface to grasp or to see in "
+                     "depth; give the object as polygon faces");
+    }
+  }
+  const std::int64_t faces_from_points =
+      tokens.Integer("the number of faces from 3D points", 0, kMaxCount);
+  for (std::int64_t f = 0; f < faces_from_points; ++f) {
+    const std::int64_t n = tokens.Integer("a face's number of points", 3, kMaxCount);
+    polygon.clear();
+    for (std::int64_t k = 0; k < n; ++k) {
+      polygon.push_back(static_cast<int>(tokens.Integer("a point index", 0, last_point)));
+    }
+    AddFan(polygon.data(), polygon.size(), &mesh.triangles);
+  }
+  // Cylinders and circles (optional sections at the end): no polygon faces.
+  const char* primitives[] = {"3D cylinder", "3D circle"};
+  for (const char* primitive : primitives) {
+    if (tokens.Done()) break;
+    const std::int64_t count = tokens.Integer(primitive, 0, kMaxCount);
+    if (count > 0) {
+      // Named by the line of the first one.
+      Fail(path, LinePrefix(tokens.Line()) + "a " + primitive + " (" + std::to_string(count) +
+                     " in the file): cylinders and circles are not polygon faces; model the "
+                     "part as a polygon mesh (e.g. export it as STL or PLY) and import that");
+    }
+  }
+  if (!tokens.Done()) {
+    Fail(path,
+         LinePrefix(tokens.Line()) + "unexpected '" + tokens.Peek() + "' after the last section");
+  }
+  return mesh;
+}
+
+// ---------------------------------------------------------------------------
 // PLY writer
 
 void SavePly(const TriangleMesh& mesh, const std::string& path) {

@@ -20,6 +20,9 @@ std::string FormatNumber(double value);
 TriangleMesh LoadPly(const std::string& path, const std::string& data);  // ASCII or binary
 TriangleMesh LoadObj(const std::string& path, const std::string& data);
 TriangleMesh LoadStl(const std::string& path, const std::string& data);  // ASCII or binary
+/// ViSP's .cao (V1): faces from points and faces from lines, fan-triangulated;
+/// cylinders, circles and lines that bound no face are refused by line.
+TriangleMesh LoadCao(const std::string& path, const std::string& data);
 
 /// SaveMeshPly: binary little-endian PLY, double coordinates, colours if any.
 void SavePly(const TriangleMesh& mesh, const std::string& path);

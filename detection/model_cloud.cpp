@@ -10,41 +10,8 @@
 
 #include "core/random.h"
 #include "core/transforms.h"
-#include "detection/icp.h"
 
 namespace aerograsp {
-namespace {
-
-Eigen::Matrix3d AxisRotation(int axis, double angle_rad) {
-  return Eigen::AngleAxisd(angle_rad, Eigen::Vector3d::Unit(axis)).toRotationMatrix();
-}
-
-/// True when rotating the model by oRo' maps it onto itself.
-bool IsSymmetry(const ModelCloud& model, const Eigen::Matrix3d& R, double tolerance_m) {
-  const Eigen::Matrix3f Rf = R.cast<float>();
-  const std::size_t n = model.points_o.size();
-  const std::size_t step = std::max<std::size_t>(1, n / 800);
-  std::size_t tested = 0, good = 0;
-  for (std::size_t i = 0; i < n; i += step) {
-    const Eigen::Vector3f p = Rf * model.points_o[i];
-    const Eigen::Vector3f normal = Rf * model.normals_o[i];
-    ++tested;
-    const int j = model.Nearest(p);
-    if (j < 0) continue;
-    const float plane = std::abs((p - model.points_o[j]).dot(model.normals_o[j]));
-    const float dist = (p - model.points_o[j]).norm();
-    if (plane < tolerance_m && dist < 3.0 * tolerance_m + model.cell_m &&
-        normal.dot(model.normals_o[j]) > 0.8f &&
-        (!model.has_colors() || ColorDistance(model.colors[i], model.colors[j]) < 60.0f)) {
-      ++good;
-    }
-  }
-  // True symmetries lose ~5-10 % at edges and colour seams (approximate nearest points);
-  // other rotations lose more than half.
-  return tested > 0 && good >= 0.85 * tested;
-}
-
-}  // namespace
 
 ModelCloud BuildModelCloud(const TriangleMesh& mesh_o, const ModelCloudOptions& options) {
   if (!(options.spacing_m >= 0.001 && options.spacing_m <= 0.05) ||
@@ -141,33 +108,8 @@ ModelCloud BuildModelCloud(const TriangleMesh& mesh_o, const ModelCloudOptions& 
       }
     }
   }
-  model.symmetry = FindSymmetries(model);
+  model.symmetry = FindMeshSymmetries(mesh_o);
   return model;
-}
-
-ObjectSymmetry FindSymmetries(const ModelCloud& model, double tolerance_m) {
-  ObjectSymmetry symmetry;
-  symmetry.rotations.push_back(Eigen::Matrix3d::Identity());
-  for (int axis = 0; axis < 3; ++axis) {
-    if (IsSymmetry(model, AxisRotation(axis, 0.61), tolerance_m) &&
-        IsSymmetry(model, AxisRotation(axis, 1.93), tolerance_m)) {
-      symmetry.continuous_axis_o = Eigen::Vector3d::Unit(axis);
-      break;
-    }
-  }
-  for (int axis = 0; axis < 3; ++axis) {
-    if (symmetry.continuous_axis_o &&
-        symmetry.continuous_axis_o->dot(Eigen::Vector3d::Unit(axis)) > 0.5)
-      continue;
-    const bool quarter = IsSymmetry(model, AxisRotation(axis, M_PI / 2), tolerance_m);
-    for (int k = 1; k < 4; ++k) {
-      if (k != 2 && !quarter) continue;
-      const Eigen::Matrix3d R = AxisRotation(axis, k * M_PI / 2);
-      if (k == 2 && !quarter && !IsSymmetry(model, R, tolerance_m)) continue;
-      symmetry.rotations.push_back(R);
-    }
-  }
-  return symmetry;
 }
 
 namespace {

@@ -13,16 +13,9 @@
 #include <vector>
 
 #include "core/mesh.h"
+#include "core/symmetry.h"
 
 namespace aerograsp {
-
-/// The rotations that map the object onto itself (shape and colour).
-struct ObjectSymmetry {
-  /// Discrete symmetries oRo' (always includes the identity first).
-  std::vector<Eigen::Matrix3d> rotations;
-  /// Unit axis in o about which any rotation is a symmetry (a pipe), if any.
-  std::optional<Eigen::Vector3d> continuous_axis_o;
-};
 
 struct ModelCloud {
   std::vector<Eigen::Vector3f> points_o;   ///< m, frame o
@@ -73,15 +66,9 @@ struct ModelCloudOptions {
 
 /// Samples the mesh (area-weighted, colours interpolated like the renderer when
 /// the mesh has one per vertex; none otherwise),
-/// builds the grid and finds the symmetries.
+/// builds the grid and finds the symmetries (FindMeshSymmetries).
 /// @throws std::invalid_argument for a mesh with no area or options out of range.
 ModelCloud BuildModelCloud(const TriangleMesh& mesh_o, const ModelCloudOptions& options = {});
-
-/// Tests candidate rotations (half and quarter turns about the axes of o, and
-/// any turn about an axis) against the model: a candidate is a symmetry when the
-/// rotated points land on the surface (mean distance under `tolerance_m`) with
-/// the same colour (when the model has colours).
-ObjectSymmetry FindSymmetries(const ModelCloud& model, double tolerance_m = 0.002);
 
 /// Rotation error (rad) between an estimate and the truth of cRo, taken over
 /// the symmetries: min over S of angle(R_true^-1 * R_est * S); with a

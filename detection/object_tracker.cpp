@@ -118,6 +118,7 @@ ObjectTracker::ObjectTracker(const ObjectModel& object, const PerceptionOptions&
       monitor_(options.track) {
   options_.Validate("perception options", "perception.");
   model_ = BuildModelCloud(object.mesh_o, options_.model);
+  model_.symmetry = object.symmetry;  // object.yaml's group when it has one
   min_half_extent_m_ = 0.5 * object.dimensions_m.minCoeff();
   if (!(min_half_extent_m_ > 0.0))
     min_half_extent_m_ = 0.5 * (object.mesh_o.BoundsMax() - object.mesh_o.BoundsMin()).minCoeff();

@@ -15,9 +15,10 @@ namespace aerograsp {
 /// axis, z down like w) in the world.
 Eigen::Isometry3d PipeFrame(const SceneConfig& scene);
 
-/// wMo of an object lying on top of the pipe `along_m` from its centre, its
-/// frame o's z up (the object's lowest point `half_height_m` below o) and its x
-/// along the pipe turned by `yaw_rad`.
+/// The pose in w of the centre of an object lying on top of the pipe `along_m`
+/// from the pipe's centre, with o's axes (z up, x along the pipe turned by
+/// `yaw_rad`), its lowest point `half_height_m` below that centre. The object's
+/// wMo is PlaceByCentre of it (core/object_model.h).
 Eigen::Isometry3d ObjectOnPipe(const SceneConfig& scene, double half_height_m, double along_m,
                                double yaw_rad);
 

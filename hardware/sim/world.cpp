@@ -96,7 +96,8 @@ Eigen::Isometry3d World::wMh() const {
   const Eigen::Isometry3d wMc_now = wMc();
   Eigen::Isometry3d wMh_now = wMc_now;
   if (occluder_active()) {
-    const Eigen::Vector3d to_object_w = wMo_.translation() - wMc_now.translation();
+    const Eigen::Vector3d to_object_w =
+        wMo_ * PlacementCentre(object_.mesh_o) - wMc_now.translation();
     wMh_now.translation() += config_.occluder.distance_m * to_object_w.normalized();
   } else {
     wMh_now.translation() -= wMc_now.linear().col(2);
@@ -107,9 +108,10 @@ Eigen::Isometry3d World::wMh() const {
 World::~World() = default;
 
 Eigen::Isometry3d World::ObjectOnPipe(double along_m) const {
-  const double half_height = -object_.mesh_o.BoundsMin().z();  // o: z up
-  return aerograsp::ObjectOnPipe(config_.scene, half_height, along_m,
-                                 config_.object.yaw_on_pipe_rad);
+  const double half_height = 0.5 * object_.dimensions_m.z();  // o: z up
+  return PlaceByCentre(
+      aerograsp::ObjectOnPipe(config_.scene, half_height, along_m, config_.object.yaw_on_pipe_rad),
+      object_.mesh_o);
 }
 
 Eigen::Isometry3d World::wMe(Side side) const {
@@ -174,15 +176,18 @@ void World::SetGripper(Side side, GripperCommand command) {
       // else to the ground below it (no physics).
       object_free_ = true;
       const SceneConfig& scene = config_.scene;
-      const Eigen::Vector3d p_p = PipeFrame(scene).inverse() * wMo_.translation();  // z down
+      const Eigen::Vector3d p_p =
+          PipeFrame(scene).inverse() * (wMo_ * PlacementCentre(object_.mesh_o));  // z down
       if (std::abs(p_p.x()) <= 0.5 * scene.pipe_length_m &&
           std::abs(p_p.y()) <= scene.pipe_radius_m && p_p.z() < 0.0) {
         wMo_ = ObjectOnPipe(p_p.x());
       } else {
         const double yaw = std::atan2(wMo_.linear()(1, 0), wMo_.linear()(0, 0));
-        wMo_ = MakeTransform(Eigen::Vector3d(wMo_.translation().x(), wMo_.translation().y(),
-                                             object_.mesh_o.BoundsMin().z()),
-                             Eigen::Vector3d(M_PI, 0.0, yaw));
+        const Eigen::Vector3d centre_w = wMo_ * PlacementCentre(object_.mesh_o);
+        wMo_ = PlaceByCentre(MakeTransform(Eigen::Vector3d(centre_w.x(), centre_w.y(),
+                                                           -0.5 * object_.dimensions_m.z()),
+                                           Eigen::Vector3d(M_PI, 0.0, yaw)),
+                             object_.mesh_o);
       }
     }
   }

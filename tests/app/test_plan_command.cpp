@@ -6,7 +6,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "app/object_command.h"
 #include "app/plan_command.h"
+#include "core/config.h"
 #include "core/mesh.h"
 #include "tests/common/test_meshes.h"
 
@@ -90,8 +92,8 @@ TEST_F(PlanCommandTest, MissingOpenOrUnknownMeshNamesTheFile) {
   try {
     Run();
     FAIL();
-  } catch (const MeshError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("nothing.ply"));
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("nothing.ply: no such file"));
   }
   TriangleMesh open = test::BoxMesh(Eigen::Vector3d::Constant(0.05));
   open.triangles.pop_back();
@@ -109,9 +111,40 @@ TEST_F(PlanCommandTest, MissingOpenOrUnknownMeshNamesTheFile) {
   try {
     Run();
     FAIL();
-  } catch (const MeshError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("teapot: not a shipped object (crawler"));
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("teapot: no such file and no object of that name (shipped: "
+                                    "crawler, pipe, u_shape"));
   }
+}
+
+TEST_F(PlanCommandTest, AnImportedBoxWhoseOriginIsACornerIsPlacedByItsCentre) {
+  // A plain box mesh as CAD tools write it: origin at a corner, quads, no colours.
+  const std::string obj = (dir_ / "corner_box.obj").string();
+  {
+    std::ofstream out(obj);
+    for (int i = 0; i < 8; ++i) {
+      out << "v " << ((i & 1) ? 0.2 : 0.0) << " " << ((i & 2) ? 0.08 : 0.0) << " "
+          << ((i & 4) ? 0.06 : 0.0) << "\n";
+    }
+    out << "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 2 4 8 6\nf 4 3 7 8\nf 3 1 5 7\n";
+  }
+  ObjectImportOptions import;
+  import.mesh_path = obj;
+  import.name = "corner_box";
+  import.objects_dir = (dir_ / "objects").string();
+  std::ostringstream import_out;
+  RunObjectImport(import, import_out);
+  ASSERT_EQ(setenv("AEROGRASP_OBJECTS_DIR", import.objects_dir.c_str(), 1), 0);
+  options_.object = "corner_box";
+  const std::string out = Run();
+  unsetenv("AEROGRASP_OBJECTS_DIR");
+  EXPECT_THAT(out,
+              HasSubstr("Placed with its bounding-box centre ([0.1000 0.0400 0.0300] m in o)"));
+  const nlohmann::json j = Summary();
+  EXPECT_TRUE(j["feasible"].get<bool>()) << out;
+  EXPECT_GT(j["dual_pairs"].get<int>(), 0);
+  // dMo puts o's origin (the corner) off the requested centre by the rotated half extents.
+  EXPECT_NEAR(j["dMo_xyz_m"][2].get<double>(), 0.46 + 0.03, 1e-9);
 }
 
 }  // namespace

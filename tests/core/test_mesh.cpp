@@ -362,7 +362,7 @@ TEST(MeshErrorTest, UnknownExtensionIsNamed) {
   TempDir dir;
   const std::string path = dir.Write("x.foo", "whatever");
   EXPECT_EQ(ErrorOf([&] { LoadMesh(path); }),
-            path + ": unknown mesh format '.foo' (expected .ply, .obj or .stl)");
+            path + ": unknown mesh format '.foo' (expected .ply, .obj, .stl or .cao)");
 }
 
 TEST(MeshErrorTest, TruncatedBinaryStlSaysHowManyTrianglesItHolds) {

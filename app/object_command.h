@@ -1,0 +1,44 @@
+// `aerograsp object import MESH --name NAME`: a user's mesh (PLY, OBJ, STL or
+// ViSP .cao) checked, repaired where that is honest, measured (mass
+// properties, rotational symmetry) and stored as an object folder every
+// command finds by name (docs/objects.md).
+#pragma once
+
+#include <ostream>
+#include <string>
+
+#include "core/symmetry.h"
+
+namespace aerograsp {
+
+/// The import's tuned values (data/config/object_import.yaml documents each).
+struct ObjectImportConfig {
+  double min_extent_m = 0.01;
+  double max_extent_m = 1.5;
+  double min_thickness_m = 0.001;
+  double merge_distance_ratio = 1e-6;
+  SymmetryOptions symmetry;
+
+  /// @throws ConfigError naming the file and key of a value out of range.
+  void Validate(const std::string& source) const;
+  /// @throws ConfigError for an unreadable file, an unknown key or a bad value.
+  static ObjectImportConfig Load(const std::string& path);
+};
+
+struct ObjectImportOptions {
+  std::string mesh_path;
+  std::string name;
+  std::string units = "m";  ///< the file's length unit: m, cm or mm
+  double mass_kg = 0.0;     ///< 0: from the volume at ObjectModel::kDefaultDensity
+  std::string objects_dir;  ///< empty: DefaultObjectImportDir()
+  std::string config_path;  ///< empty: data/config/object_import.yaml
+  bool overwrite = false;   ///< replace an object of that name in objects_dir
+};
+
+/// Imports the mesh and prints what was checked, repaired and found.
+/// @returns the folder written (objects_dir/NAME).
+/// @throws MeshError / ConfigError naming the file and what is wrong; nothing
+/// is left in objects_dir then.
+std::string RunObjectImport(const ObjectImportOptions& options, std::ostream& out);
+
+}  // namespace aerograsp
