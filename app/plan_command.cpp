@@ -86,7 +86,7 @@ std::string ExplainNoGrasp(const PlanResult& plan, const ContactSet& contacts,
     why << fmt::format("{} arm: none of {} contact pairs is feasible ({}", SideName(side),
                        s.candidates, DescribeReasons(s));
     why << fmt::format("); the object centre is {:.3f} m from its shoulder, reach {:.3f} m. ",
-                       (dMo.translation() - shoulder_d).norm(), arm.StretchedReach());
+                       (dMo * PlacementCentre(mesh) - shoulder_d).norm(), arm.StretchedReach());
   }
   if (why.str().empty()) {
     why << fmt::format(

@@ -148,7 +148,20 @@ struct SurfacePoint {
   Vec3 p;
   Vec3 normal = Vec3::Zero();  ///< zero for a vertex (its normal is not defined)
   Vec3 color = Vec3::Zero();   ///< RGB 0..255 when the mesh has colours
+  /// Its colour is compared: a vertex, or a sample of a triangle whose corners
+  /// agree in colour (across a colour seam the interpolated colour depends on
+  /// how the quad was split, which a symmetry need not preserve).
+  bool compare_color = true;
 };
+
+constexpr double kColorTolerance = 60.0;  // RGB distance of one colour, 0..255 units
+
+/// The colour of corner k of triangle t.
+Vec3 Corner(const TriangleMesh& mesh, int t, int k) {
+  const auto& c =
+      mesh.colors[static_cast<std::size_t>(mesh.triangles[static_cast<std::size_t>(t)][k])];
+  return Vec3(c[0], c[1], c[2]);
+}
 
 Vec3 ColorAt(const TriangleMesh& mesh, int t, const Vec3& w) {
   Vec3 color = Vec3::Zero();
@@ -212,7 +225,14 @@ class SymmetryTester {
             w[2] * mesh.vertices[static_cast<std::size_t>(tri[2])];
       s.normal = mesh.TriangleNormal(t);
       if (s.normal.isZero()) continue;
-      if (colored_) s.color = ColorAt(mesh, static_cast<int>(t), w);
+      if (colored_) {
+        s.color = ColorAt(mesh, static_cast<int>(t), w);
+        for (int k = 0; k < 3; ++k) {
+          s.compare_color = s.compare_color && (Corner(mesh, static_cast<int>(t), k) -
+                                                Corner(mesh, static_cast<int>(t), (k + 1) % 3))
+                                                       .norm() < kColorTolerance;
+        }
+      }
       samples.push_back(s);
     }
     // Interleaved, so that a wrong rotation fails within the first few points.
@@ -232,7 +252,12 @@ class SymmetryTester {
       const int t = grid_.Nearest(q, &w);
       bool ok = t >= 0;
       if (ok && !s.normal.isZero()) ok = (R * s.normal).dot(grid_.normal(t)) > 0.5;
-      if (ok && colored_) ok = (ColorAt(mesh_, t, w) - s.color).norm() < 60.0;
+      if (ok && colored_ && s.compare_color) {
+        // The colour there, or one of its triangle's corners' (near a seam).
+        double best = (ColorAt(mesh_, t, w) - s.color).norm();
+        for (int k = 0; k < 3; ++k) best = std::min(best, (Corner(mesh_, t, k) - s.color).norm());
+        ok = best < kColorTolerance;
+      }
       if (!ok && ++failures > allowed_failures_) return false;
     }
     return true;

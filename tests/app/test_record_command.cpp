@@ -5,7 +5,9 @@
 #include <sstream>
 
 #include "app/record_command.h"
+#include "app/replay_command.h"
 #include "core/data_dir.h"
+#include "core/shape_mesh.h"
 #include "hardware/sequence.h"
 #include "hardware/sim/sim_devices.h"
 
@@ -92,9 +94,39 @@ TEST_F(RecordCommandTest, UnknownObjectListsTheShippedOnes) {
     Run();
     FAIL() << "expected an error";
   } catch (const std::exception& e) {
-    EXPECT_THAT(e.what(), HasSubstr("teapot: no such file and no shipped object of that name"));
+    EXPECT_THAT(e.what(), HasSubstr("teapot: no such file and no object of that name"));
     EXPECT_THAT(e.what(), HasSubstr("crawler, pipe, u_shape"));
   }
+}
+
+TEST_F(RecordCommandTest, ASequenceOfAMeshFileReplaysWithoutNamingTheObjectAgain) {
+  // A user's mesh given by a relative path, its origin at a corner of its box.
+  const fs::path mesh_dir = fs::path(folder_ + "_mesh");
+  fs::create_directories(mesh_dir);
+  TriangleMesh box = MakeBoxMesh(Eigen::Vector3d(0.2, 0.08, 0.06));
+  for (Eigen::Vector3d& v : box.vertices) v += Eigen::Vector3d(0.1, 0.04, 0.03);
+  SaveMeshPly(box, (mesh_dir / "corner_box.ply").string());
+  const fs::path cwd = fs::current_path();
+  fs::current_path(mesh_dir);
+  options_.object = "corner_box.ply";
+  options_.motion = "static";
+  options_.frames = 3;
+  Run();
+  fs::current_path(cwd);
+
+  const SequenceInfo info = ReplayCamera(folder_).info();
+  EXPECT_EQ(info.object, fs::absolute(mesh_dir / "corner_box.ply").lexically_normal().string());
+  ReplayCommandOptions replay;
+  replay.sequence = folder_;
+  replay.out_dir = folder_ + "_replay";
+  replay.use_detector = false;
+  replay.run_peer = false;
+  replay.init_from_truth = true;
+  std::ostringstream out, progress;
+  RunReplayCommand(replay, out, progress);  // no --object
+  EXPECT_THAT(out.str(), HasSubstr("object corner_box"));
+  fs::remove_all(mesh_dir);
+  fs::remove_all(replay.out_dir);
 }
 
 }  // namespace
