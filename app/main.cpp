@@ -356,7 +356,8 @@ int main(int argc, char** argv) {
   // ---- end mission ----
   // ---- object import: a user's own object ----
   aerograsp::ObjectImportOptions object_import;
-  CLI::App* object_cmd = app.add_subcommand("object", "Manage objects: import a user's mesh");
+  CLI::App* object_cmd =
+      app.add_subcommand("object", "Bring in a user's object (import) and describe one (show)");
   object_cmd->require_subcommand(1);
   CLI::App* import_cmd = object_cmd->add_subcommand(
       "import",
@@ -379,6 +380,12 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   import_cmd->add_flag("--overwrite", object_import.overwrite,
                        "Replace an object of that name in the folder");
+  std::string object_show;
+  bool object_show_folder = false;
+  CLI::App* show_cmd = object_cmd->add_subcommand(
+      "show", "Where an object is and what it is (mesh, mass, symmetry, detector)");
+  show_cmd->add_option("object", object_show, "Object name or path")->required();
+  show_cmd->add_flag("--folder", object_show_folder, "Print the object's folder only");
   // ---- end object import ----
   // ---- bench: perception and servo against tags on a test stand ----
   aerograsp::BenchCommandOptions bench;
@@ -469,6 +476,7 @@ int main(int argc, char** argv) {
     if (*dataset_cmd) aerograsp::RunDatasetCommand(dataset, std::cout, std::cerr);
     if (*mission_cmd) aerograsp::RunMissionCommand(mission, std::cout, std::cerr);
     if (*import_cmd) aerograsp::RunObjectImport(object_import, std::cout);
+    if (*show_cmd) aerograsp::RunObjectShow(object_show, object_show_folder, std::cout);
     if (*bench_cmd) {
       if (!bench_board_pose.empty())
         bench.oMt = aerograsp::PoseFromValues(bench_board_pose, "--board-pose");

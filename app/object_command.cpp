@@ -292,4 +292,37 @@ std::string RunObjectImport(const ObjectImportOptions& options, std::ostream& ou
   return folder.string();
 }
 
+void RunObjectShow(const std::string& what, bool folder_only, std::ostream& out) {
+  const ObjectModel model = ObjectModel::Load(what);
+  const fs::path source(model.source);
+  const bool is_folder = source.filename() == "object.yaml";
+  if (folder_only) {
+    if (!is_folder) {
+      throw ConfigError(model.source +
+                        ": a mesh file, not an object folder: import it first "
+                        "(aerograsp object import MESH --name NAME)");
+    }
+    out << source.parent_path().string() << "\n";
+    return;
+  }
+  const Eigen::Vector3d& d = model.dimensions_m;
+  out << fmt::format("object {}: {}\n", model.name, model.source);
+  out << fmt::format(
+      "  mesh: {} vertices, {} triangles{}; {:.4f} x {:.4f} x {:.4f} m, "
+      "bounding-box centre {} m in o\n",
+      model.mesh_o.vertices.size(), model.mesh_o.triangles.size(),
+      model.mesh_o.colors.empty() ? ", no colours" : ", vertex colours", d.x(), d.y(), d.z(),
+      Vec(PlacementCentre(model.mesh_o), "{:.4f}"));
+  out << fmt::format("  mass {:.4g} kg{}, centre of mass {} m\n", model.mass_kg,
+                     model.mass_estimated ? " (estimated from the volume)" : "",
+                     Vec(model.center_of_mass_o, "{:.4f}"));
+  out << "  symmetry: " << DescribeSymmetry(model.symmetry) << "\n";
+  const fs::path detector = source.parent_path() / "detector.onnx";
+  out << "  detector: "
+      << (is_folder && fs::exists(detector)
+              ? detector.string()
+              : "none (train one: scripts/train_detectors.sh " + model.reference + ")")
+      << "\n";
+}
+
 }  // namespace aerograsp

@@ -1,7 +1,7 @@
 // `aerograsp object import MESH --name NAME`: a user's mesh (PLY, OBJ, STL or
 // ViSP .cao) checked, repaired where that is honest, measured (mass
 // properties, rotational symmetry) and stored as an object folder every
-// command finds by name (docs/objects.md).
+// command finds by name (docs/objects.md); `aerograsp object show NAME`.
 #pragma once
 
 #include <ostream>
@@ -40,5 +40,12 @@ struct ObjectImportOptions {
 /// @throws MeshError / ConfigError naming the file and what is wrong; nothing
 /// is left in objects_dir then.
 std::string RunObjectImport(const ObjectImportOptions& options, std::ostream& out);
+
+/// `aerograsp object show NAME`: where the object is and what it is (mesh,
+/// mass, symmetry, detector). `folder_only`: print the object's folder alone
+/// (for scripts).
+/// @throws ConfigError / MeshError as ObjectModel::Load; ConfigError when
+/// `folder_only` and the object is a bare mesh file, not an object folder.
+void RunObjectShow(const std::string& what, bool folder_only, std::ostream& out);
 
 }  // namespace aerograsp

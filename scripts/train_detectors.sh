@@ -1,10 +1,14 @@
 #!/usr/bin/env bash
-# Reproduces the shipped detectors data/objects/NAME/detector.onnx: renders the
-# labelled training set with `aerograsp dataset` (C++, the simulator's renderer),
-# trains with Debian's python3-torch on one thread, exports ONNX (opset 11).
+# Trains an object's detector, OBJECT_FOLDER/detector.onnx (the shipped ones in
+# data/objects/NAME, an imported one in its folder: `aerograsp object show NAME`):
+# renders the labelled training set with `aerograsp dataset` (C++, the
+# simulator's renderer), trains with Debian's python3-torch on one thread,
+# exports ONNX (opset 11), and prints the training time and the recall on the
+# held-out renders (300 images of another seed).
 # Fixed seeds: the same build gives the same training set; torch training is
 # seeded too (single thread, deterministic algorithms).
 # Usage: scripts/train_detectors.sh [--install-only] [OBJECT...]   (default: crawler u_shape pipe)
+#        e.g. scripts/train_detectors.sh my_bracket   (an object brought in with `object import`)
 # Environment: BUILD_DIR (default build), WORK_DIR (default /tmp/aerograsp_train),
 #              COUNT (training images per object, default 3000; the pipe's 4000),
 #              EPOCHS (default 15; the pipe's 100).
@@ -38,6 +42,8 @@ EPOCHS=${EPOCHS:-}
 OBJECTS=("$@")
 [ ${#OBJECTS[@]} -eq 0 ] && OBJECTS=(crawler u_shape pipe)
 for object in "${OBJECTS[@]}"; do
+  # The object's folder (where every command looks for its detector); fails for an unknown name.
+  folder=$("$BUILD_DIR/app/aerograsp" object show "$object" --folder)
   dataset_args=() train_args=() epochs=15 count=3000
   if [ "$object" = pipe ]; then
     dataset_args=(--on-support 0.9) train_args=(--size-radius 1 --min-pixels 400 --min-coverage 0.05)
@@ -49,7 +55,15 @@ for object in "${OBJECTS[@]}"; do
     --count "$count" --seed 1000 --overwrite "${dataset_args[@]}"
   "$BUILD_DIR/app/aerograsp" dataset --object "$object" --out "$WORK_DIR/$object/val" \
     --count 300 --seed 2000 --overwrite "${dataset_args[@]}"
+  # Written beside the final file and moved once complete: no half-written detector.
+  log="$WORK_DIR/$object/train.log"
+  start=$(date +%s)
   # /usr/bin/python3: Debian's interpreter sees python3-torch (a pyenv python3 on PATH does not).
   /usr/bin/python3 tools/train_detector.py --data "$WORK_DIR/$object" --epochs "$epochs" --seed 7 \
-    "${train_args[@]}" --out "data/objects/$object/detector.onnx"
+    "${train_args[@]}" --out "$WORK_DIR/$object/detector.onnx" | tee "$log"
+  seconds=$(( $(date +%s) - start ))
+  mv "$WORK_DIR/$object/detector.onnx" "$folder/detector.onnx"
+  recall=$(grep -o 'val recall [0-9.]*' "$log" | tail -1 | cut -d' ' -f3)
+  echo "train_detectors: $object: $count training renders, $epochs epochs in ${seconds} s;" \
+    "recall ${recall:-?} on 300 held-out renders (seed 2000); wrote $folder/detector.onnx"
 done

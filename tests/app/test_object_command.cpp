@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 
 #include "app/object_command.h"
@@ -104,6 +105,23 @@ TEST_F(ObjectCommandTest, ACubeFromABinaryStlInMillimetresGetsItsGroupAndKeepsIt
   EXPECT_NEAR(model.mass_kg, 300.0 * 0.085 * 0.085 * 0.085, 1e-6);
   EXPECT_NEAR(model.inertia_kg_m2(0, 0), model.mass_kg * 2 * 0.085 * 0.085 / 12, 1e-8);
   EXPECT_TRUE(model.center_of_mass_o.isApprox(Eigen::Vector3d::Constant(0.0425), 1e-6));
+}
+
+TEST_F(ObjectCommandTest, ShowSaysWhereAnObjectIsAndWhatItIs) {
+  WriteBoxObj(Eigen::Vector3d(0.2, 0.1, 0.05), Path("box.obj"));
+  options_.mesh_path = Path("box.obj");
+  options_.name = "shown";
+  const std::string folder = RunObjectImport(options_, std::cout);
+  std::ostringstream out, path;
+  RunObjectShow(folder, false, out);
+  EXPECT_THAT(out.str(), HasSubstr("object shown: " + folder + "/object.yaml"));
+  EXPECT_THAT(out.str(), HasSubstr("bounding-box centre [0.1000, 0.0500, 0.0250] m in o"));
+  EXPECT_THAT(out.str(), HasSubstr("symmetry: 4 rotations"));
+  EXPECT_THAT(out.str(), HasSubstr("detector: none (train one: scripts/train_detectors.sh "));
+  RunObjectShow(folder, true, path);
+  EXPECT_EQ(path.str(), folder + "\n");
+  std::ostringstream ignored;
+  EXPECT_THROW(RunObjectShow(Path("box.obj"), true, ignored), ConfigError);
 }
 
 TEST_F(ObjectCommandTest, DuplicateVerticesOfATriangleSoupAreMerged) {
