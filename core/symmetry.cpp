@@ -458,6 +458,14 @@ ObjectSymmetry FindMeshSymmetries(const TriangleMesh& mesh, const SymmetryOption
   return symmetry;
 }
 
+Eigen::Isometry3d WithSymmetricRotation(const Eigen::Isometry3d& xMo, const Eigen::Matrix3d& xRo,
+                                        const ObjectSymmetry& symmetry) {
+  Eigen::Isometry3d result = Eigen::Isometry3d::Identity();
+  result.linear() = xRo;
+  result.translation() = xMo * symmetry.center_o - xRo * symmetry.center_o;
+  return result;
+}
+
 std::string DescribeSymmetry(const ObjectSymmetry& symmetry) {
   std::ostringstream out;
   out.precision(3);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -53,6 +54,12 @@ struct SymmetryOptions {
 /// colours), then the set is closed under composition.
 /// @throws std::invalid_argument for a mesh without area or bad options.
 ObjectSymmetry FindMeshSymmetries(const TriangleMesh& mesh, const SymmetryOptions& options = {});
+
+/// xMo with its rotation replaced by xRo, a symmetric equivalent of xMo's
+/// (e.g. ClosestSymmetricRotation's): the object's centre stays where xMo puts
+/// it, so the pose shows the same object in the same place whatever o's origin.
+Eigen::Isometry3d WithSymmetricRotation(const Eigen::Isometry3d& xMo, const Eigen::Matrix3d& xRo,
+                                        const ObjectSymmetry& symmetry);
 
 /// "24 rotations (a cube's group)", "continuous about (1, 0, 0) and a half turn
 /// across it", "none (the identity only)".

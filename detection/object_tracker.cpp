@@ -540,7 +540,9 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
       ekf_.Initialize(meas, stamp_s);
       gated_in_a_row_ = 0;
     } else {
-      meas.linear() = ClosestSymmetricRotation(meas.linear(), ekf_.fMo().linear(), model_.symmetry);
+      meas = WithSymmetricRotation(
+          meas, ClosestSymmetricRotation(meas.linear(), ekf_.fMo().linear(), model_.symmetry),
+          model_.symmetry);
       const EkfUpdate update = ekf_.Update(meas, R);
       report.nis = update.nis;
       if (update.accepted) {

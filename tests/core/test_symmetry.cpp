@@ -37,6 +37,25 @@ TEST(SymmetryTest, ACubeHasTwentyFourRotationsWhereverItsOriginIs) {
   EXPECT_THAT(DescribeSymmetry(s), HasSubstr("3 4-fold axes, 4 3-fold axes, 6 2-fold axes"));
 }
 
+TEST(SymmetryTest, ASymmetricPoseOfACornerOriginCubeShowsTheSameCube) {
+  const TriangleMesh cube =
+      test::BoxMesh(Eigen::Vector3d::Constant(0.1), Eigen::Vector3d::Constant(0.05));
+  const ObjectSymmetry s = FindMeshSymmetries(cube);
+  const Eigen::Isometry3d cMo = Eigen::Translation3d(0.1, 0.2, 0.8) *
+                                Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, -1, 2).normalized());
+  for (const Eigen::Matrix3d& S : s.rotations) {
+    const Eigen::Isometry3d turned = WithSymmetricRotation(cMo, cMo.linear() * S, s);
+    // Every corner lands on a corner of the cube where cMo shows it.
+    for (const Eigen::Vector3d& v : cube.vertices) {
+      double nearest = 1.0;
+      for (const Eigen::Vector3d& w : cube.vertices) {
+        nearest = std::min(nearest, (turned * v - cMo * w).norm());
+      }
+      EXPECT_LT(nearest, 1e-9);
+    }
+  }
+}
+
 TEST(SymmetryTest, ACubeTurnedOffItsAxesStillHasTwentyFour) {
   TriangleMesh cube;
   const Eigen::Isometry3d turned = Eigen::Translation3d(0.01, -0.02, 0.03) *
