@@ -483,15 +483,22 @@ TriangleMesh LoadPly(const std::string& path, const std::string& data) {
   std::vector<double> values;
   std::vector<int> polygon;
   for (const PlyElement& element : header.elements) {
-    // Reserve no more items than the file has bytes for (the count may be corrupt).
     std::size_t min_item_bytes = 0;
     for (const PlyProperty& property : element.properties) {
       min_item_bytes += header.format == PlyFormat::kAscii
                             ? 2
                             : SizeOf(property.is_list ? property.count_type : property.type);
     }
-    const std::size_t reserve =
-        std::min(element.count, data.size() / std::max<std::size_t>(1, min_item_bytes));
+    // A count the body cannot hold (a corrupt header) would otherwise spin or allocate.
+    const std::size_t body_bytes = data.size() - header.data_offset;
+    if (element.count > (body_bytes + 1) / std::max<std::size_t>(1, min_item_bytes) ||
+        (element.count > 0 && element.properties.empty())) {
+      Fail(path, "element '" + element.name + "' declares " + std::to_string(element.count) +
+                     " entries of " + std::to_string(element.properties.size()) +
+                     " properties, more than the " + std::to_string(body_bytes) +
+                     " bytes after the header hold (corrupt header or truncated file?)");
+    }
+    const std::size_t reserve = element.count;
     if (&element == vertex_element) {
       const int ix = FindProperty(element, {"x"});
       const int iy = FindProperty(element, {"y"});

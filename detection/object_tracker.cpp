@@ -88,15 +88,19 @@ void PerceptionOptions::Validate(const std::string& source, const std::string& p
           "must be >= 6 (a pose has 6 degrees of freedom)");
   Require(global.voxel_m > 0.0, "global.voxel_m", "must be > 0 m");
   Require(global.feature_radius_m > 0.0, "global.feature_radius_m", "must be > 0 m");
-  Require(global.max_iterations >= 1, "global.max_iterations", "must be >= 1");
-  Require(global.attempts >= 0, "global.attempts", "must be >= 0 (0: no feature matching)");
+  Require(global.max_iterations >= 1 && global.max_iterations <= 100000, "global.max_iterations",
+          "must be in [1, 100000]");
+  Require(global.attempts >= 0 && global.attempts <= 20, "global.attempts",
+          "must be in [0, 20] (0: no feature matching)");
   Require(global.work_per_frame >= 0 && global.work_per_frame <= 1000000000,
           "global.work_per_frame", "must be in [0, 1e9] pairings (0: no bound)");
   Require(global.attempts == 0 || global.work_per_frame == 0, "global.attempts",
           "must be 0 when global.work_per_frame bounds the search (feature matching's cost has "
           "no bound)");
-  Require(global.orientations >= 0, "global.orientations", "must be >= 0 (0: off)");
-  Require(global.refined_orientations >= 0, "global.refined_orientations", "must be >= 0");
+  Require(global.orientations >= 0 && global.orientations <= 1000, "global.orientations",
+          "must be in [0, 1000] (0: off)");
+  Require(global.refined_orientations >= 0 && global.refined_orientations <= 100,
+          "global.refined_orientations", "must be in [0, 100]");
   Require(global.inlier_fraction >= 0.0 && global.inlier_fraction <= 1.0, "global.inlier_fraction",
           "must be in [0, 1]");
   Require(ekf.accel_noise_mps2 > 0.0, "ekf.accel_noise_mps2", "must be > 0 m/s^2");

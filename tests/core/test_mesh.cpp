@@ -381,6 +381,25 @@ TEST(MeshErrorTest, TruncatedBinaryPlySaysWhereTheDataEnds) {
             path + ": file is truncated: data ends in face 6 of 12");
 }
 
+TEST(MeshErrorTest, PlyElementCountBeyondTheFileIsRefusedNotLoopedOver) {
+  TempDir dir;
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\n";
+  const std::string body = "end_header\n0 0 0\n0.1 0 0\n0 0.1 0\n3 0 1 2\n";
+  // 2^64 - 1 entries of nothing: each takes no byte, so the count is all that bounds the loop.
+  const std::string empty =
+      dir.Write("empty.ply", header + "element junk 18446744073709551615\n" + body);
+  EXPECT_EQ(ErrorOf([&] { LoadMesh(empty); }),
+            empty +
+                ": element 'junk' declares 18446744073709551615 entries of 0 properties, more "
+                "than the 30 bytes after the header hold (corrupt header or truncated file?)");
+  const std::string many =
+      dir.Write("many.ply", header + "element junk 1000000000000\nproperty uchar a\n" + body);
+  EXPECT_THAT(ErrorOf([&] { LoadMesh(many); }),
+              HasSubstr("element 'junk' declares 1000000000000 entries of 1 properties"));
+}
+
 TEST(MeshErrorTest, TruncatedAsciiStlNamesTheUnfinishedFacet) {
   TempDir dir;
   std::string stl = AsciiStlCube();

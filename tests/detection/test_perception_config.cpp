@@ -199,4 +199,15 @@ TEST_F(PerceptionConfigTest, TheMissionFileSearchesWithoutABound) {
 }
 
 }  // namespace
+TEST_F(PerceptionConfigTest, CountsThatDriveLoopsAreBoundedAbove) {
+  EXPECT_THAT(ErrorOf("global:\n  max_iterations: 2147483647\n"),
+              HasSubstr("perception.yaml: global.max_iterations: must be in [1, 100000]"));
+  EXPECT_THAT(ErrorOf("global:\n  attempts: 1000000\n"),
+              HasSubstr("perception.yaml: global.attempts: must be in [0, 20]"));
+  EXPECT_THAT(ErrorOf("global:\n  orientations: 1000000\n"),
+              HasSubstr("perception.yaml: global.orientations: must be in [0, 1000]"));
+  EXPECT_THAT(ErrorOf("global:\n  refined_orientations: 1000000\n"),
+              HasSubstr("perception.yaml: global.refined_orientations: must be in [0, 100]"));
+}
+
 }  // namespace aerograsp
