@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/stat.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -18,7 +19,7 @@ namespace {
 
 void MakeRaw(int fd, unsigned speed) {
   termios tio{};
-  if (tcgetattr(fd, &tio) != 0) return;  // not a tty (tests may pass a pipe); nothing to set
+  if (tcgetattr(fd, &tio) != 0) return;  // a character device that is no tty: nothing to set
   cfmakeraw(&tio);
   tio.c_cflag |= CLOCAL | CREAD;
   tio.c_cflag &= ~(CSTOPB | CRTSCTS | PARENB);
@@ -29,6 +30,15 @@ void MakeRaw(int fd, unsigned speed) {
     cfsetospeed(&tio, speed);
   }
   tcsetattr(fd, TCSANOW, &tio);
+}
+
+const char* FileKind(mode_t mode) {
+  if (S_ISREG(mode)) return "a regular file";
+  if (S_ISDIR(mode)) return "a folder";
+  if (S_ISFIFO(mode)) return "a pipe";
+  if (S_ISSOCK(mode)) return "a socket";
+  if (S_ISBLK(mode)) return "a block device";
+  return "not a character device";
 }
 
 int PollTimeoutMs(double timeout_s) {
@@ -78,9 +88,24 @@ SerialPort::SerialPort(const std::string& path, int baud, const std::string& dev
   if (speed == 0) {
     throw HardwareError(device + ": " + path + ": unsupported baud rate " + std::to_string(baud));
   }
+  // Only a character device (a serial adapter, a pty) is a port: a typo naming
+  // a regular file or a folder must not receive a single byte.
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    throw HardwareError(device + ": cannot open " + path + ": " + std::strerror(errno));
+  }
+  if (!S_ISCHR(st.st_mode)) {
+    throw HardwareError(device + ": " + path + " is " + FileKind(st.st_mode) +
+                        ", not a serial port (a character device such as /dev/ttyUSB0)");
+  }
   fd_ = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
   if (fd_ < 0) {
     throw HardwareError(device + ": cannot open " + path + ": " + std::strerror(errno));
+  }
+  if (::fstat(fd_, &st) != 0 || !S_ISCHR(st.st_mode)) {  // replaced since the stat
+    ::close(fd_);
+    fd_ = -1;
+    throw HardwareError(device + ": " + path + " is not a serial port (a character device)");
   }
   MakeRaw(fd_, speed);
   tcflush(fd_, TCIOFLUSH);

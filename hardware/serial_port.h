@@ -13,8 +13,9 @@ class SerialPort {
  public:
   /// Opens `path` raw 8N1 at `baud` (a standard rate: 9600 ... 4000000).
   /// `device` names what is on the port in messages ("servo bus").
-  /// @throws HardwareError "<device>: cannot open <path>: <reason>" or an
-  /// unsupported baud rate.
+  /// @throws HardwareError "<device>: cannot open <path>: <reason>", "<device>:
+  /// <path> is a regular file, not a serial port ..." (anything but a character
+  /// device is refused before a byte is written) or an unsupported baud rate.
   SerialPort(const std::string& path, int baud, const std::string& device);
   ~SerialPort();
   SerialPort(const SerialPort&) = delete;
