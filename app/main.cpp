@@ -6,8 +6,10 @@
 
 #include "app/bench_command.h"
 #include "app/calibrate_command.h"
+#include "app/cli_checks.h"
 #include "app/convert_command.h"
 #include "app/dataset_command.h"
+#include "app/exit_codes.h"
 #include "app/hardware_check_command.h"
 #include "app/mission_command.h"
 #include "app/object_command.h"
@@ -43,9 +45,10 @@ int main(int argc, char** argv) {
       ->add_option("--samples", robot.reach_samples,
                    "Random configurations sampled for the workspace figures")
       ->capture_default_str()
-      ->check(CLI::Range(1, 10000000));
+      ->check(aerograsp::cli::Range(1, 10000000));
   robot_cmd->add_option("--seed", robot.seed, "Seed of the workspace samples")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(aerograsp::cli::Seed());
   robot_cmd->add_option("--plot", robot.plot_path,
                         "Write a PNG of the platform (side and front views, arms at home)");
 
@@ -56,9 +59,10 @@ int main(int argc, char** argv) {
   record_cmd->add_option("--out", record.out_dir, "Sequence folder to create")->required();
   record_cmd->add_option("--frames", record.frames, "Number of frames")
       ->capture_default_str()
-      ->check(CLI::Range(1, 1000000));
+      ->check(aerograsp::cli::Range(1, 1000000));
   record_cmd->add_option("--seed", record.seed, "World seed (same seed, same sequence)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(aerograsp::cli::Seed());
   record_cmd
       ->add_option("--world", record.world_config,
                    "World YAML (default: data/config/world_default.yaml)")
@@ -71,16 +75,16 @@ int main(int argc, char** argv) {
   record_cmd
       ->add_option("--occlude-at", record.occlude_at_s,
                    "A panel hides the object fully from this simulated time on, s (off by default)")
-      ->check(CLI::Range(0.0, 1e6));
+      ->check(aerograsp::cli::Range(0.0, 1e6));
   record_cmd
       ->add_option("--occlude-for", record.occlude_for_s, "How long the panel hides the object, s")
       ->capture_default_str()
-      ->check(CLI::Range(1e-3, 1e6));
+      ->check(aerograsp::cli::Range(1e-3, 1e6));
   record_cmd
       ->add_option("--occlude-every", record.occlude_every_s,
                    "The panel hides the object again every this many seconds (0: once)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1e6));
+      ->check(aerograsp::cli::Range(0.0, 1e6));
 
   CLI::App* benchmark_cmd = app.add_subcommand(
       "benchmark", "Speed and accuracy figures of one stage, printed and in DIR/summary.json");
@@ -91,8 +95,10 @@ int main(int argc, char** argv) {
   render_bench_cmd->add_option("--out", render_bench.out_dir, "Folder for summary.json");
   render_bench_cmd->add_option("--frames", render_bench.frames, "Frames to render")
       ->capture_default_str()
-      ->check(CLI::Range(1, 100000));
-  render_bench_cmd->add_option("--seed", render_bench.seed, "World seed")->capture_default_str();
+      ->check(aerograsp::cli::Range(1, 100000));
+  render_bench_cmd->add_option("--seed", render_bench.seed, "World seed")
+      ->capture_default_str()
+      ->check(aerograsp::cli::Seed());
   render_bench_cmd->add_option("--world", render_bench.world_config, "World YAML")
       ->check(CLI::ExistingFile);
   aerograsp::ServoBenchmarkOptions servo_benchmark;
@@ -110,7 +116,7 @@ int main(int argc, char** argv) {
   servo_bus_bench_cmd->add_option("--out", servo_bus_bench.out_dir, "Folder for summary.json");
   servo_bus_bench_cmd->add_option("--cycles", servo_bus_bench.cycles, "Bus cycles to time")
       ->capture_default_str()
-      ->check(CLI::Range(10, 1000000));
+      ->check(aerograsp::cli::Range(10, 1000000));
   servo_bus_bench_cmd->add_option("--world", servo_bus_bench.world_config, "World YAML")
       ->check(CLI::ExistingFile);
   // ---- end benchmark servo-bus ----
@@ -129,9 +135,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"static", "crawl"}));
   perception_bench_cmd->add_option("--frames", perception_bench.frames, "Frames per sequence")
       ->capture_default_str()
-      ->check(CLI::Range(10, 100000));
+      ->check(aerograsp::cli::Range(10, 100000));
   perception_bench_cmd->add_option("--seed", perception_bench.seed, "World seed")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(aerograsp::cli::Seed());
   perception_bench_cmd->add_flag("!--no-peer", perception_bench.run_peer,
                                  "Do not run ViSP's tracker beside ours");
   perception_bench_cmd
@@ -150,7 +157,8 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingFile);
   hardware_check_cmd->add_option("--seed", hardware_check.seed, "World seed of simulated devices")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(aerograsp::cli::Seed());
   // ---- end hardware-check ----
   // ---- plan: dual grasps of an object ----
   aerograsp::PlanCommandOptions plan;
@@ -170,35 +178,43 @@ int main(int argc, char** argv) {
       ->add_option(
           "--object-xyz", plan_xyz,
           "Object centre (bounding box) in the body frame d (FRD), m [default 0.10 0 0.46]")
-      ->expected(3);
+      ->expected(3)
+      ->check(aerograsp::cli::Finite());
   plan_cmd
       ->add_option("--object-rpy", plan_rpy, "Object roll pitch yaw in d, deg [default 180 0 90]")
-      ->expected(3);
+      ->expected(3)
+      ->check(aerograsp::cli::Finite());
   plan_cmd->add_option("--resolution", plan.resolution_m, "Contact ray grid, m")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(aerograsp::cli::Finite());
   plan_cmd
       ->add_option("--depth-min", plan.depth_min_m,
                    "Contacts at least this far behind the tool point, m")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(aerograsp::cli::Finite());
   plan_cmd
       ->add_option("--reach-margin", plan.reach_margin_m,
                    "A grasp is robust when it stays feasible with the object moved this far along "
                    "each axis, m")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(aerograsp::cli::Finite());
   plan_cmd
       ->add_option("--edge-margin", plan.edge_margin_m,
                    "Grasps whose contacts stay on their faces with the object shifted this far "
                    "along them rank first, m")
-      ->capture_default_str();
-  plan_cmd->add_option("--mass", plan.mass_kg, "Mass of a bare mesh, kg")->capture_default_str();
+      ->capture_default_str()
+      ->check(aerograsp::cli::Finite());
+  plan_cmd->add_option("--mass", plan.mass_kg, "Mass of a bare mesh, kg")
+      ->capture_default_str()
+      ->check(aerograsp::cli::Range(1e-6, 1e4));
   plan_cmd->add_option("--cache-dir", plan.cache_dir, "Contact cache folder [~/.cache/aerograsp]");
   plan_cmd->add_flag("!--no-cache", plan.use_cache, "Neither read nor write the contact cache");
   plan_cmd->add_option("--top", plan.top, "Rows of the table")
       ->capture_default_str()
-      ->check(CLI::Range(1, 1000));
+      ->check(aerograsp::cli::Range(1, 1000));
   plan_cmd->add_option("--repeats", plan.repeats, "Timing repetitions (median)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 1000));
+      ->check(aerograsp::cli::Range(1, 1000));
   // ---- end plan ----
 
   aerograsp::CalibrateCommandOptions calibrate;
@@ -236,9 +252,10 @@ int main(int argc, char** argv) {
                    "Arm poses (or board views, with --intrinsics; with --intrinsics --hardware "
                    "the fewest hand-held samples) to visit")
       ->capture_default_str()
-      ->check(CLI::Range(4, 100));
+      ->check(aerograsp::cli::Range(4, 100));
   calibrate_cmd->add_option("--seed", calibrate.seed, "World and pose-planning seed")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(aerograsp::cli::Seed());
   calibrate_cmd->add_option("--world", calibrate.world_config, "World YAML")
       ->check(CLI::ExistingFile);
   calibrate_cmd
@@ -272,7 +289,8 @@ int main(int argc, char** argv) {
   replay_cmd->add_flag("!--no-detector", replay.use_detector,
                        "No CNN: global registration on the whole frame");
   replay_cmd->add_option("--init-pose", replay_init, "Known first cMo: x y z (m) qw qx qy qz")
-      ->expected(7);
+      ->expected(7)
+      ->check(aerograsp::cli::Finite());
   replay_cmd->add_flag("--init-from-truth", replay.init_from_truth,
                        "Known first cMo from groundtruth.csv");
   replay_cmd->add_flag("!--no-peer", replay.run_peer,
@@ -303,11 +321,12 @@ int main(int argc, char** argv) {
     cmd->add_option("--object-in-world", *wMo,
                     "TUM folders: the object in groundtruth.txt's world, x y z (m) qw qx qy qz "
                     "(gives the ground truth)")
-        ->expected(7);
+        ->expected(7)
+        ->check(aerograsp::cli::Finite());
     cmd->add_option("--max-pair-gap-ms", *gap_ms,
                     ".bag and TUM: pair colour and depth frames at most this far apart (ms) "
                     "[one depth frame period]")
-        ->check(CLI::NonNegativeNumber);
+        ->check(aerograsp::cli::Range(0.0, 1e6));
   };
   recording_options(replay_cmd, &replay.recording, &replay_wMo, &replay_gap_ms);
   aerograsp::ConvertCommandOptions convert;
@@ -333,9 +352,10 @@ int main(int argc, char** argv) {
   dataset_cmd->add_option("--out", dataset.out_dir, "Output folder")->required();
   dataset_cmd->add_option("--count", dataset.count, "Images")
       ->capture_default_str()
-      ->check(CLI::Range(1, 1000000));
+      ->check(aerograsp::cli::Range(1, 1000000));
   dataset_cmd->add_option("--seed", dataset.seed, "Seed (same seed, same images)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(aerograsp::cli::Seed());
   dataset_cmd->add_flag("--overwrite", dataset.overwrite, "Replace a dataset already in --out");
   dataset_cmd
       ->add_option("--on-support", dataset.on_support,
@@ -343,7 +363,7 @@ int main(int argc, char** argv) {
                    "vehicle's camera "
                    "with its arms in view")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(aerograsp::cli::Range(0.0, 1.0));
   // ---- end replay and dataset ----
 
   // ---- mission: the simulated mission end to end ----
@@ -410,26 +430,32 @@ int main(int argc, char** argv) {
                         "Object: a shipped name or a model path [the world's]");
   bench_cmd->add_option("--frames", bench.frames, "Camera frames")
       ->capture_default_str()
-      ->check(CLI::Range(1, 100000));
-  bench_cmd->add_option("--seed", bench.seed, "World seed")->capture_default_str();
+      ->check(aerograsp::cli::Range(1, 100000));
+  bench_cmd->add_option("--seed", bench.seed, "World seed")
+      ->capture_default_str()
+      ->check(aerograsp::cli::Seed());
   bench_cmd
       ->add_option(
           "--hover-m", bench.hover_m,
           "Servo to the grasp moved back this far along its approach (0: the grasp itself), m")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(aerograsp::cli::Finite());
   bench_cmd
       ->add_option("--path-period", bench.path_period_s, "Period of the object's scripted path, s")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(aerograsp::cli::Range(1.0, 1000.0));
   bench_cmd
       ->add_option("--path-scale", bench.path_scale,
                    "Scale of the scripted path (1: +-6 cm fore and aft; 0: the object held still "
                    "at the grasp point)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(aerograsp::cli::Finite());
   bench_cmd
       ->add_option(
           "--board-pose", bench_board_pose,
           "The tag board on the object, oMt: x y z (m) qw qx qy qz [centred on its top, face up]")
-      ->expected(7);
+      ->expected(7)
+      ->check(aerograsp::cli::Finite());
   bench_cmd
       ->add_option(
           "--perception", bench.perception_config,
@@ -443,6 +469,7 @@ int main(int argc, char** argv) {
     return app.exit(e);
   }
 
+  int code = aerograsp::kExitOk;
   try {
     if (*robot_cmd) aerograsp::RunRobotCommand(robot, std::cout);
     if (*record_cmd) aerograsp::RunRecordCommand(record, std::cout, std::cerr);
@@ -451,7 +478,8 @@ int main(int argc, char** argv) {
     if (*servo_bus_bench_cmd) aerograsp::RunServoBusBenchmark(servo_bus_bench, std::cout);
     if (*perception_bench_cmd)
       aerograsp::RunPerceptionBenchmark(perception_bench, std::cout, std::cerr);
-    if (*hardware_check_cmd && aerograsp::RunHardwareCheck(hardware_check, std::cout) > 0) return 1;
+    if (*hardware_check_cmd && aerograsp::RunHardwareCheck(hardware_check, std::cout) > 0)
+      code = aerograsp::kExitError;
     if (*plan_cmd) {
       if (!plan_xyz.empty())
         plan.object_xyz_m = Eigen::Vector3d(plan_xyz[0], plan_xyz[1], plan_xyz[2]);
@@ -465,7 +493,7 @@ int main(int argc, char** argv) {
       if (!replay_wMo.empty())
         replay.recording.wMo = aerograsp::PoseFromValues(replay_wMo, "--object-in-world");
       replay.recording.max_pair_gap_s = 1e-3 * replay_gap_ms;
-      aerograsp::RunReplayCommand(replay, std::cout, std::cerr);
+      code = aerograsp::RunReplayCommand(replay, std::cout, std::cerr);
     }
     if (*convert_cmd) {
       if (!convert_wMo.empty())
@@ -484,7 +512,7 @@ int main(int argc, char** argv) {
     }
   } catch (const std::exception& e) {
     std::cerr << "aerograsp: error: " << e.what() << "\n";
-    return 1;
+    return aerograsp::kExitError;
   }
-  return 0;
+  return code;
 }

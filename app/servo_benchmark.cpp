@@ -19,6 +19,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "app/cli_checks.h"
 #include "app/statistics.h"
 #include "app/summary_file.h"
 #include "core/collision.h"
@@ -416,16 +417,18 @@ void AddServoBenchmarkOptions(CLI::App* cmd, ServoBenchmarkOptions* options) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--trials", options->trials, "Dual-arm trials per config (2 targets each)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 10000000));
+      ->check(cli::Range(1, 10000000));
   cmd->add_option("--safety-trials", options->safety_trials,
                   "Random trials counting safe-volume entries (0 skips)")
       ->capture_default_str()
-      ->check(CLI::Range(0, 10000000));
-  cmd->add_option("--seed", options->seed, "Seed of targets and starts")->capture_default_str();
+      ->check(cli::Range(0, 10000000));
+  cmd->add_option("--seed", options->seed, "Seed of targets and starts")
+      ->capture_default_str()
+      ->check(cli::Seed());
   cmd->add_option("--margin", options->margin_m,
                   "Clearance kept from the safe volume and the other arm (m)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 0.2));
+      ->check(cli::Range(0.0, 0.2));
 }
 
 void RunServoBenchmark(const ServoBenchmarkOptions& options, std::ostream& out) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 namespace aerograsp {
@@ -59,6 +60,37 @@ double ConvertDouble(const YAML::Node& n, const std::string& source, const std::
   return v;
 }
 
+constexpr std::size_t kMaxEntries = 1000000;  // keys and values in one file
+
+/// Refuses a key given twice in one map (yaml-cpp would keep the first and
+/// drop the second silently) and a key that is not a plain scalar, anywhere
+/// in the tree below `node`. `budget` bounds the entries visited: aliases can
+/// make a short file a huge tree.
+void CheckKeys(const YAML::Node& node, const std::string& source, const std::string& prefix,
+               std::size_t* budget) {
+  if (*budget == 0) Throw(source, prefix, "too many entries (aliases nested too deep?)");
+  --*budget;
+  const auto line = [](const YAML::Node& n) { return std::to_string(n.Mark().line + 1); };
+  if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i)
+      CheckKeys(node[i], source, prefix + "[" + std::to_string(i) + "]", budget);
+    return;
+  }
+  if (!node.IsMap()) return;
+  std::set<std::string> seen;
+  for (const auto& kv : node) {
+    if (!kv.first.IsScalar()) {
+      Throw(source, prefix,
+            "line " + line(kv.first) + ": a key must be a plain name, got " + TypeName(kv.first));
+    }
+    const std::string& key = kv.first.Scalar();
+    const std::string path = prefix.empty() ? key : prefix + "." + key;
+    if (!seen.insert(key).second)
+      Throw(source, path, "line " + line(kv.first) + ": duplicate key (given twice in one map)");
+    CheckKeys(kv.second, source, path, budget);
+  }
+}
+
 }  // namespace
 
 ConfigNode::ConfigNode(std::string source, std::string prefix, std::unique_ptr<YAML::Node> node)
@@ -99,6 +131,8 @@ ConfigNode ConfigNode::Parse(const std::string& yaml_text, const std::string& so
   }
   if (!root.IsMap())
     Throw(source, "", "expected a map of keys at the top level, got " + TypeName(root));
+  std::size_t budget = kMaxEntries;
+  CheckKeys(root, source, "", &budget);
   return ConfigNode(source, "", std::make_unique<YAML::Node>(root));
 }
 
@@ -220,6 +254,16 @@ void CheckRange(const std::string& source, const std::string& key, double value,
   }
   if (value > max) {
     Throw(source, key, WithUnit(value, unit) + " is above the upper bound " + WithUnit(max, unit));
+  }
+}
+
+void CheckFinite(const std::string& source, const std::string& key,
+                 const std::vector<double>& values) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i])) {
+      Throw(source, key + "[" + std::to_string(i) + "]",
+            FormatNumber(values[i]) + " is not a finite number");
+    }
   }
 }
 

@@ -90,6 +90,10 @@ void CheckRange(const std::string& source, const std::string& key, double value,
 /// Each component of `v` in [min, max], named "<key>[i]" when it is not.
 void CheckRange(const std::string& source, const std::string& key, const Eigen::Vector3d& v,
                 double min, double max, const std::string& unit);
+/// @throws ConfigError "<source>: <key>[i]: nan is not a finite number" for the
+/// first entry of `values` that is NaN or infinite.
+void CheckFinite(const std::string& source, const std::string& key,
+                 const std::vector<double>& values);
 /// @throws ConfigError unless value > 0 (and finite).
 void CheckPositive(const std::string& source, const std::string& key, double value,
                    const std::string& unit);

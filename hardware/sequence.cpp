@@ -54,17 +54,28 @@ std::vector<double> PoseValues(const Eigen::Isometry3d& aMb) {
   return {t.x(), t.y(), t.z(), q[0], q[1], q[2], q[3]};
 }
 
-/// A pose from t and q (w, x, y, z) without renormalising a unit quaternion,
-/// so that what was written reads back bit for bit.
-Eigen::Isometry3d PoseFromValues(const double* v) {
+/// A pose from t and q (w, x, y, z) of frame `frame` of the CSV `path`. A unit
+/// quaternion is kept as it is (what was written reads back bit for bit), one
+/// a little off is normalised, one far off (a zero quaternion) refused.
+Eigen::Isometry3d PoseFromValues(const double* v, const std::string& path, std::int64_t frame) {
+  Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
+  const double norm = q.norm();
+  if (!(std::abs(norm - 1.0) <= 0.1)) {
+    Fail(path, "frame " + std::to_string(frame) + ": the quaternion (w, x, y, z) has norm " +
+                   std::to_string(norm) + ", not a rotation");
+  }
+  if (std::abs(norm - 1.0) > 1e-9) q.normalize();
   Eigen::Isometry3d aMb = Eigen::Isometry3d::Identity();
-  aMb.linear() = Eigen::Quaterniond(v[3], v[4], v[5], v[6]).toRotationMatrix();
+  aMb.linear() = q.toRotationMatrix();
   aMb.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
   return aMb;
 }
 
+constexpr double kMaxStampS = 1e10;  // stamps beyond this many seconds are corrupt
+
 /// A CSV with a header line and one row per frame, each starting with the
-/// frame number, then `columns - 1` finite numbers.
+/// frame number and its stamp (s, strictly increasing), then `columns - 2`
+/// more finite numbers.
 std::vector<std::vector<double>> ReadCsv(const std::string& path, std::int64_t frames,
                                          std::size_t columns) {
   std::ifstream in(path);
@@ -96,6 +107,13 @@ std::vector<std::vector<double>> ReadCsv(const std::string& path, std::int64_t f
       Fail(path, "line " + std::to_string(line_number) + ": frame " +
                      std::to_string(static_cast<long long>(row[0])) + ", expected " +
                      std::to_string(rows.size()));
+    }
+    const std::string where = "line " + std::to_string(line_number) + ": stamp_s ";
+    if (!(std::abs(row[1]) <= kMaxStampS))
+      Fail(path, where + std::to_string(row[1]) + " s is beyond 1e10 s (year 2286)");
+    if (!rows.empty() && !(row[1] > rows.back()[1])) {
+      Fail(path, where + std::to_string(row[1]) + " s does not follow the previous frame's " +
+                     std::to_string(rows.back()[1]) + " s (stamps must increase)");
     }
     rows.push_back(std::move(row));
   }
@@ -369,7 +387,7 @@ ReplayCamera::ReplayCamera(const std::string& folder)
     const auto rows = ReadCsv((root / "groundtruth.csv").string(), n, 9);
     for (std::int64_t i = 0; i < n; ++i) {
       stamps_s_[i] = rows[i][1];
-      extras_[i].cMo = PoseFromValues(&rows[i][2]);
+      extras_[i].cMo = PoseFromValues(&rows[i][2], (root / "groundtruth.csv").string(), i);
     }
     has_groundtruth_ = true;
   }
@@ -382,7 +400,7 @@ ReplayCamera::ReplayCamera(const std::string& folder)
     for (std::int64_t i = 0; i < n; ++i) {
       VehicleState v;
       v.stamp_s = rows[i][1];
-      v.wMd = PoseFromValues(&rows[i][2]);
+      v.wMd = PoseFromValues(&rows[i][2], (root / "vehicle.csv").string(), i);
       v.v_w = Eigen::Vector3d(rows[i][9], rows[i][10], rows[i][11]);
       v.mode = FlightMode::kOffboard;  // not recorded
       extras_[i].vehicle = v;

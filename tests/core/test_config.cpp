@@ -1,6 +1,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -77,6 +78,26 @@ TEST(ConfigNodeTest, UnknownKeysAreRejectedWithTheValidOnes) {
 TEST(ConfigNodeTest, NonFiniteNumbersAreRejected) {
   const ConfigNode c = ConfigNode::Parse("gain: .nan\n", "nan.yaml");
   EXPECT_CONFIG_ERROR(c.GetDouble("gain"), "nan.yaml: gain: expected a finite number");
+}
+
+TEST(ConfigNodeTest, DuplicateKeysAreRefusedWithTheirLine) {
+  EXPECT_CONFIG_ERROR(ConfigNode::Parse("a: 1\nb:\n  c: 2\n  c: 3\n", "dup.yaml"),
+                      "dup.yaml: b.c: line 4: duplicate key (given twice in one map)");
+  EXPECT_CONFIG_ERROR(ConfigNode::Parse("a: 1\na: 2\n", "dup.yaml"),
+                      "dup.yaml: a: line 2: duplicate key");
+  EXPECT_CONFIG_ERROR(ConfigNode::Parse("l:\n  - {x: 1, x: 2}\n", "dup.yaml"),
+                      "dup.yaml: l[0].x: line 2: duplicate key");
+}
+
+TEST(ConfigNodeTest, AKeyThatIsNotAPlainNameIsRefused) {
+  EXPECT_CONFIG_ERROR(ConfigNode::Parse("? [1, 2]\n: 3\n", "key.yaml"),
+                      "key.yaml: line 1: a key must be a plain name, got a list");
+}
+
+TEST(CheckTest, FiniteNamesTheEntry) {
+  EXPECT_CONFIG_ERROR(CheckFinite("f.yaml", "q_rad", {0.1, std::nan(""), 0.3}),
+                      "f.yaml: q_rad[1]: nan is not a finite number");
+  CheckFinite("f.yaml", "q_rad", {0.1, 0.2});
 }
 
 TEST(ConfigNodeTest, SyntaxErrorGivesLineAndColumn) {

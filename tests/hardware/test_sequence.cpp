@@ -194,6 +194,40 @@ TEST_F(SequenceTest, TruncatedAndGarbledCsvAreNamedWithTheLine) {
   ExpectThrowsWith([&] { ReplayCamera r(folder_); }, "groundtruth.csv: line 3:");
 }
 
+TEST_F(SequenceTest, AZeroQuaternionInTheGroundTruthIsRefusedWithItsFrame) {
+  WriteSequence(3);
+  std::ofstream(fs::path(folder_) / "groundtruth.csv", std::ios::trunc)
+      << "frame,stamp_s,tx,ty,tz,qw,qx,qy,qz\n0,0.0,0,0,0.7,1,0,0,0\n1,0.1,0,0,0.7,0,0,0,0\n"
+      << "2,0.2,0,0,0.7,1,0,0,0\n";
+  ExpectThrowsWith([&] { ReplayCamera r(folder_); },
+                   "groundtruth.csv: frame 1: the quaternion (w, x, y, z) has norm 0.000000, not "
+                   "a rotation");
+}
+
+TEST_F(SequenceTest, AQuaternionALittleOffUnitIsNormalised) {
+  WriteSequence(3);
+  std::ofstream(fs::path(folder_) / "groundtruth.csv", std::ios::trunc)
+      << "frame,stamp_s,tx,ty,tz,qw,qx,qy,qz\n0,0.0,0,0,0.7,0.7072,0.7072,0,0\n"
+      << "1,0.1,0,0,0.7,1,0,0,0\n2,0.2,0,0,0.7,1,0,0,0\n";
+  ReplayCamera replay(folder_);
+  const Eigen::Matrix3d R = replay.extras(0).cMo->linear();
+  EXPECT_NEAR((R.transpose() * R - Eigen::Matrix3d::Identity()).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(R(1, 2), -1.0, 1e-12);  // 90 degrees about x
+}
+
+TEST_F(SequenceTest, StampsThatGoBackOrJumpFarAreRefusedWithTheLine) {
+  WriteSequence(3);
+  const fs::path stamps = fs::path(folder_) / "stamps.csv";
+  std::ofstream(stamps, std::ios::trunc) << "frame,stamp_s\n0,0.0\n1,0.1\n2,0.05\n";
+  ExpectThrowsWith([&] { ReplayCamera r(folder_); },
+                   "stamps.csv: line 4: stamp_s 0.050000 s does not follow the previous frame's "
+                   "0.100000 s");
+  std::ofstream(stamps, std::ios::trunc) << "frame,stamp_s\n0,0.0\n1,0.1\n2,1e308\n";
+  ExpectThrowsWith([&] { ReplayCamera r(folder_); }, "stamps.csv: line 4: stamp_s");
+  std::ofstream(stamps, std::ios::trunc) << "frame,stamp_s\n0,0.0\n1,0.1\n2,0.1\n";
+  ExpectThrowsWith([&] { ReplayCamera r(folder_); }, "(stamps must increase)");
+}
+
 TEST_F(SequenceTest, BadYamlIsNamedWithTheField) {
   WriteSequence(1);
   const fs::path yaml = fs::path(folder_) / "sequence.yaml";
