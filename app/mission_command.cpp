@@ -9,6 +9,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "app/cli_checks.h"
+#include "app/exit_codes.h"
 #include "app/mission_report.h"
 #include "app/progress.h"
 #include "app/statistics.h"
@@ -64,11 +66,13 @@ void AddMissionOptions(CLI::App* cmd, MissionCommandOptions* o) {
   MissionOptions& m = o->mission;
   cmd->add_option("--out", o->out_dir, "Report folder: index.html, summary.json, mission.log")
       ->required();
-  cmd->add_option("--seed", m.seed, "World seed (same seed, same mission)")->capture_default_str();
+  cmd->add_option("--seed", m.seed, "World seed (same seed, same mission)")
+      ->capture_default_str()
+      ->check(cli::Seed());
   cmd->add_option("--runs", o->runs,
                   "Fly this many seeded missions (seed, seed+1, ...) and report the success rate")
       ->capture_default_str()
-      ->check(CLI::Range(1, 100000));
+      ->check(cli::Range(1, 100000));
   cmd->add_option("--object", m.object,
                   "Object: a shipped name (crawler, u_shape, pipe) or a model path [crawler]");
   cmd->add_option("--arm", m.arm_type, "Arms")
@@ -76,13 +80,13 @@ void AddMissionOptions(CLI::App* cmd, MissionCommandOptions* o) {
       ->check(CLI::IsMember({"4dof", "6dof"}));
   cmd->add_option("--sway", m.sway_amplitude_m,
                   "Hover sway amplitude per horizontal axis, m [world: 0.03]")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(cli::Range(0.0, 1.0));
   cmd->add_option("--sway-hz", m.sway_frequency_hz, "Hover sway frequency, Hz [world: 0.5]")
-      ->check(CLI::Range(0.0, 5.0));
+      ->check(cli::Range(0.0, 5.0));
   cmd->add_option("--motion", m.motion, "Object motion along the pipe [world: crawl]")
       ->check(CLI::IsMember({"static", "crawl"}));
   cmd->add_option("--speed", m.object_speed_mps, "Crawl speed, m/s [world: 0.03]")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(cli::Range(0.0, 1.0));
   cmd->add_option("--config", m.config_path, "Mission YAML [data/config/mission_default.yaml]")
       ->check(CLI::ExistingFile);
   cmd->add_option("--hardware", m.hardware_path,
@@ -91,7 +95,7 @@ void AddMissionOptions(CLI::App* cmd, MissionCommandOptions* o) {
                   "[every device simulated in-process]")
       ->check(CLI::ExistingFile);
   cmd->add_option("--timeout", m.timeout_s, "Mission time limit, s [mission config: 180]")
-      ->check(CLI::Range(1.0, 3600.0));
+      ->check(cli::Range(1.0, 3600.0));
 }
 
 namespace {
@@ -133,7 +137,7 @@ ReportRow RunRow(std::uint64_t seed, const MissionResult& r) {
 
 }  // namespace
 
-void RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, std::ostream& err) {
+int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, std::ostream& err) {
   const fs::path dir(options.out_dir);
   fs::create_directories(dir);
   nlohmann::json summary;
@@ -170,7 +174,7 @@ void RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, 
     out << "mission: " << Describe(result) << "\n";
     out << "Wrote " << (dir / "index.html").string() << ", " << path << " and "
         << (dir / "mission.log").string() << "\n";
-    return;
+    return result.success ? kExitOk : kExitMissionFailed;
   }
 
   fs::create_directories(dir / "logs");
@@ -234,6 +238,7 @@ void RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, 
       successes, options.runs, 100.0 * successes / options.runs, with_switch, recovered_by_switch,
       entries, median_factor, min_factor);
   out << "Wrote " << (dir / "index.html").string() << " and " << path << "\n";
+  return successes == options.runs ? kExitOk : kExitMissionFailed;
 }
 
 }  // namespace aerograsp

@@ -27,9 +27,10 @@ void AddMissionOptions(CLI::App* cmd, MissionCommandOptions* options);
 
 /// Runs the mission(s), prints transitions (one run) or a progress bar (several)
 /// to `out`/`err`, and writes the report. A failed mission is a result, not an
-/// error: it is reported in summary.json and on `out`.
+/// error: it is reported in summary.json and on `out`, and the result is
+/// kExitMissionFailed (app/exit_codes.h) when any mission failed, else kExitOk.
 /// @throws ConfigError / MeshError / HardwareError for bad inputs,
 /// std::runtime_error when the report cannot be written.
-void RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, std::ostream& err);
+int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, std::ostream& err);
 
 }  // namespace aerograsp

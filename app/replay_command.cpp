@@ -12,6 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "app/exit_codes.h"
 #include "app/pose_plot.h"
 #include "app/progress.h"
 #include "app/statistics.h"
@@ -170,8 +171,8 @@ Eigen::Isometry3d PoseFromValues(const std::vector<double>& v, const std::string
   return MakeTransformWxyz(Eigen::Vector3d(v[0], v[1], v[2]), q);
 }
 
-void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
-                      std::ostream& progress) {
+int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
+                     std::ostream& progress) {
   // The filter in the world gets noise along ICP's weak direction, unless the file says otherwise.
   PerceptionOptions perception;
   if (options.filter_frame == "world") perception.weak_direction_std_m = kWorldWeakDirectionStdM;
@@ -489,6 +490,7 @@ void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
     }
   }
   out << "  wrote " << summary_path << "\n";
+  return stop_reason.empty() ? kExitOk : kExitStoppedEarly;
 }
 
 }  // namespace aerograsp

@@ -52,8 +52,10 @@ Eigen::Isometry3d PoseFromValues(const std::vector<double>& xyz_qwxyz,
 /// @throws HardwareError / ConfigError / MeshError naming the file (missing or
 /// truncated sequence, unknown object, corrupt detector model, bad perception
 /// YAML: checked first), std::runtime_error
-/// when DIR cannot be written.
-void RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
-                      std::ostream& progress);
+/// when DIR cannot be written. Returns kExitOk (app/exit_codes.h), or
+/// kExitStoppedEarly when a frame could not be read: the report then holds the
+/// frames before it and says why it stopped ("stopped_early").
+int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
+                     std::ostream& progress);
 
 }  // namespace aerograsp

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "app/exit_codes.h"
 #include "app/mission_command.h"
 #include "app/mission_config.h"
 #include "app/mission_runner.h"
@@ -45,7 +46,7 @@ TEST(MissionCommandTest, TakesOffFindsTheObjectAndWritesTheReport) {
   options.mission = ShortMission(3);
   options.out_dir = dir.string();
   std::ostringstream out, err;
-  RunMissionCommand(options, out, err);
+  EXPECT_EQ(RunMissionCommand(options, out, err), kExitMissionFailed);  // stopped by its limit
   for (const char* file :
        {"index.html", "summary.json", "mission.log", "pose.png", "timeline.png", "joints.png"}) {
     EXPECT_TRUE(fs::exists(dir / file)) << file;
@@ -85,7 +86,7 @@ TEST(MissionCommandTest, SeveralRunsWriteTheirTableRateAndSpeedsAndOneLogEach) {
   options.runs = 2;
   options.out_dir = dir.string();
   std::ostringstream out, err;
-  RunMissionCommand(options, out, err);
+  EXPECT_EQ(RunMissionCommand(options, out, err), kExitMissionFailed);  // stopped by its limit
   std::ifstream in(dir / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(in);
   ASSERT_EQ(summary["runs"].size(), 2u);

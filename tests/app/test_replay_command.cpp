@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "app/exit_codes.h"
 #include "app/record_command.h"
 #include "app/replay_command.h"
 #include "core/config.h"
@@ -47,18 +48,20 @@ class ReplayCommandTest : public ::testing::Test {
   void TearDown() override { fs::remove_all(out_dir_); }
   nlohmann::json Run() {
     std::ostringstream out, progress;
-    RunReplayCommand(options_, out, progress);
+    exit_code_ = RunReplayCommand(options_, out, progress);
     std::ifstream file(fs::path(out_dir_) / "summary.json");
     return nlohmann::json::parse(file);
   }
   static std::string sequence_;
   std::string out_dir_;
   ReplayCommandOptions options_;
+  int exit_code_ = -1;
 };
 std::string ReplayCommandTest::sequence_;
 
 TEST_F(ReplayCommandTest, TracksTheRecordedObjectAndWritesTheReport) {
   const nlohmann::json s = Run();
+  EXPECT_EQ(exit_code_, kExitOk);
   EXPECT_EQ(s["frames"], 8);
   EXPECT_EQ(s["object"], "crawler");
   for (const char* key :
@@ -103,6 +106,7 @@ TEST_F(ReplayCommandTest, ATruncatedSequenceIsReportedNotFatal) {
   options_.sequence = copy;
   options_.run_peer = false;
   const nlohmann::json s = Run();
+  EXPECT_EQ(exit_code_, kExitStoppedEarly);
   EXPECT_EQ(s["frames"], 3);
   ASSERT_TRUE(s.contains("stopped_early"));
   EXPECT_THAT(s["stopped_early"].get<std::string>(), HasSubstr("000003.png"));
