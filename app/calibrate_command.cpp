@@ -171,12 +171,14 @@ std::vector<Sample> ReadSamplesYaml(const std::string& path, std::string* platfo
       s.accepted = all[i]["accepted"].as<bool>();
       s.reject_reason = all[i]["reject_reason"].as<std::string>("");
       const auto q = all[i]["q_rad"].as<std::vector<double>>();
+      CheckFinite(path, where + ".q_rad", q);
       s.q_rad = Eigen::Map<const Eigen::VectorXd>(q.data(), static_cast<long>(q.size()));
       if (s.q_rad.size() != platform.arm(*side).dof())
         root.Fail(where + ".q_rad", "wrong number of joints");
       s.data.bMe = platform.arm(*side).ForwardKinematics(s.q_rad);
       const auto m = all[i]["cMt"].as<std::vector<double>>();
       if (m.size() != 16) root.Fail(where + ".cMt", "expected 16 numbers");
+      CheckFinite(path, where + ".cMt", m);
       for (int r = 0; r < 4; ++r) {
         for (int c = 0; c < 4; ++c) s.data.cMt.matrix()(r, c) = m[4 * r + c];
       }

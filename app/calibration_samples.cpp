@@ -32,6 +32,7 @@ std::vector<BoardCorner> ReadCorners(const YAML::Node& list, const ConfigNode& f
   for (const YAML::Node& row : list) {
     const auto v = row.as<std::vector<double>>();
     if (v.size() != 5) file.Fail(where, "each corner is x, y, z, u, v");
+    CheckFinite(file.source(), where + "[" + std::to_string(corners.size()) + "]", v);
     corners.emplace_back(Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Vector2d(v[3], v[4]));
   }
   return corners;

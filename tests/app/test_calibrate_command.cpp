@@ -391,5 +391,24 @@ TEST_F(CalibrateCommandTest, CorruptSamplesFileNamesTheField) {
   EXPECT_THAT(ErrorOf(options, &out), HasSubstr("samples.yaml: platform"));
 }
 
+TEST_F(CalibrateCommandTest, ANanJointReadingIsNamedAsSuch) {
+  fs::create_directories(folder_);
+  std::ofstream(fs::path(folder_) / "samples.yaml")
+      << "platform: " << DataPath("config/platform_4dof.yaml") << "\narm: left\nboard: {}\n"
+      << "samples:\n"
+      << "  - {image: a.png, accepted: true, q_rad: [0.1, .nan, 0.2, 0.3],\n"
+      << "     cMt: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0.4, 0, 0, 0, 1], corners: []}\n";
+  CalibrateCommandOptions options;
+  options.resolve_dir = folder_;
+  std::ostringstream out, progress;
+  try {
+    RunCalibrateCommand(options, out, progress);
+    FAIL() << "expected an error";
+  } catch (const std::exception& e) {
+    EXPECT_THAT(e.what(),
+                HasSubstr("samples.yaml: samples[0].q_rad[1]: nan is not a finite number"));
+  }
+}
+
 }  // namespace
 }  // namespace aerograsp
