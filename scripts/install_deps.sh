@@ -22,6 +22,8 @@ PACKAGES=(
   libdiagnostic-msgs-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
+  # the parsers' fuzz campaigns (scripts/run_fuzz.sh): clang with libFuzzer and the sanitizers
+  clang libclang-rt-14-dev
 )
 
 missing=()

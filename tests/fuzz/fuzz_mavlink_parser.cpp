@@ -1,6 +1,6 @@
-// libFuzzer target for the MAVLink parser and message readers. Built with
-// -DAEROGRASP_FUZZ=ON and clang (tests/fuzz/CMakeLists.txt); run e.g.
-//   build-fuzz/tests/fuzz/fuzz_mavlink_parser -max_total_time=60
+// libFuzzer target for the MAVLink parser and message readers. Built and run by
+// scripts/run_fuzz.sh; longer, e.g.
+//   build-fuzz/fuzz_mavlink_parser -max_total_time=600 tests/fuzz/corpus/mavlink
 #include <cstddef>
 #include <cstdint>
 
