@@ -188,6 +188,11 @@ SequenceWriter::~SequenceWriter() {
 
 void SequenceWriter::Write(const RgbdFrame& frame, const SequenceExtras& extras) {
   if (closed_) Fail(folder_, "the sequence is closed");
+  if (!(std::abs(frame.stamp_s) <= kMaxStampS) ||
+      (count_ > 0 && !(frame.stamp_s > last_stamp_s_))) {
+    Fail(folder_, "frame " + std::to_string(count_) + ": stamp " + std::to_string(frame.stamp_s) +
+                      " s does not follow the previous frame's (stamps must increase)");
+  }
   const CameraIntrinsics& K = info_.intrinsics;
   const CameraIntrinsics& Kd = info_.depth_camera ? info_.depth_camera->intrinsics : K;
   if (frame.color.width != K.width || frame.color.height != K.height ||
@@ -257,6 +262,7 @@ void SequenceWriter::Write(const RgbdFrame& frame, const SequenceExtras& extras)
     for (long i = 0; i < extras.q_right_rad->size(); ++i) row.push_back((*extras.q_right_rad)[i]);
     WriteRow(joints_, count_, row);
   }
+  last_stamp_s_ = frame.stamp_s;
   ++count_;
 }
 

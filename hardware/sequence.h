@@ -66,7 +66,8 @@ class SequenceWriter {
   SequenceWriter(const SequenceWriter&) = delete;
   SequenceWriter& operator=(const SequenceWriter&) = delete;
 
-  /// Writes frame number frame_count() (the frame's own index is ignored).
+  /// Writes frame number frame_count() (the frame's own index is ignored); its
+  /// stamp must follow the previous frame's.
   /// Extras must be given for every frame or for none, kind by kind.
   /// @throws HardwareError naming the file when it cannot be written or the
   /// images disagree with the intrinsics.
@@ -79,6 +80,7 @@ class SequenceWriter {
   std::string folder_;
   SequenceInfo info_;
   std::int64_t count_ = 0;
+  double last_stamp_s_ = 0.0;
   bool closed_ = false;
   std::ofstream stamps_, groundtruth_, vehicle_, joints_;
 };

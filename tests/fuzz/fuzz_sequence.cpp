@@ -30,6 +30,7 @@ const fs::path& Folder() {
     aerograsp::SequenceWriter writer(dir.string(), info);
     for (int i = 0; i < 2; ++i) {
       aerograsp::RgbdFrame frame;
+      frame.stamp_s = 0.1 * i;
       frame.color = aerograsp::ColorImage(4, 3);
       frame.depth = aerograsp::DepthImage(4, 3);
       writer.Write(frame);

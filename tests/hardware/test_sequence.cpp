@@ -262,6 +262,7 @@ TEST_F(SequenceTest, UnalignedDepthIsStoredAsItIsAndAlignedOnRead) {
     SequenceWriter writer(folder_, info);
     for (const testing::SimulatedFrame& f : r.frames) {
       RgbdFrame frame;
+      frame.stamp_s = 0.1 * static_cast<double>(writer.frame_count());
       frame.color = f.color;
       frame.depth = f.depth;
       writer.Write(frame);
