@@ -246,7 +246,7 @@ int main(int argc, char** argv) {
       ->add_option("--tag-size", calibrate.tag_size_m,
                    "With --resolve on a ViSP data set without pose_cPo files: the tag36h11 "
                    "tag's black square (m); its pose is then detected in each image")
-      ->check(CLI::Range(0.005, 1.0));
+      ->check(aerograsp::cli::Range(0.005, 1.0));
   calibrate_cmd
       ->add_option("--poses", calibrate.poses,
                    "Arm poses (or board views, with --intrinsics; with --intrinsics --hardware "
@@ -390,8 +390,10 @@ int main(int argc, char** argv) {
   import_cmd->add_option("--units", object_import.units, "Length unit of the file")
       ->capture_default_str()
       ->check(CLI::IsMember({"m", "cm", "mm"}));
-  import_cmd->add_option("--mass", object_import.mass_kg,
-                         "Mass, kg [the volume at 300 kg/m^3, an estimate]");
+  import_cmd
+      ->add_option("--mass", object_import.mass_kg,
+                   "Mass, kg [the volume at 300 kg/m^3, an estimate]")
+      ->check(aerograsp::cli::Range(1e-6, 1e4));
   import_cmd->add_option("--objects-dir", object_import.objects_dir,
                          "Folder to store it in [$AEROGRASP_OBJECTS_DIR, else data/objects]");
   import_cmd
