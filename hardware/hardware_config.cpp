@@ -53,7 +53,7 @@ bool HardwareConfig::NeedsWorld() const {
 HardwareConfig HardwareConfig::Load(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   // `calibration` (the calibration rig: which board, where it is fixed, the
-  // wizard's speed and checks) is read by app/calibration_hardware.h.
+  // wizard's speed and checks) is read by app/calibration/calibration_hardware.h.
   root.RequireOnlyKeys({"platform", "world", "arms", "autopilot", "camera", "calibration"});
   HardwareConfig c;
   c.source = path;

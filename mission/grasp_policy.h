@@ -1,6 +1,6 @@
 // The grasp policy: every decision of a mission's grasp, as pure functions of
 // explicit inputs (no devices, clock, threads or ground truth). The mission
-// runner (app/mission_runner.h) reads the devices, asks the policy and carries
+// runner (app/runtime/mission_runner.h) reads the devices, asks the policy and carries
 // out its answer; the planner state machine (mission/state_machines.h) keeps
 // the attempt's state.
 //

@@ -4,7 +4,7 @@
 // in the present state is refused (returns false) and changes nothing. Every
 // transition goes to the sink with the machine's name, both states and its
 // cause. Pure logic: no clock, threads or devices; the runner
-// (app/mission_runner.h) feeds them and acts on their states.
+// (app/runtime/mission_runner.h) feeds them and acts on their states.
 #pragma once
 
 #include <functional>

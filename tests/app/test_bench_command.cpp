@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/bench_command.h"
+#include "app/commands/bench_command.h"
 #include "core/config.h"
 #include "core/data_dir.h"
 #include "core/transforms.h"

@@ -9,9 +9,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/calibrate_command.h"
-#include "app/calibration_hardware.h"
-#include "app/calibration_visp.h"
+#include "app/calibration/calibrate_command.h"
+#include "app/calibration/calibration_hardware.h"
+#include "app/calibration/calibration_visp.h"
 #include "core/config.h"
 #include "core/data_dir.h"
 #include "core/random.h"

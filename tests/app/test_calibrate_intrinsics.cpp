@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/calibrate_command.h"
-#include "app/calibrate_intrinsics.h"
+#include "app/calibration/calibrate_command.h"
+#include "app/calibration/calibrate_intrinsics.h"
 #include "core/camera_model.h"
 #include "core/data_dir.h"
 #include "core/transforms.h"

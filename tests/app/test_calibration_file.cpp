@@ -7,8 +7,8 @@
 #include <regex>
 #include <sstream>
 
-#include "app/calibration_file.h"
-#include "app/mission_config.h"
+#include "app/calibration/calibration_file.h"
+#include "app/runtime/mission_config.h"
 #include "core/config.h"
 #include "core/data_dir.h"
 #include "core/random.h"

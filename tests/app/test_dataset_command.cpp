@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "app/dataset_command.h"
+#include "app/commands/dataset_command.h"
 #include "tests/common/output_folder_test.h"
 
 namespace aerograsp {

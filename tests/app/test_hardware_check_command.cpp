@@ -4,7 +4,7 @@
 #include <iterator>
 #include <sstream>
 
-#include "app/hardware_check_command.h"
+#include "app/commands/hardware_check_command.h"
 #include "core/data_dir.h"
 
 namespace aerograsp {

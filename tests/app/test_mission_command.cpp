@@ -7,10 +7,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "app/commands/mission_command.h"
 #include "app/exit_codes.h"
-#include "app/mission_command.h"
-#include "app/mission_config.h"
-#include "app/mission_runner.h"
+#include "app/runtime/mission_config.h"
+#include "app/runtime/mission_runner.h"
 #include "core/config.h"
 #include "detection/perception_config.h"
 #include "grasp/planner.h"

@@ -9,7 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
-#include "app/mission_report.h"
+#include "app/report/mission_report.h"
 #include "core/shape_mesh.h"
 
 namespace aerograsp {

@@ -9,7 +9,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "app/object_command.h"
+#include "app/commands/object_command.h"
 #include "core/config.h"
 #include "core/mesh.h"
 #include "core/object_model.h"

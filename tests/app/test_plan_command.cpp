@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/object_command.h"
-#include "app/plan_command.h"
+#include "app/commands/object_command.h"
+#include "app/commands/plan_command.h"
 #include "core/config.h"
 #include "core/mesh.h"
 #include "tests/common/test_meshes.h"

@@ -4,8 +4,8 @@
 #include <filesystem>
 #include <sstream>
 
-#include "app/record_command.h"
-#include "app/replay_command.h"
+#include "app/commands/record_command.h"
+#include "app/commands/replay_command.h"
 #include "core/data_dir.h"
 #include "core/shape_mesh.h"
 #include "hardware/sequence.h"

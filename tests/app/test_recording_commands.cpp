@@ -6,8 +6,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/convert_command.h"
-#include "app/replay_command.h"
+#include "app/commands/convert_command.h"
+#include "app/commands/replay_command.h"
 #include "core/transforms.h"
 #include "hardware/bag/realsense_bag.h"
 #include "tests/common/simulated_recording.h"

@@ -7,9 +7,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "app/commands/record_command.h"
+#include "app/commands/replay_command.h"
 #include "app/exit_codes.h"
-#include "app/record_command.h"
-#include "app/replay_command.h"
 #include "core/config.h"
 #include "core/transforms.h"
 #include "hardware/rgbd_camera.h"

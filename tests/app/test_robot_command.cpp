@@ -3,7 +3,7 @@
 
 #include <sstream>
 
-#include "app/robot_command.h"
+#include "app/commands/robot_command.h"
 #include "core/config.h"
 
 namespace aerograsp {

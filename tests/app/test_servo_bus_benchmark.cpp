@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/servo_bus_benchmark.h"
+#include "app/benchmarks/servo_bus_benchmark.h"
 
 namespace aerograsp {
 namespace {

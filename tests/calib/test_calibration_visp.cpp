@@ -12,7 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "app/calibration_visp.h"
+#include "app/calibration/calibration_visp.h"
 #include "calib/hand_eye.h"
 #include "calib/tag_board.h"
 #include "core/config.h"

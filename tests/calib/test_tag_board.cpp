@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "app/tag_board_mesh.h"
+#include "app/calibration/tag_board_mesh.h"
 #include "calib/tag_board.h"
 #include "core/random.h"
 #include "core/transforms.h"

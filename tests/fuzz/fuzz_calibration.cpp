@@ -10,8 +10,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "app/calibrate_command.h"
-#include "app/calibration_file.h"
+#include "app/calibration/calibrate_command.h"
+#include "app/calibration/calibration_file.h"
 #include "core/config.h"
 #include "tests/fuzz/fuzz_files.h"
 

@@ -6,7 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "app/mission_config.h"
+#include "app/runtime/mission_config.h"
 #include "core/config.h"
 #include "core/platform.h"
 #include "detection/perception_config.h"

@@ -1,0 +1,62 @@
+// The drawing pieces the app's time plots share (app/report/pose_plot.cpp,
+// app/report/mission_report.cpp): a panel maps (time, value) to pixels, draws its
+// frame with value grid lines, series that break at NaN, marker lines at given
+// times and time labels. OpenCV stays in the .cpp: images cross this header as
+// cv::Mat pointers.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace cv {
+class Mat;
+}
+
+namespace aerograsp {
+
+/// A colour as OpenCV draws it: blue, green, red, 0..255.
+struct PlotColor {
+  int b = 0, g = 0, r = 0;
+};
+
+/// A rectangle of an image that shows values lo..hi over times t0_s..t1_s.
+struct PlotPanel {
+  std::string title;  ///< written above the frame
+  double t0_s = 0.0, t1_s = 1.0;
+  double lo = 0.0, hi = 1.0;
+  int x0_px = 0, y0_px = 0;  ///< top-left corner of the frame
+  int width_px = 0, height_px = 0;
+
+  /// Pixel column of time t_s (not clamped).
+  int X(double t_s) const;
+  /// Pixel row of value v (not clamped; larger values are higher up).
+  int Y(double v) const;
+};
+
+/// Left of the frame the value labels need this much room, pixels.
+constexpr int kPlotValueLabelWidthPx = 76;
+
+/// The frame, the title, five value grid lines and their labels (`decimals`
+/// digits, then `unit`) left of the frame.
+void DrawPanelAxes(cv::Mat* image, const PlotPanel& panel, const std::string& unit,
+                   int decimals = 3);
+
+/// Time labels (s) under the frame at five ticks.
+void DrawPanelTimeLabels(cv::Mat* image, const PlotPanel& panel);
+
+/// The polyline (t_s[i], v[i]), values clamped to the panel, broken where v is NaN.
+void DrawPanelSeries(cv::Mat* image, const PlotPanel& panel, const std::vector<double>& t_s,
+                     const std::vector<double>& v, const PlotColor& color, int thickness);
+
+/// A vertical line at t_s across the frame, `label` (may be empty) at its top.
+void DrawPanelMarker(cv::Mat* image, const PlotPanel& panel, double t_s, const std::string& label,
+                     const PlotColor& color);
+
+/// Widens [*lo, *hi] to hold the finite values of v.
+void ExpandRange(const std::vector<double>& v, double* lo, double* hi);
+
+/// Writes the image as a PNG.
+/// @throws std::runtime_error "<path>: cannot be written".
+void WritePlotPng(const cv::Mat& image, const std::string& path);
+
+}  // namespace aerograsp

@@ -1,0 +1,190 @@
+#include "app/runtime/mission_arms.h"
+
+#include <fmt/format.h>
+
+#include "app/runtime/mission_evaluator.h"
+#include "core/collision.h"
+#include "servo/collision_predicate.h"
+
+namespace aerograsp {
+namespace {
+
+constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
+const char* const kArmNames[2] = {"left", "right"};
+
+}  // namespace
+
+ArmController MakeArmController(const MissionConfig& config, const Platform& platform, Side side,
+                                const PlatformCollision& collision,
+                                const Eigen::VectorXd* q_other_rad, double precatch_distance_m) {
+  const ArmModel& arm = platform.arm(side);
+  ServoConfig servo_config = config.ServoFor(arm.dof());
+  servo_config.via_rad = {arm.Clamp(Eigen::VectorXd::Zero(arm.dof())), platform.home(side)};
+  ArmController c;
+  c.servo = std::make_unique<ArmServo>(
+      arm, servo_config,
+      MakeCollisionPredicate(collision, side, config.servo_margin_m, q_other_rad));
+  GraspSequenceConfig sequence_config = config.grasp_sequence;
+  sequence_config.precatch_distance_m = precatch_distance_m;
+  sequence_config.close_time_s = platform.config().gripper.close_time_s;
+  c.sequence = std::make_unique<GraspSequence>(c.servo.get(), sequence_config);
+  return c;
+}
+
+GraspArms::GraspArms(const Platform& platform, const GraspPlanner& planner,
+                     const PlatformCollision& collision, const MissionConfig& config,
+                     const Eigen::VectorXd* q, MissionEvaluator* evaluator,
+                     std::function<void(const std::string&)> log)
+    : platform_(platform),
+      planner_(planner),
+      policy_(config.policy),
+      q_(q),
+      evaluator_(evaluator),
+      log_(std::move(log)) {
+  for (int a = 0; a < 2; ++a) {
+    ArmController c = MakeArmController(config, platform, kSides[a], collision, &q_[1 - a],
+                                        config.planner.precatch_distance_m);
+    servo_[a] = std::move(c.servo);
+    sequence_[a] = std::move(c.sequence);
+  }
+}
+
+void GraspArms::SetGrasps(const DualGrasp& grasp, const Eigen::Isometry3d& dMo, double t_s) {
+  has_reached_[0] = has_reached_[1] = false;
+  // The tool frame the planner's joints reach, not the contact frame g: the
+  // gripper is symmetric, so the planner may take g turned half a turn about
+  // its approach axis, which a 4-DoF arm cannot reach as such.
+  const ArmGrasp* arm_grasps[2] = {&grasp.left, &grasp.right};
+  const Eigen::Isometry3d oMd = dMo.inverse();
+  for (int a = 0; a < 2; ++a) {
+    const Side side = kSides[a];
+    const Eigen::Isometry3d oMb = oMd * platform_.dMb(side);
+    oMg_[a] = oMb * platform_.arm(side).ForwardKinematics(arm_grasps[a]->q_grasp);
+    oMp_[a] = oMb * platform_.arm(side).ForwardKinematics(arm_grasps[a]->q_precatch);
+    reached_q_grasp_[a] = arm_grasps[a]->q_grasp;
+    reached_stamp_s_[a] = t_s;
+    servo_[a]->SetSeedHints({arm_grasps[a]->q_precatch, arm_grasps[a]->q_grasp});
+  }
+}
+
+void GraspArms::Start(const DualGrasp& grasp, const Eigen::Isometry3d& dMo, double t_s) {
+  SetGrasps(grasp, dMo, t_s);
+  for (int a = 0; a < 2; ++a) {
+    sequence_[a]->Start(t_s);
+    sequence_[a]->HoldAtPreCatch(true);
+    switch_pending_[a] = false;
+  }
+}
+
+void GraspArms::Switch(const DualGrasp& grasp, const Eigen::Isometry3d& dMo,
+                       const SwitchState& before, double t_s) {
+  SetGrasps(grasp, dMo, t_s);
+  switch_pending_[0] = grasp.left.pair != before.left_pair;
+  switch_pending_[1] = grasp.right.pair != before.right_pair;
+  for (auto& sequence : sequence_) sequence->HoldAtPreCatch(true);
+}
+
+void GraspArms::Aim(int a, const ArmGrasp& g, double t_s) {
+  const ArmModel& arm = platform_.arm(kSides[a]);
+  reached_q_grasp_[a] = g.q_grasp;
+  reached_stamp_s_[a] = t_s;
+  reached_bMg_[a] = arm.ForwardKinematics(g.q_grasp);
+  reached_bMp_[a] = arm.ForwardKinematics(g.q_precatch);
+  has_reached_[a] = true;
+  servo_[a]->SetSeedHints({g.q_precatch, g.q_grasp});
+  sequence_[a]->Start(t_s);
+  sequence_[a]->HoldAtPreCatch(false);
+}
+
+void GraspArms::GoIn() {
+  for (auto& sequence : sequence_) sequence->HoldAtPreCatch(false);
+}
+
+void GraspArms::SeedHome() {
+  for (int a = 0; a < 2; ++a) servo_[a]->SetSeedHints({platform_.home(kSides[a])});
+}
+
+bool GraspArms::SolveFollowed(int a, int pair, const Eigen::Isometry3d& dMo, double t_s) {
+  Infeasibility why = Infeasibility::kNone;
+  if (!planner_.EvaluateArm(kSides[a], pair, dMo, q_[a], &solved_[a], &why)) return false;
+  if (!OnFollowedBranch(solved_[a].q_grasp, reached_q_grasp_[a], t_s - reached_stamp_s_[a],
+                        policy_)) {
+    return false;
+  }
+  reached_q_grasp_[a] = solved_[a].q_grasp;
+  reached_stamp_s_[a] = t_s;
+  return true;
+}
+
+std::optional<std::string> GraspArms::Step(double t, double dt_s, const FollowView& view,
+                                           const SwitchState& followed, ArmsDriver* driver) {
+  const int pairs[2] = {followed.left_pair, followed.right_pair};
+  for (int a = 0; a < 2; ++a) {
+    const Side side = kSides[a];
+    const Eigen::Isometry3d bMo = platform_.dMb(side).inverse() * view.dMo;
+    // The followed pair solved again for the object where it is now (the
+    // planner's closed-form grasp-axis IK): targets the arm reaches exactly,
+    // and their joints as the servo's IK seeds. When it is out of reach for
+    // this instant, the last reachable targets stand (and re-evaluation
+    // decides whether to switch).
+    if (pairs[a] >= 0 && SolveFollowed(a, pairs[a], view.dMo, t)) {
+      const ArmModel& arm = platform_.arm(side);
+      const ArmGrasp& now = solved_[a];
+      servo_[a]->SetSeedHints({now.q_precatch, now.q_grasp});
+      reached_bMg_[a] = arm.ForwardKinematics(now.q_grasp);
+      reached_bMp_[a] = arm.ForwardKinematics(now.q_precatch);
+      has_reached_[a] = true;
+    } else if (!has_reached_[a]) {
+      reached_bMg_[a] = bMo * oMg_[a];
+      reached_bMp_[a] = bMo * oMp_[a];
+    }
+    sequence_[a]->SetGrasp(reached_bMg_[a], reached_bMp_[a], view.stamp_s, switch_pending_[a]);
+    switch_pending_[a] = false;
+    GraspCommand command;
+    const GraspPhase phase_before = sequence_[a]->phase();
+    sequence_[a]->Step(q_[a], t, dt_s, &command);
+    if (evaluator_ && phase_before != GraspPhase::kClose && command.phase == GraspPhase::kClose) {
+      ClosingView closing;
+      closing.dMo_estimate = view.dMo;
+      closing.dMe = platform_.dMb(side) * platform_.arm(side).ForwardKinematics(q_[a]);
+      closing.bMg_target = reached_bMg_[a];
+      closing.object_held_in_world = view.object_held_in_world;
+      closing.target_age_s = t - reached_stamp_s_[a];
+      evaluator_->Closing(a, closing);
+    }
+    if (evaluator_ && phase_before == GraspPhase::kClose && command.phase == GraspPhase::kDone)
+      evaluator_->Closed(a);
+    if (command.servo_status != last_status_[a]) {
+      log_(fmt::format("servo   {} arm: {} (phase {}, {:.1f} mm from the target)", kArmNames[a],
+                       ServoStatusName(command.servo_status), GraspPhaseName(command.phase),
+                       1e3 * command.joints.position_error_m));
+      last_status_[a] = command.servo_status;
+    }
+    if (command.servo_status == ServoStatus::kInvalidState)
+      return fmt::format("{} arm: invalid joint readings", kArmNames[a]);
+    driver->SetJointTargets(side, command.joints.q_target_rad);
+    driver->SetGripper(side, command.gripper);
+  }
+  return std::nullopt;
+}
+
+bool GraspArms::Retract(double t, double dt_s, ArmsDriver* driver,
+                        std::optional<std::string>* emergency) {
+  bool home = true;
+  for (int a = 0; a < 2; ++a) {
+    const Side side = kSides[a];
+    const ArmModel& arm = platform_.arm(side);
+    servo_[a]->SetTarget(arm.ForwardKinematics(platform_.home(side)), t);
+    ServoCommand command;
+    const ServoStatus status = servo_[a]->Step(q_[a], t, dt_s, &command);
+    if (status == ServoStatus::kInvalidState) {
+      *emergency = fmt::format("{} arm: invalid joint readings", kArmNames[a]);
+      return false;
+    }
+    driver->SetJointTargets(side, command.q_target_rad);
+    home = home && command.position_error_m < policy_.home_tolerance_m;
+  }
+  return home;
+}
+
+}  // namespace aerograsp

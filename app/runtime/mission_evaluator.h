@@ -1,0 +1,73 @@
+// What a simulated mission is measured against: the simulated world's truth.
+// Attached to the world by the mission runner, which tells it what happened
+// (a frame taken, a frame's estimate, a gripper closing) and never reads it
+// for a decision. It fills the truth columns of the report's samples, counts
+// safe-volume entries by the true joints, logs where the grippers close on the
+// true object and gives the result's truth figures (pose RMSE, both grippers
+// holding).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <functional>
+#include <map>
+#include <string>
+
+#include "app/runtime/mission_record.h"
+#include "core/platform.h"
+#include "detection/model_cloud.h"
+
+namespace aerograsp {
+
+class World;
+class PlatformCollision;
+
+/// The closing gripper as the robot sees it.
+struct ClosingView {
+  Eigen::Isometry3d dMo_estimate = Eigen::Isometry3d::Identity();  ///< the object followed
+  Eigen::Isometry3d dMe = Eigen::Isometry3d::Identity();  ///< the tool at the measured joints
+  Eigen::Isometry3d bMg_target = Eigen::Isometry3d::Identity();  ///< the grasp target in b
+  bool object_held_in_world = false;  ///< briefly lost: held at its last world pose
+  double target_age_s = 0.0;          ///< since the target was last solved
+};
+
+class MissionEvaluator {
+ public:
+  /// `world`, `platform` and `collision` must outlive the evaluator; `log`
+  /// writes one line at the present time.
+  MissionEvaluator(const World& world, const Platform& platform, const PlatformCollision& collision,
+                   ObjectSymmetry symmetry, std::function<void(const std::string&)> log);
+
+  /// Each servo cycle: an arm whose true joints enter the safe volume counts.
+  void Step();
+  /// A camera frame stamped stamp_s was taken now: the object's true pose then.
+  void FrameTaken(double stamp_s);
+  /// The frame's result: fills the sample's truth (object position, rotation
+  /// error) and the joint targets the arms received; frames found while
+  /// grasping (`counts`) add to the pose RMSE.
+  void FramePerceived(double stamp_s, bool estimate_valid, const Eigen::Isometry3d& cMo_estimate,
+                      bool counts, MissionSample* sample);
+  /// Arm a (0 left, 1 right) starts to close / has closed: logs the tool
+  /// against the grasp on the true object.
+  void Closing(int a, const ClosingView& view);
+  void Closed(int a);
+
+  bool both_hold() const;
+  int safe_volume_entries() const { return safe_volume_entries_; }
+  /// < 0 when no frame counted.
+  double pose_rmse_m() const;
+  double rotation_rmse_deg() const;
+
+ private:
+  const World& world_;
+  const Platform& platform_;
+  const PlatformCollision& collision_;
+  ObjectSymmetry symmetry_;
+  std::function<void(const std::string&)> log_;
+  std::map<double, Eigen::Isometry3d> dMo_at_frame_;  // frames taken and not yet perceived
+  bool in_safe_volume_[2] = {false, false};
+  int safe_volume_entries_ = 0;
+  double sq_position_ = 0.0, sq_rotation_ = 0.0;
+  int frames_ = 0;
+};
+
+}  // namespace aerograsp

@@ -1,0 +1,101 @@
+// The mission's grasp, scheduled: while the global machine is grasping, it
+// plans when the policy says so, has the arms follow the chosen dual grasp,
+// re-evaluates it on a background thread (its answer used one period later)
+// and switches when the policy says so, re-aims a free arm, ends failed
+// attempts and sends the arms home before the next plan. Every decision is
+// the grasp policy's (mission/grasp_policy.h); this class carries them out.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <functional>
+#include <future>
+#include <memory>
+#include <string>
+
+#include "app/runtime/mission_arms.h"
+#include "app/runtime/mission_config.h"
+#include "app/runtime/mission_record.h"
+#include "app/runtime/mission_runner.h"
+#include "grasp/planner.h"
+#include "hardware/arms_driver.h"
+#include "mission/grasp_policy.h"
+#include "mission/state_machines.h"
+
+namespace aerograsp {
+
+class MissionEvaluator;
+class PlatformCollision;
+class TrackedObject;
+
+/// The state machines the grasp drives (owned by the runner).
+struct GraspMachines {
+  GlobalMachine* global = nullptr;
+  const VisionMachine* vision = nullptr;
+  PlannerMachine* planner = nullptr;
+  ArmsMachine* arms = nullptr;
+};
+
+class GraspScheduler {
+ public:
+  /// Everything given must outlive the scheduler. `q`: the two measured joint
+  /// vectors (updated by the runner each cycle); `dMo_now()`: the object in
+  /// the body frame now; `evaluator` and `record` may be null.
+  GraspScheduler(const MissionConfig& config, const Platform& platform, const GraspPlanner& planner,
+                 const PlatformCollision& collision, const Eigen::VectorXd* q,
+                 TrackedObject* object, GraspMachines machines, ArmsDriver* driver,
+                 MissionEvaluator* evaluator, MissionResult* result, MissionRecord* record,
+                 std::function<Eigen::Isometry3d()> dMo_now,
+                 std::function<void(const std::string&)> emergency,
+                 std::function<void(const std::string&)> log);
+  ~GraspScheduler();
+
+  /// The planner machine's cycle: plan, advance or end the attempt, give up.
+  void Plan(double t_s);
+  /// The background re-evaluation at reevaluate_rate_hz and its switches.
+  void Reevaluate(double t_s);
+  /// The arms' cycle: following the grasp, or going home after a failed attempt.
+  void Servo(double t_s, double dt_s);
+  /// Waits for a re-evaluation in flight (the mission ends).
+  void Wait();
+
+  /// True while an attempt runs (servoing, at the pre-catch poses, grasping).
+  bool active() const;
+  /// Both grippers hold the object: the grasp is done.
+  bool holding() const { return holding_; }
+  /// Either gripper held the object at its last reading.
+  bool a_gripper_holds() const { return a_gripper_holds_; }
+
+ private:
+  PlanQuery Query() const;
+  bool StartPlan(double t_s);
+  /// One gripper holds the object, the other closed on nothing: the free arm
+  /// aims at the pair the policy ranks first among those clearing the holding
+  /// arm. False when there is none.
+  bool AimFreeArm(double t_s, int holding);
+  void StopArms(double t_s, const std::string& cause);
+
+  const MissionConfig& config_;
+  const GraspPlanner& planner_;
+  const PlatformCollision& collision_;
+  const Eigen::VectorXd* q_;
+  TrackedObject* object_;
+  GraspMachines sm_;
+  ArmsDriver* driver_;
+  MissionResult* result_;
+  MissionRecord* record_;
+  std::function<Eigen::Isometry3d()> dMo_now_;
+  std::function<void(const std::string&)> emergency_, log_;
+  GraspArms arms_;
+
+  GraspPolicyState policy_;
+  double next_reevaluate_s_ = 0.0;
+  std::future<SwitchDecision> reevaluating_;
+  Eigen::Isometry3d reevaluate_dMo_ = Eigen::Isometry3d::Identity();
+  double planning_since_s_ = -1.0;
+  bool logged_no_grasp_ = false;
+  bool a_gripper_holds_ = false;
+  bool holding_ = false;
+  bool retracting_ = false;  // the arms go home after a failed attempt
+};
+
+}  // namespace aerograsp

@@ -1,0 +1,86 @@
+#include "app/runtime/mission_object.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "app/runtime/mission_vehicle.h"
+
+namespace aerograsp {
+
+TrackedObject::TrackedObject(const MissionConfig& config, ObjectSymmetry symmetry,
+                             double frame_period_s, std::function<Eigen::Isometry3d(int)> dMe,
+                             std::function<void(const std::string&)> log)
+    : config_(config),
+      symmetry_(std::move(symmetry)),
+      alpha_(std::min(1.0, frame_period_s / config.object_filter_s)),
+      dMe_(std::move(dMe)),
+      log_(std::move(log)) {}
+
+void TrackedObject::Update(double t, const ObjectEstimate& estimate, const Eigen::Isometry3d& dMc) {
+  estimate_ = estimate;
+  found_ = estimate_.valid && estimate_.state == TrackState::kFound;
+  if (found_) {
+    lost_since_s_ = -1.0;
+    last_found_stamp_s_ = estimate_.stamp_s;
+  } else if (lost_since_s_ < 0) {
+    lost_since_s_ = t;
+  }
+  const Eigen::Vector3d object_w = estimate_.fMo.translation();
+  const bool beyond = BeyondTrackingRadius(object_w, config_);
+  if (found_ && beyond && !logged_beyond_) {
+    logged_beyond_ = true;
+    log_(fmt::format(
+        "vision: the object is seen {:.2f} m from the approach waypoint, beyond the tracking "
+        "radius: not followed",
+        (object_w - config_.approach_w_m).norm()));
+  }
+  if (found_ && holder_ >= 0) {
+    // Held by one gripper the object moves with it: each frame's estimate
+    // refines where it sits in that gripper (it was taken from the estimate
+    // when the gripper closed, often while the fingers hid the object).
+    const Eigen::Isometry3d dMo_estimate = dMc * estimate_.cMo;  // at the frame
+    Eigen::Isometry3d eMo = dMe_(holder_).inverse() * dMo_estimate;
+    eMo.linear() = ClosestSymmetricRotation(eMo.linear(), eMo_held_.linear(), symmetry_);
+    eMo_held_.translation() += alpha_ * (eMo.translation() - eMo_held_.translation());
+    eMo_held_.linear() = Eigen::Quaterniond(eMo_held_.linear())
+                             .slerp(alpha_, Eigen::Quaterniond(eMo.linear()))
+                             .normalized()
+                             .toRotationMatrix();
+  }
+  if (found_ && !beyond) {
+    logged_beyond_ = false;
+    object_w_filtered_ =
+        have_wMo_ ? object_w_filtered_ + alpha_ * (object_w - object_w_filtered_) : object_w;
+    wMo_last_ = estimate_.fMo;
+    have_wMo_ = true;
+  }
+}
+
+void TrackedObject::CarriedBy(int a, const Eigen::Isometry3d& dMo) {
+  if (holder_ < 0) eMo_held_ = dMe_(a).inverse() * dMo;
+  holder_ = a;
+}
+
+bool TrackedObject::HeldInWorld(double t) const {
+  return HoldLastWorldPose(have_wMo_, found_, lost_for_s(t), config_.policy);
+}
+
+Eigen::Isometry3d TrackedObject::dMo(double t, const Eigen::Isometry3d& wMd) const {
+  // Held by one gripper: the object goes where that gripper goes.
+  if (holder_ >= 0) return dMe_(holder_) * eMo_held_;
+  // Briefly lost (the grippers hide the object as they close in): the object
+  // stays where it was last seen in the world, and the vehicle's own pose
+  // carries it into the body frame through the sway.
+  const Eigen::Isometry3d dMw = wMd.inverse();
+  if (HeldInWorld(t)) return dMw * wMo_last_;
+  // The filter runs in the world (the object crawls slowly there, while the
+  // camera sways): the vehicle's pose now brings it into the body, moved on
+  // with its velocity.
+  Eigen::Isometry3d wMo = estimate_.fMo;
+  wMo.translation() +=
+      estimate_.v_f * std::clamp(t - estimate_.stamp_s, 0.0, config_.predict_max_s);
+  return dMw * wMo;
+}
+
+}  // namespace aerograsp

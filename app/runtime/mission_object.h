@@ -1,0 +1,69 @@
+// The object as the mission knows it, in one place: the tracker's estimate
+// (filtered in the world), its last pose seen within the tracking radius, a
+// low-passed world position the vehicle follows, and, while one gripper
+// carries it, where it sits in that gripper. dMo() answers where the object is
+// in the body frame now.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <functional>
+#include <string>
+
+#include "app/runtime/mission_config.h"
+#include "detection/model_cloud.h"
+#include "detection/object_tracker.h"
+
+namespace aerograsp {
+
+class TrackedObject {
+ public:
+  /// `dMe(a)`: arm a's tool in the body frame at its measured joints; `log`
+  /// writes one line at the present time.
+  TrackedObject(const MissionConfig& config, ObjectSymmetry symmetry, double frame_period_s,
+                std::function<Eigen::Isometry3d(int)> dMe,
+                std::function<void(const std::string&)> log);
+
+  /// One frame's estimate, handled at t_s; dMc the camera in the body frame.
+  void Update(double t_s, const ObjectEstimate& estimate, const Eigen::Isometry3d& dMc);
+  /// Gripper a holds the object (the other re-aims): from now on it moves with
+  /// that gripper, starting where the body-frame pose dMo puts it.
+  void CarriedBy(int a, const Eigen::Isometry3d& dMo);
+  /// No gripper carries it any more (the attempt ended).
+  void Released() { holder_ = -1; }
+
+  /// The object in the body frame at t_s with the vehicle at wMd: in the
+  /// holding gripper, at its last world pose while briefly lost, else the
+  /// estimate moved on with its velocity.
+  Eigen::Isometry3d dMo(double t_s, const Eigen::Isometry3d& wMd) const;
+  /// Briefly lost, held at its last world pose (GraspPolicyConfig::lost_timeout_s).
+  bool HeldInWorld(double t_s) const;
+  /// Seconds out of view at t_s; < 0 while in view.
+  double lost_for_s(double t_s) const { return lost_since_s_ < 0 ? -1.0 : t_s - lost_since_s_; }
+
+  bool found() const { return found_; }
+  const ObjectEstimate& estimate() const { return estimate_; }
+  double last_found_stamp_s() const { return last_found_stamp_s_; }
+  int holder() const { return holder_; }
+  /// Seen within the tracking radius at least once; then its filtered world position.
+  bool have_world_pose() const { return have_wMo_; }
+  const Eigen::Vector3d& object_w_filtered() const { return object_w_filtered_; }
+
+ private:
+  const MissionConfig& config_;
+  ObjectSymmetry symmetry_;
+  double alpha_;  // low-pass gain per frame
+  std::function<Eigen::Isometry3d(int)> dMe_;
+  std::function<void(const std::string&)> log_;
+  ObjectEstimate estimate_;
+  bool found_ = false;
+  double lost_since_s_ = -1.0;
+  double last_found_stamp_s_ = 0.0;
+  bool have_wMo_ = false;
+  Eigen::Isometry3d wMo_last_ = Eigen::Isometry3d::Identity();  // at the last found frame
+  Eigen::Vector3d object_w_filtered_ = Eigen::Vector3d::Zero();
+  bool logged_beyond_ = false;
+  int holder_ = -1;
+  Eigen::Isometry3d eMo_held_ = Eigen::Isometry3d::Identity();  // in the holding gripper
+};
+
+}  // namespace aerograsp

@@ -1,0 +1,443 @@
+#include "app/runtime/mission_runner.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <future>
+#include <memory>
+#include <thread>
+
+#include "app/report/statistics.h"
+#include "app/runtime/mission_config.h"
+#include "app/runtime/mission_evaluator.h"
+#include "app/runtime/mission_grasp.h"
+#include "app/runtime/mission_object.h"
+#include "app/runtime/mission_vehicle.h"
+#include "core/collision.h"
+#include "core/data_dir.h"
+#include "core/object_model.h"
+#include "detection/object_tracker.h"
+#include "detection/perception_config.h"
+#include "grasp/planner.h"
+#include "hardware/hardware_factory.h"
+#include "hardware/sim/world.h"
+#include "hardware/sim/world_config.h"
+#include "mission/grasp_policy.h"
+#include "mission/state_machines.h"
+
+namespace aerograsp {
+namespace {
+
+namespace fs = std::filesystem;
+using WallClock = std::chrono::steady_clock;
+
+constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
+const char* const kArmNames[2] = {"left", "right"};
+
+/// One frame's result.
+struct Perceived {
+  FrameReport report;
+  std::shared_ptr<RgbdFrame> frame;
+};
+
+/// Everything the loop needs, built before take-off.
+class Mission {
+ public:
+  Mission(const MissionOptions& options, MissionRecord* record, std::ostream* log);
+  MissionResult Run();
+
+ private:
+  void Log(double t_s, const std::string& line);
+  void OnTransition(const StateTransition& t);
+  double Now() const;
+  /// Advances the clock by one servo period (simulated) or waits for it (real).
+  void Tick();
+  void Emergency(const std::string& cause);
+
+  void Perception();
+  void HandlePerceived(Perceived p);
+  void Vehicle();
+  void Safety();
+  /// The object in the body frame now, as the robot knows it.
+  Eigen::Isometry3d dMoNow() const;
+  /// Arm a's tool in the body frame, at its measured joints.
+  Eigen::Isometry3d dMe(int a) const;
+
+  MissionConfig config_;
+  MissionRecord* record_;
+  std::ostream* log_;
+  MissionResult result_;
+
+  std::unique_ptr<Hardware> hw_;
+  const World* sim_clock_ = nullptr;  // the simulated world, for its clock only
+  std::unique_ptr<ObjectModel> object_;
+  std::unique_ptr<ObjectTracker> tracker_;
+  std::unique_ptr<GraspPlanner> planner_;
+  std::unique_ptr<PlatformCollision> collision_;
+  Eigen::VectorXd q_[2];  // measured joints, read by the other arm's forbidden predicate
+  std::unique_ptr<MissionEvaluator> evaluator_;  // simulation: compares with the truth
+  std::unique_ptr<TrackedObject> object_pose_;
+  std::unique_ptr<VehicleLegs> legs_;
+  std::unique_ptr<GraspScheduler> grasp_;
+
+  GlobalMachine global_;
+  VehicleMachine vehicle_;
+  VisionMachine vision_;
+  PlannerMachine planner_sm_;
+  ArmsMachine arms_;
+
+  // Clock and rates.
+  double dt_s_ = 0.01;
+  double t0_wall_s_ = 0.0;
+  double next_frame_s_ = 0.0, frame_period_s_ = 1.0 / 30.0;
+
+  // Perception in flight: started at a frame, collected at the next.
+  std::future<Perceived> perceiving_;
+  std::vector<double> perception_ms_, render_ms_;
+  int snapshot_priority_ = 0;
+
+  // Safety, on the measured joints.
+  bool in_safe_volume_[2] = {false, false};
+  int safe_volume_entries_ = 0;
+};
+
+Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostream* log)
+    : record_(record),
+      log_(log),
+      global_([this](const StateTransition& t) { OnTransition(t); }),
+      vehicle_([this](const StateTransition& t) { OnTransition(t); }),
+      vision_([this](const StateTransition& t) { OnTransition(t); }),
+      planner_sm_(1, {}),
+      arms_([this](const StateTransition& t) { OnTransition(t); }) {
+  const std::string config_path =
+      options.config_path.empty() ? DataPath("config/mission_default.yaml") : options.config_path;
+  config_ = MissionConfig::Load(config_path);
+  if (options.timeout_s > 0) config_.timeout_s = options.timeout_s;
+  planner_sm_ = PlannerMachine(config_.policy.max_attempts,
+                               [this](const StateTransition& t) { OnTransition(t); });
+  if (options.arm_type != "4dof" && options.arm_type != "6dof") {
+    throw ConfigError("--arm: '" + options.arm_type + "' is not one of 4dof, 6dof");
+  }
+  const std::string platform_path = DataPath("config/platform_" + options.arm_type + ".yaml");
+  HardwareConfig hw_config;
+  if (options.hardware_path.empty()) {
+    hw_config = HardwareConfig::InProcessSimulation(platform_path, config_.world);
+  } else {
+    hw_config = HardwareConfig::Load(options.hardware_path);
+    hw_config.world = config_.world;  // simulated devices fly the mission's world
+  }
+  const auto adjust = [&](WorldConfig* w) {
+    if (!options.object.empty()) w->object.name = options.object;
+    if (!options.motion.empty()) w->object.motion = options.motion;
+    if (options.object_speed_mps >= 0) w->object.speed_mps = options.object_speed_mps;
+    if (options.sway_amplitude_m >= 0) {
+      w->vehicle.sway_amplitude_m = Eigen::Vector3d(1.0, 1.0, 2.0 / 3.0) * options.sway_amplitude_m;
+    }
+    if (options.sway_frequency_hz >= 0)
+      w->vehicle.sway_frequency_hz.setConstant(options.sway_frequency_hz);
+  };
+  hw_ = Hardware::Open(hw_config, options.seed, adjust);
+  for (int a = 0; a < 2; ++a) {  // camera-to-arm calibrations: dMb = dMc * cMb
+    if (config_.calibrated_cMb[a])
+      hw_->SetArmBase(kSides[a], hw_->platform().dMc() * *config_.calibrated_cMb[a]);
+  }
+  const World* world = hw_->world();
+  sim_clock_ = world;
+  const Platform& platform = hw_->platform();
+
+  object_ = std::make_unique<ObjectModel>(
+      world ? world->object()
+            : ObjectModel::Load(options.object.empty() ? "crawler" : options.object));
+  std::unique_ptr<BoxDetector> detector;
+  const fs::path onnx = fs::path(object_->source).parent_path() / "detector.onnx";
+  if (fs::exists(onnx)) detector = std::make_unique<BoxDetector>(onnx.string());
+  const PerceptionOptions perception =
+      config_.perception.empty() ? PerceptionOptions{} : LoadPerceptionOptions(config_.perception);
+  tracker_ = std::make_unique<ObjectTracker>(*object_, perception, std::move(detector));
+
+  GraspPlannerConfig planner_config = config_.planner;
+  planner_config.Validate(config_.source + ": planner", platform.config().gripper);
+  GraspObject grasp_object{object_->name, object_->mesh_o, object_->mass_kg,
+                           object_->center_of_mass_o};
+  ContactSet contacts =
+      ComputeContactPairs(object_->mesh_o, platform.config().gripper, planner_config.contacts);
+  planner_ = std::make_unique<GraspPlanner>(platform, std::move(grasp_object), std::move(contacts),
+                                            planner_config);
+
+  collision_ = std::make_unique<PlatformCollision>(platform);
+  for (int a = 0; a < 2; ++a) q_[a] = hw_->arms().JointPositions(kSides[a]);
+  const auto log_now = [this](const std::string& line) { Log(Now(), line); };
+  if (world) {
+    evaluator_ = std::make_unique<MissionEvaluator>(*world, platform, *collision_,
+                                                    tracker_->model().symmetry, log_now);
+  }
+  dt_s_ = 1.0 / config_.servo_rate_hz;
+  if (world) frame_period_s_ = 1.0 / world->config().camera.frame_rate_hz;
+  object_pose_ = std::make_unique<TrackedObject>(
+      config_, tracker_->model().symmetry, frame_period_s_, [this](int a) { return dMe(a); },
+      log_now);
+  legs_ = std::make_unique<VehicleLegs>(
+      config_, &hw_->autopilot(), &global_, &vehicle_,
+      [this](const std::string& cause) { Emergency(cause); }, log_now);
+  const auto emergency = [this](const std::string& cause) { Emergency(cause); };
+  grasp_ = std::make_unique<GraspScheduler>(
+      config_, platform, *planner_, *collision_, q_, object_pose_.get(),
+      GraspMachines{&global_, &vision_, &planner_sm_, &arms_}, &hw_->arms(), evaluator_.get(),
+      &result_, record_, [this] { return dMoNow(); }, emergency, log_now);
+  if (record_) {
+    record_->object_name = object_->name;
+    record_->object_mesh_o = object_->mesh_o;
+    for (int a = 0; a < 2; ++a) record_->joint_names[a] = platform.arm(kSides[a]).joint_names();
+  }
+}
+
+double Mission::Now() const {
+  if (sim_clock_) return sim_clock_->now_s();
+  return std::chrono::duration<double>(WallClock::now().time_since_epoch()).count() - t0_wall_s_;
+}
+
+void Mission::Tick() {
+  if (sim_clock_) {
+    hw_->StepSimulation(dt_s_);
+    return;
+  }
+  const double next = (std::floor(Now() / dt_s_) + 1.0) * dt_s_;
+  std::this_thread::sleep_for(std::chrono::duration<double>(std::max(0.0, next - Now())));
+}
+
+void Mission::Log(double t_s, const std::string& line) {
+  if (log_) *log_ << fmt::format("[{:8.3f} s] {}\n", t_s, line);
+}
+
+void Mission::OnTransition(const StateTransition& t) {
+  Log(t.t_s, fmt::format("{:<7} {} -> {}: {}", t.machine, t.from, t.to, t.cause));
+  if (record_) record_->transitions.push_back({t.t_s, t.machine, t.from, t.to, t.cause});
+}
+
+void Mission::Emergency(const std::string& cause) {
+  const double t = Now();
+  // Counted once: the stop is latched, later causes find the arms stopped.
+  if (arms_.EmergencyStop(t, cause)) ++result_.emergency_stops;
+  global_.Emergency(t, cause);
+  try {
+    hw_->arms().Stop();
+  } catch (const std::exception& e) {
+    Log(t, std::string("arms stop failed: ") + e.what());
+  }
+  try {
+    const CommandAck ack = hw_->autopilot().Hold();
+    if (!ack.accepted) Log(t, "autopilot refused hold: " + ack.reason);
+  } catch (const std::exception& e) {
+    Log(t, std::string("autopilot hold failed: ") + e.what());
+  }
+}
+
+Eigen::Isometry3d Mission::dMe(int a) const {
+  const Side side = kSides[a];
+  return hw_->platform().dMb(side) * hw_->platform().arm(side).ForwardKinematics(q_[a]);
+}
+
+Eigen::Isometry3d Mission::dMoNow() const {
+  return object_pose_->dMo(Now(), hw_->autopilot().State().wMd);
+}
+
+// ---- Perception ---------------------------------------------------------------
+
+void Mission::Perception() {
+  const double t = Now();
+  if (t + 1e-9 < next_frame_s_) return;
+  next_frame_s_ += frame_period_s_;
+  if (next_frame_s_ < t) next_frame_s_ = t + frame_period_s_;
+  // Vision runs while the vehicle flies (the camera sees only the pad before),
+  // nor once both grippers hold the object: nothing steers by it any more.
+  auto wanted = [this] {
+    const VehicleMode mode = vehicle_.state();
+    return mode != VehicleMode::kIdle && mode != VehicleMode::kTakeOff &&
+           global_.state() != GlobalState::kDone && global_.state() != GlobalState::kAborted &&
+           !grasp_->holding();
+  };
+  // The frame is rendered while the tracker still works on the previous one
+  // (the two take about as long); its result is handled at this frame's time.
+  std::shared_ptr<RgbdFrame> frame;
+  Eigen::Isometry3d wMd = Eigen::Isometry3d::Identity();  // the vehicle when the frame was taken
+  if (wanted()) {
+    frame = std::make_shared<RgbdFrame>();
+    const WallClock::time_point render_start = WallClock::now();
+    if (!hw_->camera().Grab(frame.get())) throw HardwareError("camera: the stream ended");
+    render_ms_.push_back(
+        std::chrono::duration<double, std::milli>(WallClock::now() - render_start).count());
+    wMd = hw_->autopilot().State().wMd;
+    if (evaluator_) evaluator_->FrameTaken(frame->stamp_s);
+  }
+  if (perceiving_.valid()) HandlePerceived(perceiving_.get());
+  if (!frame || !wanted()) return;
+  const CameraIntrinsics K = hw_->camera().intrinsics();
+  const double scale = hw_->camera().depth_scale_m();
+  // Briefly lost with the object held at its last world pose: that pose seeds
+  // the tracker (a local ICP) instead of a global registration on the frame,
+  // which costs ten times more and may lock onto clutter.
+  if (object_pose_->HeldInWorld(t))
+    tracker_->SetInitialPose(hw_->platform().dMc().inverse() * dMoNow());
+  ObjectTracker* tracker = tracker_.get();
+  const Eigen::Isometry3d wMc = wMd * hw_->platform().dMc();
+  perceiving_ = std::async(std::launch::async, [tracker, K, scale, wMc, frame] {
+    Perceived p;
+    p.frame = frame;
+    p.report = tracker->Process(frame->color, frame->depth, frame->stamp_s, K, scale, wMc);
+    return p;
+  });
+}
+
+void Mission::HandlePerceived(Perceived p) {
+  const double t = Now();
+  ++result_.frames;
+  result_.global_registrations += p.report.global_init ? 1 : 0;
+  perception_ms_.push_back(p.report.times.total_ms);
+  const ObjectEstimate& estimate = p.report.estimate;
+  const bool found = estimate.valid && estimate.state == TrackState::kFound;
+  const VisionSignal signal =
+      vision_.Update(t, found,
+                     found ? fmt::format("pose found (confidence {:.2f})", estimate.confidence)
+                           : fmt::format("pose lost (confidence {:.2f})", estimate.confidence));
+  const Eigen::Isometry3d dMc = hw_->platform().dMc();
+  object_pose_->Update(t, estimate, dMc);
+  if (signal == VisionSignal::kLost) vehicle_.Lost(t);
+
+  MissionSample s;
+  s.t_s = p.frame->stamp_s;
+  s.estimate_valid = estimate.valid;
+  s.found = found;
+  if (estimate.valid) s.dto_estimate_m = (dMc * estimate.cMo).translation();
+  for (int a = 0; a < 2; ++a) s.q_actual_rad[a] = s.q_target_rad[a] = q_[a];
+  if (evaluator_) {
+    evaluator_->FramePerceived(p.frame->stamp_s, estimate.valid, estimate.cMo,
+                               found && global_.state() == GlobalState::kGrasping, &s);
+  }
+  s.vehicle_w_m = hw_->autopilot().State().wMd.translation();
+  if (!record_) return;
+  record_->samples.push_back(s);
+  // The report's camera frame: the last one before the grippers close with the
+  // arms servoing, else the last with the object found.
+  const int priority = !found ? 0 : grasp_->active() ? 2 : 1;
+  if (priority > 0 && priority >= snapshot_priority_ && !grasp_->holding()) {
+    snapshot_priority_ = priority;
+    MissionSnapshot snap;
+    snap.t_s = p.frame->stamp_s;
+    snap.color = p.frame->color;
+    snap.K = hw_->camera().intrinsics();
+    if (p.report.detection) {
+      snap.has_box = true;
+      snap.box_x0 = p.report.detection->box.x0;
+      snap.box_y0 = p.report.detection->box.y0;
+      snap.box_x1 = p.report.detection->box.x1;
+      snap.box_y1 = p.report.detection->box.y1;
+    }
+    snap.has_pose = estimate.valid;
+    snap.cMo = estimate.cMo;
+    record_->snapshot = std::move(snap);
+  }
+}
+
+// ---- Vehicle -----------------------------------------------------------------------
+
+void Mission::Vehicle() {
+  const double t = Now();
+  VehicleView view;
+  view.object_found = vision_.state() == VisionState::kFound;
+  view.lost_for_s = object_pose_->lost_for_s(t);
+  view.one_gripper_carries = object_pose_->holder() >= 0;
+  view.a_gripper_holds = grasp_->a_gripper_holds();
+  view.have_object_w = object_pose_->have_world_pose();
+  view.object_w_m = object_pose_->object_w_filtered();
+  if (!legs_->Step(t, view)) return;
+  const bool idle = planner_sm_.state() == PlannerState::kIdle;
+  if (idle && view.object_found &&
+      ShouldPlan(idle, view.object_found, (dMoNow().translation() - config_.grasp_dto_m).norm(),
+                 config_.policy)) {
+    planner_sm_.Start(t);
+  }
+}
+
+// ---- Safety, on the measured joints ---------------------------------------------------
+
+void Mission::Safety() {
+  for (int a = 0; a < 2; ++a) {
+    const bool inside = collision_->ArmInSafeVolume(kSides[a], q_[a], 0.0);
+    if (inside && !in_safe_volume_[a]) {
+      ++safe_volume_entries_;
+      Emergency(fmt::format("{} arm entered the safe volume", kArmNames[a]));
+    }
+    in_safe_volume_[a] = inside;
+  }
+}
+
+// ---- The loop ------------------------------------------------------------------------------
+
+MissionResult Mission::Run() {
+  const WallClock::time_point wall_start = WallClock::now();
+  t0_wall_s_ = std::chrono::duration<double>(wall_start.time_since_epoch()).count();
+  global_.Start(Now());
+  double stop_at_s = -1.0;
+  while (true) {
+    try {
+      Tick();
+      for (int a = 0; a < 2; ++a) q_[a] = hw_->arms().JointPositions(kSides[a]);
+      if (evaluator_) evaluator_->Step();
+      Safety();
+      Perception();
+      Vehicle();
+      grasp_->Plan(Now());
+      grasp_->Reevaluate(Now());
+      grasp_->Servo(Now(), dt_s_);
+    } catch (const std::exception& e) {
+      Emergency(std::string("stopped on an error: ") + e.what());
+    }
+    const double t = Now();
+    if (global_.state() == GlobalState::kDone) break;
+    if (global_.state() == GlobalState::kAborted) {
+      if (stop_at_s < 0) stop_at_s = t + 1.0;  // a second of the safe state in the logs
+      if (t >= stop_at_s) break;
+    }
+    if (t > config_.timeout_s && global_.state() != GlobalState::kAborted) {
+      Emergency(fmt::format("the mission took longer than {:.0f} s", config_.timeout_s));
+    }
+  }
+  if (perceiving_.valid()) perceiving_.wait();
+  grasp_->Wait();
+
+  result_.sim_time_s = Now();
+  result_.wall_time_s = std::chrono::duration<double>(WallClock::now() - wall_start).count();
+  result_.realtime_factor =
+      result_.wall_time_s > 0 ? result_.sim_time_s / result_.wall_time_s : 0.0;
+  result_.perception_ms_median = Percentile(perception_ms_, 0.5);
+  result_.render_ms_median = Percentile(render_ms_, 0.5);
+  // The truth figures come from the evaluator in simulation; on hardware the
+  // robot's own readings are all there is.
+  result_.safe_volume_entries =
+      evaluator_ ? evaluator_->safe_volume_entries() : safe_volume_entries_;
+  if (evaluator_) {
+    result_.pose_rmse_m = evaluator_->pose_rmse_m();
+    result_.rotation_rmse_deg = evaluator_->rotation_rmse_deg();
+  }
+  const bool held = evaluator_ ? evaluator_->both_hold() : grasp_->holding();
+  result_.success = global_.state() == GlobalState::kDone && !global_.failed() && held;
+  if (!result_.success) {
+    result_.failure = global_.failed() ? global_.failure()
+                      : !held          ? "landed without the object held by both grippers"
+                                       : "the mission did not finish";
+  }
+  Log(Now(), result_.success ? "mission succeeded" : "mission failed: " + result_.failure);
+  return result_;
+}
+
+}  // namespace
+
+MissionResult RunMission(const MissionOptions& options, MissionRecord* record, std::ostream* log) {
+  Mission mission(options, record, log);
+  return mission.Run();
+}
+
+}  // namespace aerograsp

@@ -1,0 +1,78 @@
+// One mission (paper Sect. 5): take-off, fly to the approach waypoint, find
+// the object, hold it in the arms' workspace, plan a dual grasp, servo both
+// arms to their pre-catch poses, move in and close, lift, fly home and land.
+// The runner schedules; the grasp policy (mission/grasp_policy.h) and the five
+// state machines (mission/state_machines.h) decide; the vehicle legs
+// (app/runtime/mission_vehicle.h), the grasp scheduler (app/runtime/mission_grasp.h) and the
+// arms (app/runtime/mission_arms.h) carry their answers out on the devices. The loop
+// sees only what the robot sees; in simulation an evaluator
+// (app/runtime/mission_evaluator.h) compares with the world's truth. docs/mission.md
+// has the whole picture.
+//
+// Runtime: the servo loop at servo_rate_hz, perception at the camera's rate
+// on its own thread (a frame's result is used one camera period after it was
+// taken), grasp re-evaluation on another thread (its answer is used one
+// re-evaluation period after it was asked), position setpoints at
+// setpoint_rate_hz. With simulated devices everything runs on the simulated
+// clock, as fast as the machine allows, and a seed gives the same mission
+// every time; with real devices, on the wall clock. Any exception becomes an
+// emergency stop (arms stop, vehicle holds) with the message kept.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <ostream>
+#include <string>
+
+#include "app/runtime/mission_record.h"
+
+namespace aerograsp {
+
+struct MissionOptions {
+  std::string config_path;    ///< mission YAML; empty: data/config/mission_default.yaml
+  std::string hardware_path;  ///< hardware YAML; empty: every device simulated in-process
+  std::uint64_t seed{1};
+  std::string object;            ///< shipped object name or model path; empty: the world's
+  std::string arm_type{"4dof"};  ///< "4dof" | "6dof" (the platform config)
+  double sway_amplitude_m{
+      -1.0};  ///< hover sway per horizontal axis (vertical 2/3 of it); < 0: the world's
+  double sway_frequency_hz{-1.0};  ///< < 0: the world's
+  std::string motion;              ///< "static" | "crawl"; empty: the world's
+  double object_speed_mps{-1.0};   ///< crawl speed; < 0: the world's
+  double timeout_s{-1.0};          ///< < 0: the mission config's
+};
+
+struct MissionResult {
+  bool success = false;         ///< landed with the object held by both grippers, no emergency
+  std::string failure;          ///< why not, one line (empty on success)
+  double time_to_grasp_s = -1;  ///< from the start to both grippers holding; < 0: never
+  double pose_rmse_m = -1;      ///< object position estimate vs truth over the frames found while
+                                ///< grasping; < 0: none (or no truth: hardware)
+  double rotation_rmse_deg = -1;
+  int grasp_switches = 0;  ///< re-evaluation switched the followed dual grasp
+  /// Grasp attempts: dual grasps planned plus re-aims of a free arm while the
+  /// other gripper holds (the planner machine's max_attempts counts failed plans only).
+  int attempts = 0;
+  /// Times an arm entered the safe volume: by the true joints in simulation
+  /// (the evaluator), by the measured ones on hardware (the safety stop acts on
+  /// the measured ones in both).
+  int safe_volume_entries = 0;
+  int emergency_stops = 0;  ///< 0 or 1: the stop is latched, later causes are only logged
+  double sim_time_s = 0;    ///< mission time
+  double wall_time_s = 0;
+  double realtime_factor = 0;  ///< sim_time_s / wall_time_s
+  int frames = 0;              ///< camera frames processed
+  /// Frames on which the tracker ran a global registration (no usable prior,
+  /// or the local registration from it failed).
+  int global_registrations = 0;
+  double perception_ms_median = 0;  ///< thread CPU per frame
+  double render_ms_median = 0;      ///< simulated camera: wall time per frame
+};
+
+/// Flies one mission. `log` (may be null) receives one line per transition and
+/// event; `record` (may be null) receives the samples for the report.
+/// @throws ConfigError / MeshError / HardwareError before take-off (bad files,
+/// missing devices); once running, failures end the mission in the result.
+MissionResult RunMission(const MissionOptions& options, MissionRecord* record, std::ostream* log);
+
+}  // namespace aerograsp
