@@ -265,8 +265,9 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   calibrate_cmd->add_flag("--dry-run", calibrate.dry_run,
                           "Pre-flight check and the planned poses only: nothing moves");
-  calibrate_cmd->add_flag("--yes", calibrate.yes,
-                          "Do not ask for a confirmation before the arm moves (scripts)");
+  calibrate_cmd->add_flag(
+      "--yes", calibrate.yes,
+      "Do not ask for a confirmation before the arm moves (scripts; --hardware only)");
   calibrate_cmd->add_flag(
       "--hand-guided", calibrate.hand_guided,
       "Torque off on the arm: place it by hand, Enter takes a sample, q solves");

@@ -739,7 +739,8 @@ void RunHandEyeWizard(const CalibrateCommandOptions& options, HandEyeHardware& h
     out << "dry run: nothing moved\n";
     return;
   }
-  if (!options.yes) {
+  // Devices named by a hardware file may be real arms; the in-process simulator moves nothing.
+  if (!options.yes && !options.hardware_path.empty()) {
     out << (options.hand_guided
                 ? fmt::format("turn the {} arm's torque off (hold it) to place it by hand? [y/N] ",
                               SideName(side))

@@ -41,7 +41,8 @@ class HandEyeHardware;
 /// board seen from the start pose), plans diverse arm poses that show the
 /// board to the camera and keep clear of the safe volume and of the other arm,
 /// shows them (table, DIR/plan.png) and, unless `dry_run`, asks for a
-/// confirmation on `in` (`yes` skips it), then visits them at the rig's
+/// confirmation on `in` when a hardware file names the devices (`yes` skips
+/// it; the in-process simulator is not asked), then visits them at the rig's
 /// reduced speed (each move checked before it is sent, a settle check from the
 /// joint readings), detects the board at each, rejects bad samples, solves
 /// (ViSP, OpenCV's five methods, corner refinement), and writes DIR/samples/,

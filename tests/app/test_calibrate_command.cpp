@@ -23,6 +23,7 @@ namespace aerograsp {
 namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 class CalibrateCommandTest : public testing::OutputFolderTest {
  protected:
@@ -68,10 +69,11 @@ TEST_F(CalibrateCommandTest, SimulatedCalibrationIsWithinAMillimetreAndBeatsOpen
   // 14 poses: from the camera's place behind the arms (data/robots/vehicle.urdf)
   // the board is seen from farther than from the old front mount, and 12 poses
   // left the rotation at 0.101 deg.
-  options.poses = 14;
-  options.yes = true;
+  options.poses = 14;  // no --yes: the in-process simulator asks nothing
+  std::istringstream no_answer;
   std::ostringstream out, progress;
-  RunCalibrateCommand(options, out, progress);
+  RunCalibrateCommand(options, no_answer, out, progress);
+  EXPECT_THAT(out.str(), Not(HasSubstr("[y/N]")));
   EXPECT_THAT(out.str(), HasSubstr("planned 14 poses of the left arm"));
   EXPECT_TRUE(fs::exists(fs::path(folder_) / "calibration_left.yaml"));
   EXPECT_TRUE(fs::exists(fs::path(folder_) / "poses.png"));
@@ -337,6 +339,7 @@ TEST_F(CalibrateCommandTest, DryRunChecksAndPlansWithoutMoving) {
 
 TEST_F(CalibrateCommandTest, NothingMovesWithoutTheConfirmation) {
   CalibrateCommandOptions options;
+  options.hardware_path = DataPath("config/hardware_sim.yaml");
   options.out_dir = folder_;
   options.poses = 4;
   std::ostringstream out;
