@@ -18,14 +18,14 @@ SCALE=${FUZZ_SCALE:-1}
 SEED=${FUZZ_SEED:-1}
 TIMEOUT=${FUZZ_TIMEOUT:-10}
 
-# Runs per campaign (at FUZZ_SCALE=1 about 10 s each on a 2-core machine).
+# Runs per campaign (at FUZZ_SCALE=1 about a minute in all on a 2-core machine).
 declare -A RUNS=(
-  [fuzz_mesh]=3000
-  [fuzz_config]=1500
-  [fuzz_sequence]=800
-  [fuzz_calibration]=2500
-  [fuzz_mavlink_parser]=70000
-  [fuzz_scs_parser]=150000
+  [fuzz_mesh]=12000
+  [fuzz_config]=6000
+  [fuzz_sequence]=3000
+  [fuzz_calibration]=10000
+  [fuzz_mavlink_parser]=300000
+  [fuzz_scs_parser]=600000
 )
 declare -A CORPUS=(
   [fuzz_mesh]=mesh [fuzz_config]=config [fuzz_sequence]=sequence
