@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -20,6 +19,7 @@
 #include "app/calibration/calibration_hardware.h"
 #include "app/calibration/calibration_samples.h"
 #include "app/calibration/calibration_visp.h"
+#include "app/calibration/interrupt_guard.h"
 #include "app/calibration/tag_board_mesh.h"
 #include "app/report/progress.h"
 #include "app/report/summary_file.h"
@@ -449,22 +449,6 @@ void ResolveVispDataset(const std::string& folder, HandEyeSetup setup, double ta
 
 // ---- the wizard on devices ----
 
-volatile std::sig_atomic_t g_interrupted = 0;
-extern "C" void OnInterrupt(int) { g_interrupted = 1; }
-
-/// Ctrl-C (SIGINT) sets a flag the wizard polls while the arms may move; the
-/// previous handler is back when the guard goes.
-class InterruptGuard {
- public:
-  InterruptGuard() : previous_(std::signal(SIGINT, OnInterrupt)) { g_interrupted = 0; }
-  ~InterruptGuard() { std::signal(SIGINT, previous_); }
-  InterruptGuard(const InterruptGuard&) = delete;
-  InterruptGuard& operator=(const InterruptGuard&) = delete;
-
- private:
-  void (*previous_)(int);
-};
-
 /// A reason to stop the run at once: the arms are stopped where they are and
 /// the samples kept.
 struct StopRun {
@@ -477,7 +461,7 @@ constexpr double kPathCheckRad = 0.02;  // spacing of the configurations checked
 /// Throws StopRun on Ctrl-C or when a servo stopped answering or left its
 /// voltage or temperature range.
 void CheckFaults(HandEyeHardware& hw) {
-  if (g_interrupted) throw StopRun{"interrupted (Ctrl-C)"};
+  if (InterruptGuard::Interrupted()) throw StopRun{"interrupted (Ctrl-C)"};
   ScsArmsDriver* scs = hw.scs();
   if (!scs) return;
   const CalibrationRig& rig = hw.rig();

@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -15,6 +14,7 @@
 
 #include "app/calibration/calibration_hardware.h"
 #include "app/calibration/calibration_samples.h"
+#include "app/calibration/interrupt_guard.h"
 #include "app/calibration/tag_board_mesh.h"
 #include "app/report/progress.h"
 #include "app/report/statistics.h"
@@ -328,22 +328,6 @@ void SolveAndReport(const std::string& folder, ViewsFile* file, std::ostream& ou
   out << fmt::format("wrote {}, {}/camera.xml, {}/summary.json\n", yaml_path, folder, folder);
 }
 
-volatile std::sig_atomic_t g_interrupted = 0;
-extern "C" void OnIntrinsicsInterrupt(int) { g_interrupted = 1; }
-
-/// Ctrl-C (SIGINT) ends the sampling (the samples kept); the previous handler
-/// is back when the guard goes.
-class InterruptGuard {
- public:
-  InterruptGuard() : previous_(std::signal(SIGINT, OnIntrinsicsInterrupt)) { g_interrupted = 0; }
-  ~InterruptGuard() { std::signal(SIGINT, previous_); }
-  InterruptGuard(const InterruptGuard&) = delete;
-  InterruptGuard& operator=(const InterruptGuard&) = delete;
-
- private:
-  void (*previous_)(int);
-};
-
 /// A line waiting on `in` (Enter or q), read without blocking: std::cin
 /// through poll() on its descriptor, other streams by what they hold. A closed
 /// standard input (a script's /dev/null) is read once and ignored after.
@@ -488,7 +472,7 @@ void RunHandHeldIntrinsics(const CalibrateCommandOptions& options, IntrinsicsHar
   int missed = 0;
   std::string stopped_by;
   while (stopped_by.empty()) {
-    if (g_interrupted) {
+    if (InterruptGuard::Interrupted()) {
       stopped_by = "Ctrl-C";
       break;
     }
