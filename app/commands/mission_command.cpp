@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -12,38 +13,14 @@
 #include "app/cli_checks.h"
 #include "app/exit_codes.h"
 #include "app/report/mission_report.h"
+#include "app/report/mission_statistics.h"
 #include "app/report/progress.h"
-#include "app/report/statistics.h"
 #include "app/report/summary_file.h"
 
 namespace aerograsp {
 namespace {
 
 namespace fs = std::filesystem;
-
-nlohmann::json RunJson(std::uint64_t seed, const MissionResult& r) {
-  nlohmann::json j;
-  j["seed"] = seed;
-  j["success"] = r.success;
-  j["failure"] = r.failure;
-  j["time_to_grasp_s"] =
-      r.time_to_grasp_s >= 0 ? nlohmann::json(r.time_to_grasp_s) : nlohmann::json(nullptr);
-  j["pose_rmse_m"] = r.pose_rmse_m >= 0 ? nlohmann::json(r.pose_rmse_m) : nlohmann::json(nullptr);
-  j["rotation_rmse_deg"] =
-      r.rotation_rmse_deg >= 0 ? nlohmann::json(r.rotation_rmse_deg) : nlohmann::json(nullptr);
-  j["grasp_switches"] = r.grasp_switches;
-  j["attempts"] = r.attempts;
-  j["safe_volume_entries"] = r.safe_volume_entries;
-  j["emergency_stops"] = r.emergency_stops;
-  j["realtime_factor"] = r.realtime_factor;
-  j["sim_time_s"] = r.sim_time_s;
-  j["wall_time_s"] = r.wall_time_s;
-  j["frames"] = r.frames;
-  j["global_registrations"] = r.global_registrations;
-  j["perception_ms_median"] = r.perception_ms_median;
-  j["render_ms_median"] = r.render_ms_median;
-  return j;
-}
 
 void WriteText(const fs::path& path, const std::string& text) {
   std::ofstream file(path, std::ios::trunc);
@@ -52,12 +29,19 @@ void WriteText(const fs::path& path, const std::string& text) {
 }
 
 std::string Describe(const MissionResult& r) {
+  const MissionStatistics s = SummarizeMissions({r});
   return fmt::format(
-      "{}; grasped at {}, pose RMSE {}, {} switch(es), {} safe-volume entr{}, {:.2f}x real time",
+      "{}; grasped at {} after {} attempt(s), {} gripper close(s) ({} held), tool to the true "
+      "grasp at contact {} median, pose RMSE {}, {} switch(es), {} safe-volume entr{}, {} arm "
+      "contact(s), worst servo step {:.2f} ms, {:.2f}x real time",
       r.success ? "success" : "FAILED: " + r.failure,
-      r.time_to_grasp_s >= 0 ? fmt::format("{:.1f} s", r.time_to_grasp_s) : "never",
+      r.time_to_grasp_s >= 0 ? fmt::format("{:.1f} s", r.time_to_grasp_s) : "never", r.attempts,
+      s.closes, s.holds,
+      std::isfinite(s.tool_error_median_m) ? fmt::format("{:.1f} mm", 1e3 * s.tool_error_median_m)
+                                           : "n/a",
       r.pose_rmse_m >= 0 ? fmt::format("{:.1f} mm", 1e3 * r.pose_rmse_m) : "n/a", r.grasp_switches,
-      r.safe_volume_entries, r.safe_volume_entries == 1 ? "y" : "ies", r.realtime_factor);
+      r.safe_volume_entries, r.safe_volume_entries == 1 ? "y" : "ies", r.arm_contacts,
+      r.servo_step_ms_max, r.realtime_factor);
 }
 
 }  // namespace
@@ -104,17 +88,27 @@ ReportRow Headline(const MissionResult& r) {
   const auto or_none = [](double v, const std::string& text) {
     return v >= 0 ? text : std::string("n/a");
   };
+  const MissionStatistics s = SummarizeMissions({r});
   return {
       {"success", r.success ? "yes" : "no: " + r.failure},
       {"time to grasp", or_none(r.time_to_grasp_s, fmt::format("{:.2f} s", r.time_to_grasp_s))},
-      {"object position RMSE",
+      {"grasp attempts", std::to_string(r.attempts)},
+      {"gripper closes", fmt::format("{} ({} held)", s.closes, s.holds)},
+      {"tool to the true grasp at contact",
+       std::isfinite(s.tool_error_median_m)
+           ? fmt::format("median {:.1f} mm, 90th percentile {:.1f} mm", 1e3 * s.tool_error_median_m,
+                         1e3 * s.tool_error_p90_m)
+           : "n/a"},
+      {"object position RMSE while grasping",
        or_none(r.pose_rmse_m, fmt::format("{:.2f} mm", 1e3 * r.pose_rmse_m))},
-      {"object rotation RMSE",
+      {"object rotation RMSE while grasping",
        or_none(r.rotation_rmse_deg, fmt::format("{:.2f} deg", r.rotation_rmse_deg))},
       {"grasp switches", std::to_string(r.grasp_switches)},
-      {"grasp attempts", std::to_string(r.attempts)},
       {"safe-volume entries", std::to_string(r.safe_volume_entries)},
+      {"arm contacts", std::to_string(r.arm_contacts)},
       {"emergency stops", std::to_string(r.emergency_stops)},
+      {"worst servo step", fmt::format("{:.2f} ms ({:.2f} ms thread CPU)", r.servo_step_ms_max,
+                                       r.servo_step_cpu_ms_max)},
       {"mission time", fmt::format("{:.1f} s simulated in {:.1f} s ({:.2f}x real time)",
                                    r.sim_time_s, r.wall_time_s, r.realtime_factor)},
       {"camera frames",
@@ -124,13 +118,21 @@ ReportRow Headline(const MissionResult& r) {
 }
 
 ReportRow RunRow(std::uint64_t seed, const MissionResult& r) {
+  const MissionStatistics s = SummarizeMissions({r});
   return {{"seed", std::to_string(seed)},
           {"success", r.success ? "yes" : "no"},
+          {"attempts", std::to_string(r.attempts)},
           {"time to grasp (s)",
            r.time_to_grasp_s >= 0 ? fmt::format("{:.1f}", r.time_to_grasp_s) : "-"},
+          {"closes (held)", fmt::format("{} ({})", s.closes, s.holds)},
+          {"tool at contact, median (mm)", std::isfinite(s.tool_error_median_m)
+                                               ? fmt::format("{:.1f}", 1e3 * s.tool_error_median_m)
+                                               : "-"},
           {"pose RMSE (mm)", r.pose_rmse_m >= 0 ? fmt::format("{:.1f}", 1e3 * r.pose_rmse_m) : "-"},
           {"switches", std::to_string(r.grasp_switches)},
           {"safe-volume entries", std::to_string(r.safe_volume_entries)},
+          {"arm contacts", std::to_string(r.arm_contacts)},
+          {"worst servo step (ms)", fmt::format("{:.2f}", r.servo_step_ms_max)},
           {"real-time factor", fmt::format("{:.2f}", r.realtime_factor)},
           {"failure", r.failure}};
 }
@@ -168,7 +170,7 @@ int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, s
       throw;
     }
     WriteText(dir / "mission.log", log.str());
-    summary.update(RunJson(options.mission.seed, result));
+    summary.update(MissionRunJson(options.mission.seed, result));
     const std::string path = WriteSummaryFile(dir.string(), summary.dump(2));
     WriteMissionReport(record, record.object_mesh_o, Headline(result), {}, dir.string());
     out << "mission: " << Describe(result) << "\n";
@@ -181,9 +183,7 @@ int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, s
   Progress progress(err, "missions", options.runs, "missions");
   nlohmann::json runs = nlohmann::json::array();
   std::vector<ReportRow> rows;
-  int successes = 0, with_switch = 0, recovered_by_switch = 0, entries = 0;
-  double sum_time = 0.0;
-  std::vector<double> factors;  // real-time factor of each run
+  std::vector<MissionResult> results;
   for (int k = 0; k < options.runs; ++k) {
     MissionOptions m = options.mission;
     m.seed = options.mission.seed + static_cast<std::uint64_t>(k);
@@ -195,49 +195,28 @@ int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, s
       result.failure = std::string("error: ") + e.what();
     }
     WriteText(dir / "logs" / fmt::format("seed_{}.log", m.seed), log.str());
-    runs.push_back(RunJson(m.seed, result));
+    runs.push_back(MissionRunJson(m.seed, result));
     rows.push_back(RunRow(m.seed, result));
-    successes += result.success;
-    with_switch += result.grasp_switches > 0;
-    recovered_by_switch += result.success && result.grasp_switches > 0;
-    entries += result.safe_volume_entries;
-    factors.push_back(result.realtime_factor);
-    if (result.success) sum_time += result.time_to_grasp_s;
+    results.push_back(result);
     if (!result.success) err << fmt::format("\nseed {}: {}\n", m.seed, Describe(result));
     progress.Update(k + 1);
   }
   progress.Finish();
-  const double min_factor = Percentile(factors, 0.0), median_factor = Percentile(factors, 0.5);
+  const MissionStatistics statistics = SummarizeMissions(results);
   summary["runs"] = runs;
-  summary["success_rate"] = double(successes) / options.runs;
-  summary["successes"] = successes;
-  summary["runs_with_switch"] = with_switch;
-  summary["successes_after_switch"] = recovered_by_switch;
-  summary["safe_volume_entries"] = entries;
-  summary["realtime_factor_min"] = min_factor;
-  summary["realtime_factor_median"] = median_factor;
-  summary["time_to_grasp_s_mean"] = successes > 0 ? sum_time / successes : 0.0;
+  summary.update(MissionStatisticsJson(statistics));
   const std::string path = WriteSummaryFile(dir.string(), summary.dump(2));
-  const ReportRow headline = {
+  ReportRow headline = {
       {"runs", fmt::format("{} (seeds {} to {})", options.runs, options.mission.seed,
-                           options.mission.seed + options.runs - 1)},
-      {"success rate", fmt::format("{:.1f} % ({} of {})", 100.0 * successes / options.runs,
-                                   successes, options.runs)},
-      {"runs with a grasp switch",
-       fmt::format("{} ({} of them succeeded)", with_switch, recovered_by_switch)},
-      {"safe-volume entries", std::to_string(entries)},
-      {"real-time factor",
-       fmt::format("{:.2f} median, {:.2f} the slowest", median_factor, min_factor)},
+                           options.mission.seed + options.runs - 1)}};
+  for (auto& row : MissionStatisticsRows(statistics)) headline.push_back(std::move(row));
+  headline.push_back(
       {"plots", fmt::format("of the first run (seed {}); every run's log is in logs/",
-                            options.mission.seed)}};
+                            options.mission.seed)});
   WriteMissionReport(record, record.object_mesh_o, headline, rows, dir.string());
-  out << fmt::format(
-      "missions: {} of {} succeeded ({:.1f} %), {} with a grasp switch ({} of them succeeded), {} "
-      "safe-volume "
-      "entries, {:.2f}x real time median ({:.2f}x the slowest)\n",
-      successes, options.runs, 100.0 * successes / options.runs, with_switch, recovered_by_switch,
-      entries, median_factor, min_factor);
+  out << DescribeMissionStatistics(statistics);
   out << "Wrote " << (dir / "index.html").string() << " and " << path << "\n";
+  const int successes = statistics.successes;
   return successes == options.runs ? kExitOk : kExitMissionFailed;
 }
 

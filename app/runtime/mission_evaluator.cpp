@@ -31,6 +31,13 @@ void MissionEvaluator::Step() {
     if (inside && !in_safe_volume_[a]) ++safe_volume_entries_;
     in_safe_volume_[a] = inside;
   }
+  const bool contact = collision_.ArmsCollide(world_.arm(Side::kLeft).q_true_rad(),
+                                              world_.arm(Side::kRight).q_true_rad(), 0.0);
+  if (contact && !in_contact_) {
+    ++arm_contacts_;
+    log_("servo   the arms touch each other (true joints)");
+  }
+  in_contact_ = contact;
 }
 
 void MissionEvaluator::FrameTaken(double stamp_s) {
@@ -70,6 +77,9 @@ void MissionEvaluator::Closing(int a, const ClosingView& view) {
   const Eigen::Vector3d target_o = (dMo_est.inverse() * dMb * view.bMg_target).translation();
   const Eigen::Vector3d error_o =
       dMo_est.linear().transpose() * (dMo_est.translation() - dMo_true.translation());
+  closing_[a] = true;
+  closing_target_o_[a] = target_o;
+  closing_dRo_estimate_[a] = dMo_est.linear();
   log_(fmt::format(
       "servo   {} arm closes: the tool is {:.1f} mm from its target and {:.1f} mm from the "
       "grasp "
@@ -89,15 +99,30 @@ void MissionEvaluator::Closed(int a) {
   const Side side = kSides[a];
   const Eigen::Isometry3d oMe = world_.wMo().inverse() * world_.wMe(side);
   const GripperState g = world_.gripper(side);
+  GripperClose close;
+  close.t_s = world_.now_s();
+  close.arm = a;
+  close.holds = g.holding;
+  if (closing_[a]) {
+    // The grasp point on the true object, in the symmetric twin nearest the
+    // estimate the close aimed with; the tool against it, in d.
+    Eigen::Isometry3d dMo_true = world_.wMd().inverse() * world_.wMo();
+    dMo_true.linear() =
+        ClosestSymmetricRotation(dMo_true.linear(), closing_dRo_estimate_[a], symmetry_);
+    const Eigen::Vector3d tool_d = (world_.wMd().inverse() * world_.wMe(side)).translation();
+    close.tool_error_m = (tool_d - dMo_true * closing_target_o_[a]).norm();
+    closing_[a] = false;
+  }
+  closes_.push_back(close);
   const Eigen::Vector3d p = 1e3 * oMe.translation(), x = oMe.linear().col(0),
                         z = oMe.linear().col(2);
   log_(
       fmt::format("servo   {} gripper closed: {} at {:.0f} mm; the tool at [{:.1f}, {:.1f}, "
                   "{:.1f}] mm in the "
-                  "true o, closing along [{:.2f}, {:.2f}, {:.2f}], approaching along "
-                  "[{:.2f}, {:.2f}, {:.2f}]",
+                  "true o ({:.1f} mm from its grasp), closing along [{:.2f}, {:.2f}, {:.2f}], "
+                  "approaching along [{:.2f}, {:.2f}, {:.2f}]",
                   kArmNames[a], g.holding ? "holds" : "empty", 1e3 * g.aperture_m, p.x(), p.y(),
-                  p.z(), x.x(), x.y(), x.z(), z.x(), z.y(), z.z()));
+                  p.z(), 1e3 * close.tool_error_m, x.x(), x.y(), x.z(), z.x(), z.y(), z.z()));
 }
 
 bool MissionEvaluator::both_hold() const {

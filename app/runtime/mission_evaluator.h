@@ -2,17 +2,19 @@
 // Attached to the world by the mission runner, which tells it what happened
 // (a frame taken, a frame's estimate, a gripper closing) and never reads it
 // for a decision. It fills the truth columns of the report's samples, counts
-// safe-volume entries by the true joints, logs where the grippers close on the
-// true object and gives the result's truth figures (pose RMSE, both grippers
-// holding).
+// safe-volume entries and arm contacts by the true joints, logs and keeps where
+// the grippers close on the true object and gives the result's truth figures
+// (pose RMSE, the closes, both grippers holding).
 #pragma once
 
 #include <Eigen/Geometry>
 #include <functional>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "app/runtime/mission_record.h"
+#include "app/runtime/mission_runner.h"
 #include "core/platform.h"
 #include "detection/model_cloud.h"
 
@@ -37,7 +39,8 @@ class MissionEvaluator {
   MissionEvaluator(const World& world, const Platform& platform, const PlatformCollision& collision,
                    ObjectSymmetry symmetry, std::function<void(const std::string&)> log);
 
-  /// Each servo cycle: an arm whose true joints enter the safe volume counts.
+  /// Each servo cycle: an arm whose true joints enter the safe volume counts,
+  /// and so do the two arms coming into contact.
   void Step();
   /// A camera frame stamped stamp_s was taken now: the object's true pose then.
   void FrameTaken(double stamp_s);
@@ -46,13 +49,20 @@ class MissionEvaluator {
   /// grasping (`counts`) add to the pose RMSE.
   void FramePerceived(double stamp_s, bool estimate_valid, const Eigen::Isometry3d& cMo_estimate,
                       bool counts, MissionSample* sample);
-  /// Arm a (0 left, 1 right) starts to close / has closed: logs the tool
-  /// against the grasp on the true object.
+  /// Arm a (0 left, 1 right) starts to close: logs the tool against the grasp
+  /// on the true object and keeps the grasp point (in o) the close aims at.
   void Closing(int a, const ClosingView& view);
+  /// Arm a has closed: logs the tool on the true object and adds a close to
+  /// closes() with the tool's error to the grasp point kept by Closing (0 when
+  /// Closing was not called for this arm).
   void Closed(int a);
 
   bool both_hold() const;
   int safe_volume_entries() const { return safe_volume_entries_; }
+  int arm_contacts() const { return arm_contacts_; }
+  const std::vector<GripperClose>& closes() const { return closes_; }
+  /// Frames that counted for the pose RMSE.
+  int grasp_frames() const { return frames_; }
   /// < 0 when no frame counted.
   double pose_rmse_m() const;
   double rotation_rmse_deg() const;
@@ -66,6 +76,14 @@ class MissionEvaluator {
   std::map<double, Eigen::Isometry3d> dMo_at_frame_;  // frames taken and not yet perceived
   bool in_safe_volume_[2] = {false, false};
   int safe_volume_entries_ = 0;
+  bool in_contact_ = false;
+  int arm_contacts_ = 0;
+  // Per arm, from Closing: the grasp point in o and the object's rotation as
+  // the robot estimated it (the truth is compared in its nearest symmetric twin).
+  bool closing_[2] = {false, false};
+  Eigen::Vector3d closing_target_o_[2];
+  Eigen::Matrix3d closing_dRo_estimate_[2];
+  std::vector<GripperClose> closes_;
   double sq_position_ = 0.0, sq_rotation_ = 0.0;
   int frames_ = 0;
 };

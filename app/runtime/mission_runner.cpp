@@ -19,6 +19,7 @@
 #include "core/collision.h"
 #include "core/data_dir.h"
 #include "core/object_model.h"
+#include "core/thread_clock.h"
 #include "detection/object_tracker.h"
 #include "detection/perception_config.h"
 #include "grasp/planner.h"
@@ -61,6 +62,8 @@ class Mission {
   void HandlePerceived(Perceived p);
   void Vehicle();
   void Safety();
+  /// The arms' cycle, its wall and thread CPU time kept for the result.
+  void ServoCycle();
   /// The object in the body frame now, as the robot knows it.
   Eigen::Isometry3d dMoNow() const;
   /// Arm a's tool in the body frame, at its measured joints.
@@ -374,6 +377,17 @@ void Mission::Safety() {
   }
 }
 
+void Mission::ServoCycle() {
+  const WallClock::time_point wall_start = WallClock::now();
+  const double cpu_start_ms = ThreadCpuMs();
+  grasp_->Servo(Now(), dt_s_);
+  const double cpu_ms = ThreadCpuMs() - cpu_start_ms;
+  const double wall_ms =
+      std::chrono::duration<double, std::milli>(WallClock::now() - wall_start).count();
+  result_.servo_step_ms_max = std::max(result_.servo_step_ms_max, wall_ms);
+  result_.servo_step_cpu_ms_max = std::max(result_.servo_step_cpu_ms_max, cpu_ms);
+}
+
 // ---- The loop ------------------------------------------------------------------------------
 
 MissionResult Mission::Run() {
@@ -391,7 +405,7 @@ MissionResult Mission::Run() {
       Vehicle();
       grasp_->Plan(Now());
       grasp_->Reevaluate(Now());
-      grasp_->Servo(Now(), dt_s_);
+      ServoCycle();
     } catch (const std::exception& e) {
       Emergency(std::string("stopped on an error: ") + e.what());
     }
@@ -421,6 +435,9 @@ MissionResult Mission::Run() {
   if (evaluator_) {
     result_.pose_rmse_m = evaluator_->pose_rmse_m();
     result_.rotation_rmse_deg = evaluator_->rotation_rmse_deg();
+    result_.grasp_frames = evaluator_->grasp_frames();
+    result_.arm_contacts = evaluator_->arm_contacts();
+    result_.closes = evaluator_->closes();
   }
   const bool held = evaluator_ ? evaluator_->both_hold() : grasp_->holding();
   result_.success = global_.state() == GlobalState::kDone && !global_.failed() && held;

@@ -23,6 +23,7 @@
 #include <functional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "app/runtime/mission_record.h"
 
@@ -42,6 +43,18 @@ struct MissionOptions {
   double timeout_s{-1.0};          ///< < 0: the mission config's
 };
 
+/// One gripper close, measured against the simulated world's truth
+/// (app/runtime/mission_evaluator.h).
+struct GripperClose {
+  double t_s = 0.0;    ///< when the close ended (the fingers stopped)
+  int arm = 0;         ///< 0 left, 1 right
+  bool holds = false;  ///< the gripper held the object when the close ended
+  /// The tool point against its grasp point on the true object at contact, m:
+  /// measured when the close ends (a holding gripper carries the object fixed
+  /// to the tool from the moment the pads touched it).
+  double tool_error_m = 0.0;
+};
+
 struct MissionResult {
   bool success = false;         ///< landed with the object held by both grippers, no emergency
   std::string failure;          ///< why not, one line (empty on success)
@@ -49,6 +62,7 @@ struct MissionResult {
   double pose_rmse_m = -1;      ///< object position estimate vs truth over the frames found while
                                 ///< grasping; < 0: none (or no truth: hardware)
   double rotation_rmse_deg = -1;
+  int grasp_frames = 0;    ///< frames the pose RMSE is taken over
   int grasp_switches = 0;  ///< re-evaluation switched the followed dual grasp
   /// Grasp attempts: dual grasps planned plus re-aims of a free arm while the
   /// other gripper holds (the planner machine's max_attempts counts failed plans only).
@@ -57,6 +71,8 @@ struct MissionResult {
   /// (the evaluator), by the measured ones on hardware (the safety stop acts on
   /// the measured ones in both).
   int safe_volume_entries = 0;
+  /// Times the two arms touched each other, by the true joints (simulation only).
+  int arm_contacts = 0;
   int emergency_stops = 0;  ///< 0 or 1: the stop is latched, later causes are only logged
   double sim_time_s = 0;    ///< mission time
   double wall_time_s = 0;
@@ -67,6 +83,12 @@ struct MissionResult {
   int global_registrations = 0;
   double perception_ms_median = 0;  ///< thread CPU per frame
   double render_ms_median = 0;      ///< simulated camera: wall time per frame
+  /// Every gripper close with its truth (simulation only; empty on hardware).
+  std::vector<GripperClose> closes;
+  /// The arms' servo cycle (the followed grasp solved again, both grasp
+  /// sequences and servos): the longest, wall time and thread CPU time, ms.
+  double servo_step_ms_max = 0;
+  double servo_step_cpu_ms_max = 0;
 };
 
 /// Flies one mission. `log` (may be null) receives one line per transition and

@@ -2,20 +2,25 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <sstream>
 
 #include "app/commands/mission_command.h"
 #include "app/exit_codes.h"
 #include "app/runtime/mission_config.h"
+#include "app/runtime/mission_evaluator.h"
 #include "app/runtime/mission_runner.h"
+#include "core/collision.h"
 #include "core/config.h"
 #include "detection/perception_config.h"
 #include "grasp/planner.h"
 #include "hardware/sim/world.h"
 #include "hardware/sim/world_config.h"
+#include "servo/ik.h"
 
 namespace aerograsp {
 namespace {
@@ -53,8 +58,10 @@ TEST(MissionCommandTest, TakesOffFindsTheObjectAndWritesTheReport) {
   }
   std::ifstream in(dir / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(in);
-  for (const char* key : {"success", "time_to_grasp_s", "pose_rmse_m", "grasp_switches",
-                          "safe_volume_entries", "realtime_factor"}) {
+  for (const char* key :
+       {"success", "time_to_grasp_s", "pose_rmse_m", "grasp_switches", "safe_volume_entries",
+        "realtime_factor", "first_attempt_success", "attempts", "gripper_closes", "gripper_holds",
+        "closes", "tool_error_at_contact_m_median", "arm_contacts", "servo_step_ms_max"}) {
     EXPECT_TRUE(summary.contains(key)) << key;
   }
   EXPECT_FALSE(summary["success"].get<bool>());  // stopped by the 12 s limit
@@ -93,6 +100,12 @@ TEST(MissionCommandTest, SeveralRunsWriteTheirTableRateAndSpeedsAndOneLogEach) {
   EXPECT_EQ(summary["runs"][0]["seed"].get<int>(), 3);
   EXPECT_EQ(summary["runs"][1]["seed"].get<int>(), 4);
   EXPECT_EQ(summary["success_rate"].get<double>(), 0.0);
+  EXPECT_EQ(summary["first_attempt_success_rate"].get<double>(), 0.0);
+  EXPECT_TRUE(summary["time_to_grasp_s_median"].is_null());  // no success
+  for (const char* key : {"attempts_histogram", "gripper_closes", "tool_error_at_contact_m_p90",
+                          "pose_rmse_while_grasping_m", "servo_step_ms_max", "arm_contacts"}) {
+    EXPECT_TRUE(summary.contains(key)) << key;
+  }
   const double slowest = summary["realtime_factor_min"].get<double>();
   const double median = summary["realtime_factor_median"].get<double>();
   EXPECT_GT(slowest, 0.0);
@@ -207,35 +220,45 @@ TEST(MissionRunnerTest, ABadArmTypeOrObjectIsAClearError) {
   }
 }
 
-// The simulator against the planner: a planned dual grasp, put on the arms by
-// its joints with the vehicle still, holds the object when the grippers close.
-TEST(MissionRunnerTest, APlannedGraspSetByItsJointsHoldsTheObjectInTheSimulator) {
+// A world standing still (no sway, tilt, gusts, drift; the object static)
+// with the vehicle placed so that the object sits at the mission's grasp spot.
+WorldConfig StillWorldAtTheGraspSpot() {
   WorldConfig config = WorldConfig::Load(DataDir() + "/config/world_default.yaml");
   config.vehicle.sway_amplitude_m.setZero();
   config.vehicle.tilt_amplitude_rad = 0.0;
   config.vehicle.gust_rate_hz = 0.0;
   config.vehicle.drift_std_m = 0.0;
   config.object.motion = "static";
-  // The vehicle placed so that the object sits at the mission's grasp spot.
   const MissionConfig mission = MissionConfig::Load(DataDir() + "/config/mission_default.yaml");
   config.vehicle.start_w_m = World(config, 1).wMo().translation() - mission.grasp_dto_m;
-  World world(config, 1);
-  const Platform& platform = world.platform();
-  world.Step(0.01);
-  const Eigen::Isometry3d dMo = world.wMd().inverse() * world.wMo();
+  return config;
+}
+
+// The mission's first-ranked dual grasp for the object where it is now.
+DualGrasp PlanInWorld(const World& world) {
+  const MissionConfig mission = MissionConfig::Load(DataDir() + "/config/mission_default.yaml");
   const GraspPlannerConfig planner_config = mission.planner;  // as the mission plans
   const ObjectModel& object = world.object();
+  const Platform& platform = world.platform();
   GraspPlanner planner(
       platform, GraspObject{object.name, object.mesh_o, object.mass_kg, object.center_of_mass_o},
       ComputeContactPairs(object.mesh_o, platform.config().gripper, planner_config.contacts),
       planner_config);
   PlanQuery query;
-  query.dMo = dMo;
+  query.dMo = world.wMd().inverse() * world.wMo();
   query.q_left = platform.home(Side::kLeft);
   query.q_right = platform.home(Side::kRight);
   const PlanResult plan = planner.Plan(query);
-  ASSERT_FALSE(plan.ranked.empty());
-  const DualGrasp& best = plan.ranked.front();
+  if (plan.ranked.empty()) throw std::runtime_error("no dual grasp for the still world");
+  return plan.ranked.front();
+}
+
+// The simulator against the planner: a planned dual grasp, put on the arms by
+// its joints with the vehicle still, holds the object when the grippers close.
+TEST(MissionRunnerTest, APlannedGraspSetByItsJointsHoldsTheObjectInTheSimulator) {
+  World world(StillWorldAtTheGraspSpot(), 1);
+  world.Step(0.01);
+  const DualGrasp best = PlanInWorld(world);
   world.arm(Side::kLeft).SetTarget(best.left.q_grasp);
   world.arm(Side::kRight).SetTarget(best.right.q_grasp);
   world.Step(3.0);
@@ -244,6 +267,70 @@ TEST(MissionRunnerTest, APlannedGraspSetByItsJointsHoldsTheObjectInTheSimulator)
   world.Step(1.5);
   EXPECT_TRUE(world.held_by(Side::kLeft)) << world.gripper(Side::kLeft).aperture_m;
   EXPECT_TRUE(world.held_by(Side::kRight)) << world.gripper(Side::kRight).aperture_m;
+}
+
+// The left gripper closes on an estimate 20 mm off the truth, the right on the
+// truth: the evaluator measures each tool against its grasp on the true object.
+TEST(MissionEvaluatorTest, TheToolErrorAtContactIsTakenAgainstTheTrueObject) {
+  World world(StillWorldAtTheGraspSpot(), 1);
+  world.Step(0.01);
+  const DualGrasp best = PlanInWorld(world);
+  const Platform& platform = world.platform();
+  const PlatformCollision collision(platform);
+  std::vector<std::string> lines;
+  MissionEvaluator evaluator(world, platform, collision,
+                             ObjectSymmetry{{Eigen::Matrix3d::Identity()}},
+                             [&](const std::string& line) { lines.push_back(line); });
+  const ArmGrasp* grasps[2] = {&best.left, &best.right};
+  for (int a = 0; a < 2; ++a)
+    world.arm(a == 0 ? Side::kLeft : Side::kRight).SetTarget(grasps[a]->q_grasp);
+  world.Step(3.0);
+  const Eigen::Isometry3d dMo_true = world.wMd().inverse() * world.wMo();
+  const Eigen::Vector3d offset_d(0.0, 0.02, 0.0);
+  for (int a = 0; a < 2; ++a) {
+    const Side side = a == 0 ? Side::kLeft : Side::kRight;
+    ClosingView view;
+    view.dMo_estimate = dMo_true;
+    if (a == 0) view.dMo_estimate.translation() += offset_d;
+    view.bMg_target = platform.arm(side).ForwardKinematics(grasps[a]->q_grasp);
+    view.dMe = platform.dMb(side) * view.bMg_target;
+    evaluator.Closing(a, view);
+    world.SetGripper(side, GripperCommand::kClose);
+  }
+  world.Step(1.5);
+  evaluator.Closed(0);
+  evaluator.Closed(1);
+  ASSERT_EQ(evaluator.closes().size(), 2u);
+  EXPECT_EQ(evaluator.closes()[0].arm, 0);
+  EXPECT_TRUE(evaluator.closes()[1].holds);
+  EXPECT_NEAR(evaluator.closes()[0].tool_error_m, 0.02, 0.002);
+  EXPECT_LT(evaluator.closes()[1].tool_error_m, 0.002);
+  EXPECT_THAT(lines.back(), ::testing::HasSubstr("mm from its grasp"));
+}
+
+TEST(MissionEvaluatorTest, ArmsComingIntoContactCountOncePerContact) {
+  World world(StillWorldAtTheGraspSpot(), 1);
+  const Platform& platform = world.platform();
+  const PlatformCollision collision(platform);
+  MissionEvaluator evaluator(world, platform, collision,
+                             ObjectSymmetry{{Eigen::Matrix3d::Identity()}},
+                             [](const std::string&) {});
+  evaluator.Step();
+  EXPECT_EQ(evaluator.arm_contacts(), 0);  // at home
+  std::mt19937 rng(3);
+  Eigen::VectorXd q[2];
+  do {
+    q[0] = DrawJointsWithinLimits(platform.arm(Side::kLeft), &rng);
+    q[1] = DrawJointsWithinLimits(platform.arm(Side::kRight), &rng);
+  } while (!collision.ArmsCollide(q[0], q[1], 0.0));
+  world.arm(Side::kLeft).SetTarget(q[0]);
+  world.arm(Side::kRight).SetTarget(q[1]);
+  world.Step(5.0);
+  ASSERT_TRUE(collision.ArmsCollide(world.arm(Side::kLeft).q_true_rad(),
+                                    world.arm(Side::kRight).q_true_rad(), 0.0));
+  evaluator.Step();
+  evaluator.Step();  // still touching: the same contact
+  EXPECT_EQ(evaluator.arm_contacts(), 1);
 }
 
 TEST(MissionRunnerTest, AGripperThatHoldsStaysClosedWhileTheOtherAimsAgain) {
@@ -260,6 +347,12 @@ TEST(MissionRunnerTest, AGripperThatHoldsStaysClosedWhileTheOtherAimsAgain) {
   EXPECT_TRUE(result.success) << result.failure << "\n" << log.str();
   EXPECT_GE(result.grasp_switches, 1);
   EXPECT_EQ(result.safe_volume_entries, 0);
+  EXPECT_EQ(result.arm_contacts, 0);
+  // The evaluator kept every close: both grippers ended up holding.
+  const auto holds = std::count_if(result.closes.begin(), result.closes.end(),
+                                   [](const GripperClose& c) { return c.holds; });
+  EXPECT_GE(holds, 2);
+  EXPECT_GT(result.servo_step_cpu_ms_max, 0.0);
 }
 
 }  // namespace

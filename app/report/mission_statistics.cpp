@@ -1,0 +1,222 @@
+#include "app/report/mission_statistics.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+#include "app/report/statistics.h"
+
+namespace aerograsp {
+namespace {
+
+nlohmann::json OrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
+
+/// A non-negative figure, or null when it is negative (the result's "none").
+nlohmann::json IfSet(double v) { return v >= 0 ? nlohmann::json(v) : nullptr; }
+
+std::vector<double> ToolErrors(const std::vector<GripperClose>& closes) {
+  std::vector<double> errors;
+  for (const GripperClose& c : closes) errors.push_back(c.tool_error_m);
+  return errors;
+}
+
+int Holds(const std::vector<GripperClose>& closes) {
+  return static_cast<int>(
+      std::count_if(closes.begin(), closes.end(), [](const GripperClose& c) { return c.holds; }));
+}
+
+std::string Millimetres(double m) {
+  return std::isfinite(m) ? fmt::format("{:.1f} mm", 1e3 * m) : "n/a";
+}
+
+std::string Seconds(double s) { return std::isfinite(s) ? fmt::format("{:.1f} s", s) : "n/a"; }
+
+std::string Share(int count, int of) {
+  return fmt::format("{} of {} ({:.1f} %)", count, of, of > 0 ? 100.0 * count / of : 0.0);
+}
+
+std::string AttemptsText(const MissionStatistics& s) {
+  std::string text;
+  for (const auto& [attempts, count] : s.attempts) {
+    text += fmt::format("{}{}: {} of {}", text.empty() ? "" : ", ", attempts, count.successes,
+                        count.runs);
+  }
+  return text.empty() ? "none" : text;
+}
+
+}  // namespace
+
+MissionStatistics SummarizeMissions(const std::vector<MissionResult>& runs) {
+  MissionStatistics s;
+  s.runs = static_cast<int>(runs.size());
+  std::vector<double> times_s, errors_m, factors, step_ms, step_cpu_ms;
+  double sq_pose = 0.0;
+  int pose_frames = 0;
+  for (const MissionResult& r : runs) {
+    AttemptCount& count = s.attempts[r.attempts];
+    ++count.runs;
+    if (r.success) {
+      ++s.successes;
+      ++count.successes;
+      s.first_attempt_successes += r.attempts == 1;
+      s.successes_within_3 += r.attempts <= 3;
+      times_s.push_back(r.time_to_grasp_s);
+    }
+    s.closes += static_cast<int>(r.closes.size());
+    s.holds += Holds(r.closes);
+    const std::vector<double> errors = ToolErrors(r.closes);
+    errors_m.insert(errors_m.end(), errors.begin(), errors.end());
+    if (r.pose_rmse_m >= 0 && r.grasp_frames > 0) {
+      sq_pose += r.pose_rmse_m * r.pose_rmse_m * r.grasp_frames;
+      pose_frames += r.grasp_frames;
+    }
+    s.servo_step_ms_max = std::max(s.servo_step_ms_max, r.servo_step_ms_max);
+    s.servo_step_cpu_ms_max = std::max(s.servo_step_cpu_ms_max, r.servo_step_cpu_ms_max);
+    factors.push_back(r.realtime_factor);
+    s.safe_volume_entries += r.safe_volume_entries;
+    s.arm_contacts += r.arm_contacts;
+    s.emergency_stops += r.emergency_stops;
+    s.runs_with_switch += r.grasp_switches > 0;
+    s.successes_after_switch += r.success && r.grasp_switches > 0;
+  }
+  s.time_to_grasp_median_s = Percentile(times_s, 0.5, NAN);
+  s.time_to_grasp_p90_s = Percentile(times_s, 0.9, NAN);
+  if (!times_s.empty()) {
+    double sum = 0.0;
+    for (double t : times_s) sum += t;
+    s.time_to_grasp_mean_s = sum / times_s.size();
+  }
+  s.tool_error_median_m = Percentile(errors_m, 0.5, NAN);
+  s.tool_error_p90_m = Percentile(errors_m, 0.9, NAN);
+  if (pose_frames > 0) s.pose_rmse_m = std::sqrt(sq_pose / pose_frames);
+  s.realtime_factor_min = Percentile(factors, 0.0);
+  s.realtime_factor_median = Percentile(factors, 0.5);
+  return s;
+}
+
+nlohmann::json MissionRunJson(std::uint64_t seed, const MissionResult& r) {
+  nlohmann::json j;
+  j["seed"] = seed;
+  j["success"] = r.success;
+  j["failure"] = r.failure;
+  j["first_attempt_success"] = r.success && r.attempts == 1;
+  j["time_to_grasp_s"] = IfSet(r.time_to_grasp_s);
+  j["pose_rmse_m"] = IfSet(r.pose_rmse_m);
+  j["rotation_rmse_deg"] = IfSet(r.rotation_rmse_deg);
+  j["grasp_frames"] = r.grasp_frames;
+  j["grasp_switches"] = r.grasp_switches;
+  j["attempts"] = r.attempts;
+  j["gripper_closes"] = r.closes.size();
+  j["gripper_holds"] = Holds(r.closes);
+  const std::vector<double> errors = ToolErrors(r.closes);
+  j["tool_error_at_contact_m_median"] = OrNull(Percentile(errors, 0.5, NAN));
+  j["tool_error_at_contact_m_p90"] = OrNull(Percentile(errors, 0.9, NAN));
+  nlohmann::json closes = nlohmann::json::array();
+  for (const GripperClose& c : r.closes) {
+    closes.push_back({{"t_s", c.t_s},
+                      {"arm", c.arm == 0 ? "left" : "right"},
+                      {"holds", c.holds},
+                      {"tool_error_m", c.tool_error_m}});
+  }
+  j["closes"] = closes;
+  j["safe_volume_entries"] = r.safe_volume_entries;
+  j["arm_contacts"] = r.arm_contacts;
+  j["emergency_stops"] = r.emergency_stops;
+  j["servo_step_ms_max"] = r.servo_step_ms_max;
+  j["servo_step_cpu_ms_max"] = r.servo_step_cpu_ms_max;
+  j["realtime_factor"] = r.realtime_factor;
+  j["sim_time_s"] = r.sim_time_s;
+  j["wall_time_s"] = r.wall_time_s;
+  j["frames"] = r.frames;
+  j["global_registrations"] = r.global_registrations;
+  j["perception_ms_median"] = r.perception_ms_median;
+  j["render_ms_median"] = r.render_ms_median;
+  return j;
+}
+
+nlohmann::json MissionStatisticsJson(const MissionStatistics& s) {
+  nlohmann::json j;
+  j["successes"] = s.successes;
+  j["success_rate"] = s.success_rate();
+  j["first_attempt_successes"] = s.first_attempt_successes;
+  j["first_attempt_success_rate"] = s.first_attempt_rate();
+  j["successes_within_3_attempts"] = s.successes_within_3;
+  j["success_within_3_attempts_rate"] = s.within_3_rate();
+  nlohmann::json attempts = nlohmann::json::array();
+  for (const auto& [n, count] : s.attempts) {
+    attempts.push_back({{"attempts", n}, {"runs", count.runs}, {"successes", count.successes}});
+  }
+  j["attempts_histogram"] = attempts;
+  j["time_to_grasp_s_median"] = OrNull(s.time_to_grasp_median_s);
+  j["time_to_grasp_s_p90"] = OrNull(s.time_to_grasp_p90_s);
+  j["time_to_grasp_s_mean"] = OrNull(s.time_to_grasp_mean_s);
+  j["gripper_closes"] = s.closes;
+  j["gripper_holds"] = s.holds;
+  j["tool_error_at_contact_m_median"] = OrNull(s.tool_error_median_m);
+  j["tool_error_at_contact_m_p90"] = OrNull(s.tool_error_p90_m);
+  j["pose_rmse_while_grasping_m"] = OrNull(s.pose_rmse_m);
+  j["servo_step_ms_max"] = s.servo_step_ms_max;
+  j["servo_step_cpu_ms_max"] = s.servo_step_cpu_ms_max;
+  j["realtime_factor_min"] = s.realtime_factor_min;
+  j["realtime_factor_median"] = s.realtime_factor_median;
+  j["safe_volume_entries"] = s.safe_volume_entries;
+  j["arm_contacts"] = s.arm_contacts;
+  j["emergency_stops"] = s.emergency_stops;
+  j["runs_with_switch"] = s.runs_with_switch;
+  j["successes_after_switch"] = s.successes_after_switch;
+  return j;
+}
+
+std::string DescribeMissionStatistics(const MissionStatistics& s) {
+  std::string text = fmt::format(
+      "missions: {} of {} succeeded ({:.1f} %); on the first attempt {}, within 3 attempts {}\n",
+      s.successes, s.runs, 100.0 * s.success_rate(), Share(s.first_attempt_successes, s.runs),
+      Share(s.successes_within_3, s.runs));
+  text += fmt::format("  attempts (succeeded of runs): {}\n", AttemptsText(s));
+  text += fmt::format("  time to grasp: median {}, 90th percentile {}\n",
+                      Seconds(s.time_to_grasp_median_s), Seconds(s.time_to_grasp_p90_s));
+  text += fmt::format(
+      "  gripper closes {}, {} held; the tool to the true grasp at contact: median {}, 90th "
+      "percentile {}\n",
+      s.closes, s.holds, Millimetres(s.tool_error_median_m), Millimetres(s.tool_error_p90_m));
+  text += fmt::format("  object estimate while grasping: {} RMSE\n", Millimetres(s.pose_rmse_m));
+  text += fmt::format(
+      "  worst servo step {:.2f} ms ({:.2f} ms thread CPU); {:.2f}x real time median ({:.2f}x "
+      "the slowest)\n",
+      s.servo_step_ms_max, s.servo_step_cpu_ms_max, s.realtime_factor_median,
+      s.realtime_factor_min);
+  text += fmt::format(
+      "  safe-volume entries {}, arm contacts {}, emergency stops {}; {} with a grasp switch ({} "
+      "of them succeeded)\n",
+      s.safe_volume_entries, s.arm_contacts, s.emergency_stops, s.runs_with_switch,
+      s.successes_after_switch);
+  return text;
+}
+
+ReportRow MissionStatisticsRows(const MissionStatistics& s) {
+  return {{"success rate",
+           fmt::format("{:.1f} % ({} of {})", 100.0 * s.success_rate(), s.successes, s.runs)},
+          {"success on the first attempt", Share(s.first_attempt_successes, s.runs)},
+          {"success within 3 attempts", Share(s.successes_within_3, s.runs)},
+          {"attempts (succeeded of runs)", AttemptsText(s)},
+          {"time to grasp",
+           fmt::format("median {}, 90th percentile {}", Seconds(s.time_to_grasp_median_s),
+                       Seconds(s.time_to_grasp_p90_s))},
+          {"gripper closes", fmt::format("{} ({} held)", s.closes, s.holds)},
+          {"tool to the true grasp at contact",
+           fmt::format("median {}, 90th percentile {}", Millimetres(s.tool_error_median_m),
+                       Millimetres(s.tool_error_p90_m))},
+          {"object estimate while grasping", Millimetres(s.pose_rmse_m) + " RMSE"},
+          {"worst servo step", fmt::format("{:.2f} ms ({:.2f} ms thread CPU)", s.servo_step_ms_max,
+                                           s.servo_step_cpu_ms_max)},
+          {"real-time factor", fmt::format("{:.2f} median, {:.2f} the slowest",
+                                           s.realtime_factor_median, s.realtime_factor_min)},
+          {"safe-volume entries", std::to_string(s.safe_volume_entries)},
+          {"arm contacts", std::to_string(s.arm_contacts)},
+          {"emergency stops", std::to_string(s.emergency_stops)},
+          {"runs with a grasp switch",
+           fmt::format("{} ({} of them succeeded)", s.runs_with_switch, s.successes_after_switch)}};
+}
+
+}  // namespace aerograsp
