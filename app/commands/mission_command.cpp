@@ -80,6 +80,7 @@ void AddMissionOptions(CLI::App* cmd, MissionCommandOptions* o) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--timeout", m.timeout_s, "Mission time limit, s [mission config: 180]")
       ->check(cli::Range(1.0, 3600.0));
+  AddTelemetryOptions(cmd, &o->telemetry);
 }
 
 namespace {
@@ -146,6 +147,7 @@ int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, s
   summary["object"] = options.mission.object.empty() ? "crawler" : options.mission.object;
   summary["arm"] = options.mission.arm_type;
   MissionRecord record;  // of the first run: the report's plots
+  const TelemetryConfig telemetry_config = LoadTelemetryConfig(options.telemetry);
 
   if (options.runs == 1) {
     std::ostringstream log;
@@ -162,13 +164,20 @@ int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, s
     std::ostream both(&tee);
     out << fmt::format("mission: seed {}, {} arms, report in {}\n", options.mission.seed,
                        options.mission.arm_type, dir.string());
+    const std::unique_ptr<FanOutSink> telemetry =
+        OpenTelemetry(telemetry_config, dir.string(), "mission",
+                      [&both](const std::string& line) { both << "telemetry: " << line << "\n"; });
+    MissionLinks links;
+    if (!telemetry->empty()) links.telemetry = telemetry.get();
     MissionResult result;
     try {
-      result = RunMission(options.mission, &record, &both);
+      result = RunMission(options.mission, &record, &both, links);
     } catch (...) {
+      telemetry->Close();
       WriteText(dir / "mission.log", log.str());
       throw;
     }
+    telemetry->Close();
     WriteText(dir / "mission.log", log.str());
     summary.update(MissionRunJson(options.mission.seed, result));
     const std::string path = WriteSummaryFile(dir.string(), summary.dump(2));

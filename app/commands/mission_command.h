@@ -2,12 +2,14 @@
 // writes DIR/index.html (plots of the estimated object pose against truth,
 // joints' targets against actual values with grasp switches, the state
 // timeline and a camera frame with the detection), DIR/summary.json and
-// DIR/mission.log (every transition with its cause).
+// DIR/mission.log (every transition with its cause) and the telemetry
+// (app/commands/telemetry_options.h: DIR/mission.mcap) of the first run.
 #pragma once
 
 #include <ostream>
 #include <string>
 
+#include "app/commands/telemetry_options.h"
 #include "app/runtime/mission_runner.h"
 
 namespace CLI {
@@ -18,8 +20,9 @@ namespace aerograsp {
 
 struct MissionCommandOptions {
   MissionOptions mission;
-  std::string out_dir;  ///< report folder (created)
-  int runs{1};          ///< seeded missions: seeds seed, seed + 1, ...
+  std::string out_dir;         ///< report folder (created)
+  int runs{1};                 ///< seeded missions: seeds seed, seed + 1, ...
+  TelemetryOptions telemetry;  ///< of the first run only when there are several
 };
 
 /// Adds the mission options to `cmd` (a CLI11 subcommand).

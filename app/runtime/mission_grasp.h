@@ -62,6 +62,8 @@ class GraspScheduler {
   bool active() const;
   /// Both grippers hold the object: the grasp is done.
   bool holding() const { return holding_; }
+  /// The contact pairs followed now (-1: none for that arm).
+  const SwitchState& followed() const { return policy_.followed; }
   /// Either gripper held the object at its last reading.
   bool a_gripper_holds() const { return a_gripper_holds_; }
 

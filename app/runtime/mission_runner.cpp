@@ -16,6 +16,7 @@
 #include "app/runtime/mission_grasp.h"
 #include "app/runtime/mission_object.h"
 #include "app/runtime/mission_vehicle.h"
+#include "app/runtime/telemetry_frames.h"
 #include "core/collision.h"
 #include "core/data_dir.h"
 #include "core/object_model.h"
@@ -47,11 +48,12 @@ struct Perceived {
 /// Everything the loop needs, built before take-off.
 class Mission {
  public:
-  Mission(const MissionOptions& options, MissionRecord* record, std::ostream* log);
+  Mission(const MissionOptions& options, MissionRecord* record, std::ostream* log,
+          const MissionLinks& links);
   MissionResult Run();
 
  private:
-  void Log(double t_s, const std::string& line);
+  void Log(double t_s, const std::string& line, TelemetryLevel level = TelemetryLevel::kInfo);
   void OnTransition(const StateTransition& t);
   double Now() const;
   /// Advances the clock by one servo period (simulated) or waits for it (real).
@@ -64,6 +66,10 @@ class Mission {
   void Safety();
   /// The arms' cycle, its wall and thread CPU time kept for the result.
   void ServoCycle();
+  /// An outside emergency stop requested: the mission's emergency, once.
+  void PollEmergencyStop();
+  /// The arms, the moving transforms and a new followed grasp pair to the telemetry.
+  void PublishCycle();
   /// The object in the body frame now, as the robot knows it.
   Eigen::Isometry3d dMoNow() const;
   /// Arm a's tool in the body frame, at its measured joints.
@@ -72,6 +78,7 @@ class Mission {
   MissionConfig config_;
   MissionRecord* record_;
   std::ostream* log_;
+  MissionLinks links_;
   MissionResult result_;
 
   std::unique_ptr<Hardware> hw_;
@@ -105,11 +112,18 @@ class Mission {
   // Safety, on the measured joints.
   bool in_safe_volume_[2] = {false, false};
   int safe_volume_entries_ = 0;
+
+  // Telemetry and the outside emergency stop.
+  bool outside_stop_ = false;
+  SwitchState published_pair_;
+  std::string planner_cause_;  // the planner machine's last transition: why the pair changed
 };
 
-Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostream* log)
+Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostream* log,
+                 const MissionLinks& links)
     : record_(record),
       log_(log),
+      links_(links),
       global_([this](const StateTransition& t) { OnTransition(t); }),
       vehicle_([this](const StateTransition& t) { OnTransition(t); }),
       vision_([this](const StateTransition& t) { OnTransition(t); }),
@@ -211,13 +225,19 @@ void Mission::Tick() {
   std::this_thread::sleep_for(std::chrono::duration<double>(std::max(0.0, next - Now())));
 }
 
-void Mission::Log(double t_s, const std::string& line) {
+void Mission::Log(double t_s, const std::string& line, TelemetryLevel level) {
   if (log_) *log_ << fmt::format("[{:8.3f} s] {}\n", t_s, line);
+  if (links_.telemetry) links_.telemetry->Log(t_s, level, "mission", line);
 }
 
 void Mission::OnTransition(const StateTransition& t) {
-  Log(t.t_s, fmt::format("{:<7} {} -> {}: {}", t.machine, t.from, t.to, t.cause));
+  if (log_) {
+    *log_ << fmt::format("[{:8.3f} s] {:<7} {} -> {}: {}\n", t.t_s, t.machine, t.from, t.to,
+                         t.cause);
+  }
   if (record_) record_->transitions.push_back({t.t_s, t.machine, t.from, t.to, t.cause});
+  if (t.machine == "planner") planner_cause_ = t.cause;
+  if (links_.telemetry) links_.telemetry->Transition({t.t_s, t.machine, t.from, t.to, t.cause});
 }
 
 void Mission::Emergency(const std::string& cause) {
@@ -320,6 +340,10 @@ void Mission::HandlePerceived(Perceived p) {
                                found && global_.state() == GlobalState::kGrasping, &s);
   }
   s.vehicle_w_m = hw_->autopilot().State().wMd.translation();
+  if (links_.telemetry) {  // the tracker's filter runs in w: it is given wMc
+    PublishPerceivedFrame(links_.telemetry, telemetry_frame::kWorld, estimate, found, *p.frame,
+                          hw_->camera().intrinsics(), hw_->camera().depth_scale_m());
+  }
   if (!record_) return;
   record_->samples.push_back(s);
   // The report's camera frame: the last one before the grippers close with the
@@ -388,17 +412,51 @@ void Mission::ServoCycle() {
   result_.servo_step_cpu_ms_max = std::max(result_.servo_step_cpu_ms_max, cpu_ms);
 }
 
+// ---- Telemetry and the outside emergency stop ----------------------------------------
+
+void Mission::PollEmergencyStop() {
+  const EmergencyStopPoll poll = links_.emergency_stop->Poll(Now());
+  for (const std::string& note : poll.notes) Log(Now(), note, TelemetryLevel::kWarn);
+  if (!poll.stop || outside_stop_) return;
+  outside_stop_ = true;
+  Log(Now(), "emergency stop requested by " + poll.source, TelemetryLevel::kError);
+  Emergency(fmt::format("emergency stop from {}{}", poll.source,
+                        poll.reason.empty() ? "" : ": " + poll.reason));
+}
+
+void Mission::PublishCycle() {
+  TelemetrySink* sink = links_.telemetry;
+  const double t = Now();
+  const Platform& platform = hw_->platform();
+  sink->Arms(ArmsState(t, platform, q_, hw_->arms()));
+  const Eigen::Isometry3d wMd = hw_->autopilot().State().wMd;
+  std::vector<TelemetryTransform> tf = ToolFrames(platform, q_);
+  tf.push_back({telemetry_frame::kWorld, telemetry_frame::kBody, wMd});
+  if (object_pose_->have_world_pose() || object_pose_->holder() >= 0)
+    tf.push_back({telemetry_frame::kWorld, telemetry_frame::kObject, wMd * dMoNow()});
+  sink->Transforms(t, tf);
+  const SwitchState& followed = grasp_->followed();
+  if (followed.left_pair != published_pair_.left_pair ||
+      followed.right_pair != published_pair_.right_pair) {
+    published_pair_ = followed;
+    sink->GraspPair({t, followed.left_pair, followed.right_pair, planner_cause_});
+  }
+}
+
 // ---- The loop ------------------------------------------------------------------------------
 
 MissionResult Mission::Run() {
   const WallClock::time_point wall_start = WallClock::now();
   t0_wall_s_ = std::chrono::duration<double>(wall_start.time_since_epoch()).count();
+  if (links_.telemetry)
+    links_.telemetry->StaticTransforms(Now(), PlatformStaticFrames(hw_->platform()));
   global_.Start(Now());
   double stop_at_s = -1.0;
   while (true) {
     try {
       Tick();
       for (int a = 0; a < 2; ++a) q_[a] = hw_->arms().JointPositions(kSides[a]);
+      if (links_.emergency_stop) PollEmergencyStop();
       if (evaluator_) evaluator_->Step();
       Safety();
       Perception();
@@ -406,6 +464,7 @@ MissionResult Mission::Run() {
       grasp_->Plan(Now());
       grasp_->Reevaluate(Now());
       ServoCycle();
+      if (links_.telemetry) PublishCycle();
     } catch (const std::exception& e) {
       Emergency(std::string("stopped on an error: ") + e.what());
     }
@@ -452,8 +511,9 @@ MissionResult Mission::Run() {
 
 }  // namespace
 
-MissionResult RunMission(const MissionOptions& options, MissionRecord* record, std::ostream* log) {
-  Mission mission(options, record, log);
+MissionResult RunMission(const MissionOptions& options, MissionRecord* record, std::ostream* log,
+                         const MissionLinks& links) {
+  Mission mission(options, record, log, links);
   return mission.Run();
 }
 

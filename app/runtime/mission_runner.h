@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "app/runtime/mission_record.h"
+#include "telemetry/telemetry.h"
 
 namespace aerograsp {
 
@@ -91,10 +92,24 @@ struct MissionResult {
   double servo_step_cpu_ms_max = 0;
 };
 
+/// Who hears the mission as it flies and who may stop it (each may be null;
+/// both must outlive the call).
+struct MissionLinks {
+  /// Receives the static transforms at the start; the arms and the moving
+  /// transforms every servo cycle; the object's pose and the camera frame at
+  /// each processed frame; every transition, grasp pair and log line.
+  TelemetrySink* telemetry = nullptr;
+  /// Polled at the start of every servo cycle; a stop is the mission's
+  /// emergency (arms stop, vehicle holds, the mission aborts) with the source
+  /// in its cause.
+  EmergencyStopSource* emergency_stop = nullptr;
+};
+
 /// Flies one mission. `log` (may be null) receives one line per transition and
 /// event; `record` (may be null) receives the samples for the report.
 /// @throws ConfigError / MeshError / HardwareError before take-off (bad files,
 /// missing devices); once running, failures end the mission in the result.
-MissionResult RunMission(const MissionOptions& options, MissionRecord* record, std::ostream* log);
+MissionResult RunMission(const MissionOptions& options, MissionRecord* record, std::ostream* log,
+                         const MissionLinks& links = {});
 
 }  // namespace aerograsp

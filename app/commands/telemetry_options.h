@@ -1,0 +1,39 @@
+// The telemetry options shared by `mission`, `bench`, `replay` and
+// `calibrate` (--telemetry YAML, --no-mcap) and the sinks they open.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "telemetry/telemetry.h"
+#include "telemetry/telemetry_config.h"
+
+namespace CLI {
+class App;
+}
+
+namespace aerograsp {
+
+struct TelemetryOptions {
+  std::string config_path;  ///< telemetry YAML; empty: data/config/telemetry.yaml
+  bool no_mcap = false;     ///< no MCAP file, whatever the config says
+};
+
+/// Adds --telemetry and --no-mcap to `cmd` (a CLI11 subcommand).
+void AddTelemetryOptions(CLI::App* cmd, TelemetryOptions* options);
+
+/// Reads the telemetry config of `options` (data/config/telemetry.yaml unless
+/// one is given) with the command line's overrides applied.
+/// @throws ConfigError naming the file, the key and the bound.
+TelemetryConfig LoadTelemetryConfig(const TelemetryOptions& options);
+
+/// The sinks of a command writing its results to `out_dir`: the MCAP file
+/// `out_dir/<name>.mcap` unless turned off. A sink that fails later (a full
+/// disk) tells `note` once and goes on without its output; `note` must outlive
+/// the sinks.
+std::unique_ptr<FanOutSink> OpenTelemetry(const TelemetryConfig& config, const std::string& out_dir,
+                                          const std::string& name,
+                                          std::function<void(const std::string&)> note);
+
+}  // namespace aerograsp
