@@ -19,7 +19,7 @@ ArmMountConfig ReadArm(const ConfigNode& node) {
 
 }  // namespace
 
-const char* SideName(Side side) { return side == Side::kLeft ? "left" : "right"; }
+const char* SideName(Side side) { return kArmNames[static_cast<int>(side)]; }
 
 PlatformConfig PlatformConfig::Load(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);

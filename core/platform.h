@@ -58,6 +58,11 @@ struct PlatformConfig {
 
 /// Which arm. Left is at -y in the FRD body frame.
 enum class Side { kLeft = 0, kRight = 1 };
+/// Both arms in index order (arrays indexed by arm: 0 left, 1 right).
+inline constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
+/// Their names, "left" and "right", in the same order.
+inline constexpr const char* kArmNames[2] = {"left", "right"};
+/// kArmNames of `side`.
 const char* SideName(Side side);
 
 class Platform {

@@ -9,8 +9,6 @@
 namespace aerograsp {
 namespace {
 
-const char* const kArmNames[2] = {"left", "right"};
-
 bool SamePairs(const DualGrasp& d, const SwitchState& s) {
   return d.left.pair == s.left_pair && d.right.pair == s.right_pair;
 }

@@ -132,8 +132,6 @@ Pair RandomAllowedPair(const Platform& platform, const PlatformCollision& collis
                            ": no allowed joint configuration in 1000 random draws");
 }
 
-constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
-
 /// Both arms' joints and servos; each servo's forbidden predicate is the safe
 /// volume and the other arm at its joints q[other], and they share a right of way.
 struct DualServo {

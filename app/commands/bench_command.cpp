@@ -37,7 +37,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kRadToDeg = 180.0 / M_PI;
-constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
 constexpr double kMaxTagReprojectionPx = 1.0;  // a board pose above this is not used (as calibrate)
 // A board pose from fewer tags is not used: from one 36 mm tag (the grippers
 // hide the others) its rotation was 4.1 deg RMS off the truth, from two 0.5, from three 0.4.

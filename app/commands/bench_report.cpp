@@ -23,7 +23,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kRadToDeg = 180.0 / M_PI;
-constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
 
 nlohmann::json StatsJson(const BenchStats& s) {
   return {{"frames", s.t_err_m.size()},

@@ -7,13 +7,6 @@
 #include "servo/collision_predicate.h"
 
 namespace aerograsp {
-namespace {
-
-constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
-const char* const kArmNames[2] = {"left", "right"};
-
-}  // namespace
-
 ArmController MakeArmController(const MissionConfig& config, const Platform& platform, Side side,
                                 const PlatformCollision& collision,
                                 const Eigen::VectorXd* q_other_rad, double precatch_distance_m) {

@@ -8,13 +8,6 @@
 #include "hardware/sim/world.h"
 
 namespace aerograsp {
-namespace {
-
-constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
-const char* const kArmNames[2] = {"left", "right"};
-
-}  // namespace
-
 MissionEvaluator::MissionEvaluator(const World& world, const Platform& platform,
                                    const PlatformCollision& collision, ObjectSymmetry symmetry,
                                    std::function<void(const std::string&)> log)

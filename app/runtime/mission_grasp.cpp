@@ -6,13 +6,6 @@
 #include "core/collision.h"
 
 namespace aerograsp {
-namespace {
-
-constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
-const char* const kArmNames[2] = {"left", "right"};
-
-}  // namespace
-
 GraspScheduler::GraspScheduler(const MissionConfig& config, const Platform& platform,
                                const GraspPlanner& planner, const PlatformCollision& collision,
                                const Eigen::VectorXd* q, TrackedObject* object,

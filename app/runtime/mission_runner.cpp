@@ -36,9 +36,6 @@ namespace {
 namespace fs = std::filesystem;
 using WallClock = std::chrono::steady_clock;
 
-constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
-const char* const kArmNames[2] = {"left", "right"};
-
 /// One frame's result.
 struct Perceived {
   FrameReport report;

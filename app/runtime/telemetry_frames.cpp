@@ -6,10 +6,6 @@
 
 namespace aerograsp {
 
-namespace {
-constexpr Side kSides[2] = {Side::kLeft, Side::kRight};
-}  // namespace
-
 std::vector<TelemetryTransform> PlatformStaticFrames(const Platform& platform) {
   return {{telemetry_frame::kMap, telemetry_frame::kWorld, MapMWorld()},
           {telemetry_frame::kBody, telemetry_frame::kCamera, platform.dMc()},
