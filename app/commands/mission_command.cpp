@@ -164,20 +164,20 @@ int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, s
     std::ostream both(&tee);
     out << fmt::format("mission: seed {}, {} arms, report in {}\n", options.mission.seed,
                        options.mission.arm_type, dir.string());
-    const std::unique_ptr<FanOutSink> telemetry =
+    CommandTelemetry telemetry =
         OpenTelemetry(telemetry_config, dir.string(), "mission",
                       [&both](const std::string& line) { both << "telemetry: " << line << "\n"; });
     MissionLinks links;
-    if (!telemetry->empty()) links.telemetry = telemetry.get();
+    links.telemetry = telemetry.sink();
     MissionResult result;
     try {
       result = RunMission(options.mission, &record, &both, links);
     } catch (...) {
-      telemetry->Close();
+      telemetry.Close();
       WriteText(dir / "mission.log", log.str());
       throw;
     }
-    telemetry->Close();
+    const std::string mcap = telemetry.Close();
     WriteText(dir / "mission.log", log.str());
     summary.update(MissionRunJson(options.mission.seed, result));
     const std::string path = WriteSummaryFile(dir.string(), summary.dump(2));
@@ -185,6 +185,7 @@ int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, s
     out << "mission: " << Describe(result) << "\n";
     out << "Wrote " << (dir / "index.html").string() << ", " << path << " and "
         << (dir / "mission.log").string() << "\n";
+    if (!mcap.empty()) out << "Wrote " << mcap << "\n";
     return result.success ? kExitOk : kExitMissionFailed;
   }
 

@@ -1,8 +1,12 @@
 #include "app/commands/telemetry_options.h"
 
+#include <fmt/format.h>
+
 #include <CLI/CLI.hpp>
+#include <filesystem>
 
 #include "core/data_dir.h"
+#include "telemetry/mcap_sink.h"
 
 namespace aerograsp {
 
@@ -20,11 +24,28 @@ TelemetryConfig LoadTelemetryConfig(const TelemetryOptions& options) {
   return config;
 }
 
-std::unique_ptr<FanOutSink> OpenTelemetry(const TelemetryConfig& /*config*/,
-                                          const std::string& /*out_dir*/,
-                                          const std::string& /*name*/,
-                                          std::function<void(const std::string&)> /*note*/) {
-  return std::make_unique<FanOutSink>();
+CommandTelemetry OpenTelemetry(const TelemetryConfig& config, const std::string& out_dir,
+                               const std::string& name,
+                               const std::function<void(const std::string&)>& note) {
+  CommandTelemetry t;
+  if (config.mcap.enabled) {
+    const std::string path = (std::filesystem::path(out_dir) / (name + ".mcap")).string();
+    try {
+      auto mcap = std::make_unique<McapSink>(path, config.mcap, note);
+      t.mcap = mcap.get();
+      t.sinks->Add(std::move(mcap));
+    } catch (const std::exception& e) {
+      if (note) note(std::string("no MCAP log: ") + e.what() + "; the run goes on without it");
+    }
+  }
+  return t;
+}
+
+std::string CommandTelemetry::Close() {
+  sinks->Close();
+  if (!mcap || mcap->writer().failed()) return "";
+  return fmt::format("{} ({:.1f} MB, {} messages)", mcap->writer().path(),
+                     mcap->writer().bytes_written() / 1e6, mcap->writer().message_count());
 }
 
 }  // namespace aerograsp

@@ -28,12 +28,25 @@ void AddTelemetryOptions(CLI::App* cmd, TelemetryOptions* options);
 /// @throws ConfigError naming the file, the key and the bound.
 TelemetryConfig LoadTelemetryConfig(const TelemetryOptions& options);
 
+class McapSink;
+
+/// The sinks a command hands its telemetry to.
+struct CommandTelemetry {
+  std::unique_ptr<FanOutSink> sinks = std::make_unique<FanOutSink>();
+  const McapSink* mcap = nullptr;  ///< owned by `sinks`; null when off or not created
+
+  /// What the command passes on: null when there is no sink.
+  TelemetrySink* sink() const { return sinks->empty() ? nullptr : sinks.get(); }
+  /// Closes every sink; one line saying what was written ("" when nothing).
+  std::string Close();
+};
+
 /// The sinks of a command writing its results to `out_dir`: the MCAP file
-/// `out_dir/<name>.mcap` unless turned off. A sink that fails later (a full
-/// disk) tells `note` once and goes on without its output; `note` must outlive
-/// the sinks.
-std::unique_ptr<FanOutSink> OpenTelemetry(const TelemetryConfig& config, const std::string& out_dir,
-                                          const std::string& name,
-                                          std::function<void(const std::string&)> note);
+/// `out_dir/<name>.mcap` unless turned off. A sink that cannot start (an
+/// unwritable folder) or fails later (a full disk) tells `note` once and the
+/// command goes on without it; `note` must outlive the sinks.
+CommandTelemetry OpenTelemetry(const TelemetryConfig& config, const std::string& out_dir,
+                               const std::string& name,
+                               const std::function<void(const std::string&)>& note);
 
 }  // namespace aerograsp
