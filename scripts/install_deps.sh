@@ -20,6 +20,8 @@ PACKAGES=(
   # recordings: RealSense .bag files read with ROS 1's bag libraries (no librealsense)
   librosbag-storage-dev libsensor-msgs-dev libgeometry-msgs-dev libstd-msgs-dev
   libdiagnostic-msgs-dev
+  # MCAP logs: chunk compression
+  liblz4-dev libzstd-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   # the parsers' fuzz campaigns (scripts/run_fuzz.sh): clang with libFuzzer and the sanitizers
@@ -32,7 +34,8 @@ for p in "${PACKAGES[@]}"; do
     missing+=("$p")
   fi
 done
-# Node.js and npm run the MAVLink cross-check peer (tests/peers/mavlink). Any
+# Node.js and npm run the independent peers of the tests (tests/peers/mavlink,
+# tests/peers/mcap). Any
 # node >= 18 will do (NodeSource's nodejs bundles npm), so Debian's packages are
 # installed only when the commands are missing.
 if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then

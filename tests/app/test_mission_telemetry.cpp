@@ -1,9 +1,14 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
 #include <map>
 #include <sstream>
 
+#include "app/commands/mission_command.h"
+#include "app/commands/telemetry_options.h"
+#include "app/exit_codes.h"
 #include "app/runtime/mission_runner.h"
 #include "telemetry/telemetry.h"
 
@@ -193,6 +198,38 @@ TEST_F(MissionTelemetryTest, PosesImagesTransitionsAndTheFollowedPair) {
   EXPECT_EQ(sink_->pairs.front().right_pair, 61);
   EXPECT_THAT(sink_->pairs.front().reason, HasSubstr("ranked"));
   EXPECT_FALSE(sink_->log.empty());
+}
+
+TEST(MissionCommandTelemetryTest, UnwritableLogIsSaidOnceAndTheMissionGoesOn) {
+  namespace fs = std::filesystem;
+  const fs::path dir =
+      fs::temp_directory_path() / ("aerograsp_mission_nomcap_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "mission.mcap");  // a folder where the log should go
+  MissionCommandOptions options;
+  options.mission.seed = 3;
+  options.mission.object = "u_shape";
+  options.mission.timeout_s = 6.0;
+  options.out_dir = dir.string();
+  std::ostringstream out, err;
+  EXPECT_EQ(RunMissionCommand(options, out, err), kExitMissionFailed);  // by its time limit
+  const std::string text = out.str();
+  const std::string said = "telemetry: no MCAP log: " + (dir / "mission.mcap").string();
+  const std::size_t at = text.find(said);
+  ASSERT_NE(at, std::string::npos) << text;
+  EXPECT_EQ(text.find("no MCAP log", at + said.size()), std::string::npos);  // once
+  EXPECT_THAT(text, HasSubstr("the mission took longer than 6 s"));
+  EXPECT_TRUE(fs::exists(dir / "index.html"));
+  fs::remove_all(dir);
+}
+
+TEST(TelemetryOptionsTest, NoMcapTurnsTheLogOff) {
+  TelemetryOptions options;
+  EXPECT_TRUE(LoadTelemetryConfig(options).mcap.enabled);
+  options.no_mcap = true;
+  const TelemetryConfig config = LoadTelemetryConfig(options);
+  EXPECT_FALSE(config.mcap.enabled);
+  EXPECT_EQ(OpenTelemetry(config, "/nonexistent", "mission", nullptr).sink(), nullptr);
 }
 
 }  // namespace

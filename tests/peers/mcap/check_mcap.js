@@ -48,8 +48,17 @@ function decode(reader, data, where) {
 }
 
 // Expected values: numbers exactly (null for NaN), strings, arrays, objects;
-// {"$bytes_length": N, "$bytes_crc32": C} for a byte array.
+// {"$bytes_length": N, "$bytes_crc32": C} for a byte array; {"$jpeg": true}
+// for a byte array holding one JPEG (FFD8 ... FFD9).
 function compare(expected, actual, path) {
+  if (expected !== null && typeof expected === 'object' && '$jpeg' in expected) {
+    const n = actual.length;
+    if (!(actual instanceof Uint8Array) || n < 4 || actual[0] !== 0xff || actual[1] !== 0xd8 ||
+        actual[n - 2] !== 0xff || actual[n - 1] !== 0xd9) {
+      fail(`${path}: not a JPEG`);
+    }
+    return;
+  }
   if (expected !== null && typeof expected === 'object' && '$bytes_length' in expected) {
     if (!(actual instanceof Uint8Array)) fail(`${path}: not a byte array`);
     if (actual.length !== expected.$bytes_length) {
@@ -123,7 +132,8 @@ async function check(file, expectedFile) {
   const cache = new Map();
   const counts = new Map();
   const times = [];
-  const expected = expectedFile ? JSON.parse(fs.readFileSync(expectedFile, 'utf8')) : [];
+  const { messages: expected = [], counts: expectedCounts = {} } =
+    expectedFile ? JSON.parse(fs.readFileSync(expectedFile, 'utf8')) : {};
   const byTopic = new Map();
   let previous = -1n;
   for await (const message of reader.readMessages({ validateCrcs: true })) {
@@ -166,6 +176,13 @@ async function check(file, expectedFile) {
     const list = byTopic.get(e.topic) || fail(`${e.topic}: no messages`);
     if (e.index >= list.length) fail(`${e.topic}: no message ${e.index}`);
     compare(e.fields, list[e.index], `${e.topic}[${e.index}]`);
+  }
+  for (const [topic, n] of Object.entries(expectedCounts)) {
+    const got = (byTopic.get(topic) || []).length;
+    if (got !== n) fail(`${topic}: ${got} messages, expected ${n}`);
+  }
+  if (expectedFile && byTopic.size !== Object.keys(expectedCounts).length) {
+    fail(`topics ${[...byTopic.keys()].join(', ')}; expected ${Object.keys(expectedCounts).join(', ')}`);
   }
   const streamed = streamRead(bytes, new Map());
   if (streamed.messages !== total || !streamed.footer) fail('the streaming reader disagrees');
