@@ -15,7 +15,7 @@
 // Prints one JSON line: bytes, chunks, messages and per-topic counts.
 'use strict';
 const fs = require('fs');
-const zlib = require('zlib');
+const { crc32 } = require('@foxglove/crc');
 const { McapIndexedReader, McapStreamReader } = require('@mcap/core');
 const { parse } = require('@foxglove/rosmsg');
 const { MessageReader } = require('@foxglove/rosmsg2-serialization');
@@ -64,7 +64,7 @@ function compare(expected, actual, path) {
     if (actual.length !== expected.$bytes_length) {
       fail(`${path}: ${actual.length} bytes, expected ${expected.$bytes_length}`);
     }
-    const crc = zlib.crc32(actual);
+    const crc = crc32(actual);
     if (crc !== expected.$bytes_crc32) fail(`${path}: CRC ${crc}, expected ${expected.$bytes_crc32}`);
     return;
   }
@@ -127,7 +127,7 @@ async function check(file, expectedFile) {
   const dataEnd = Number(reader.footer.summaryStart) - 13;
   if (bytes[dataEnd] !== 0x0f) fail('no Data End record before the summary');
   const dataCrc = bytes.readUInt32LE(dataEnd + 9);
-  if (dataCrc === 0 || dataCrc !== zlib.crc32(bytes.subarray(0, dataEnd))) fail('data section CRC mismatch');
+  if (dataCrc === 0 || dataCrc !== crc32(bytes.subarray(0, dataEnd))) fail('data section CRC mismatch');
 
   const cache = new Map();
   const counts = new Map();
