@@ -47,6 +47,14 @@ if(NOT TARGET aerograsp_ros_bag)
     ${rostime_LIBRARIES} ${roscpp_serialization_LIBRARIES} ${cpp_common_LIBRARIES})
 endif()
 
+# The reports' interactive charts: Chart.js from Debian's libjs-chart.js, built into the program
+# (app/CMakeLists.txt) so that a report page needs no network and no file beside it.
+find_file(AEROGRASP_CHARTJS chart.min.js PATHS /usr/share/javascript/chart.js NO_DEFAULT_PATH)
+if(NOT AEROGRASP_CHARTJS)
+  message(FATAL_ERROR "chart.min.js not found in /usr/share/javascript/chart.js: install the Debian "
+                      "package libjs-chart.js (scripts/install_deps.sh)")
+endif()
+
 if(AEROGRASP_BUILD_TESTS)
   find_package(GTest REQUIRED)
   find_package(benchmark REQUIRED)

@@ -22,8 +22,10 @@ PACKAGES=(
   libdiagnostic-msgs-dev
   # MCAP logs: chunk compression
   liblz4-dev libzstd-dev
-  # tests and benchmarks
-  libgtest-dev libgmock-dev libbenchmark-dev
+  # the reports' interactive charts: Chart.js, built into the program
+  libjs-chart.js
+  # tests and benchmarks; Chromium loads the report pages headless in the tests
+  libgtest-dev libgmock-dev libbenchmark-dev chromium
   # the parsers' fuzz campaigns (scripts/run_fuzz.sh): clang with libFuzzer and the sanitizers
   clang libclang-rt-14-dev
 )

@@ -12,6 +12,8 @@
 
 #include "app/report/mission_plots.h"
 #include "app/report/plot_panel.h"
+#include "app/report/pose_plot.h"
+#include "app/report/report_charts.h"
 #include "app/report/report_html.h"
 #include "app/report/statistics.h"
 #include "app/report/summary_file.h"
@@ -41,6 +43,9 @@ void NullNonFinite(nlohmann::json* j) {
   }
 }
 
+const PlotColor kToTargetColor{200, 60, 30}, kToTruthColor{30, 140, 230};
+constexpr double kServoErrorAxisCutM = 0.2;  // a lost target's metres would hide the millimetres
+
 void WriteServoErrorPlot(const BenchServoTrace traces[2], const std::string& path) {
   constexpr int kWidth = 1200, kHeight = 220, kLeft = 80, kTop = 30, kGap = 50;
   cv::Mat image(kTop + 2 * (kHeight + kGap), kWidth, CV_8UC3, cv::Scalar(255, 255, 255));
@@ -51,7 +56,7 @@ void WriteServoErrorPlot(const BenchServoTrace traces[2], const std::string& pat
     double lo = 0.0, hi = 0.01;
     ExpandRange(traces[a].to_target_m, &lo, &hi);
     ExpandRange(traces[a].to_truth_m, &lo, &hi);
-    hi = std::min(hi, 0.2);
+    hi = std::min(hi, kServoErrorAxisCutM);
     const PlotPanel panel{
         fmt::format("{} arm: tool to its target (m): to the commanded target blue, to the target "
                     "on the true object orange; gaps: no target",
@@ -64,12 +69,31 @@ void WriteServoErrorPlot(const BenchServoTrace traces[2], const std::string& pat
         kTop + a * (kHeight + kGap),
         kWidth - kLeft - 20,
         kHeight};
-    DrawPanelAxes(&image, panel, "", 3);
-    DrawPanelSeries(&image, panel, traces[a].t_s, traces[a].to_truth_m, PlotColor{30, 140, 230}, 1);
-    DrawPanelSeries(&image, panel, traces[a].t_s, traces[a].to_target_m, PlotColor{200, 60, 30}, 2);
+    DrawPanelAxes(&image, panel, "");
+    DrawPanelSeries(&image, panel, traces[a].t_s, traces[a].to_truth_m, kToTruthColor, 1);
+    DrawPanelSeries(&image, panel, traces[a].t_s, traces[a].to_target_m, kToTargetColor, 2);
     DrawPanelTimeLabels(&image, panel);
   }
   WritePlotPng(image, path);
+}
+
+/// The servo error plot as the page's charts: one per arm, gaps where there is no target.
+std::vector<TimeChart> ServoErrorCharts(const BenchServoTrace traces[2]) {
+  std::vector<TimeChart> charts;
+  for (int a = 0; a < 2; ++a) {
+    TimeChart chart;
+    chart.title = fmt::format("{} arm: tool to its target (m)", SideName(kSides[a]));
+    chart.unit = "m";
+    chart.y_cut = kServoErrorAxisCutM;
+    chart.t_s = traces[a].t_s;
+    chart.lines = {{"to the commanded target", traces[a].to_target_m, kToTargetColor, 2},
+                   {"to the target on the true object", traces[a].to_truth_m, kToTruthColor, 1}};
+    if (std::none_of(chart.lines[1].v.begin(), chart.lines[1].v.end(),
+                     [](double v) { return std::isfinite(v); }))
+      chart.lines.pop_back();  // no truth (hardware)
+    charts.push_back(std::move(chart));
+  }
+  return charts;
 }
 
 }  // namespace
@@ -183,21 +207,37 @@ void WriteBenchReport(const BenchReportInfo& info, const BenchResults& run, std:
        {"hardware", info.hardware}},
       html);
   html << "<h2>Perception against the tags</h2>\n";
-  WriteHtmlFigure(has_tags, "pose_vs_tags.png",
-                  "The object's position in the camera frame (cMo), from the tag board (black) and "
-                  "from perception; "
-                  "perception's rotation error against the tags (deg, over the object's "
-                  "symmetries) and whether it "
-                  "had the object.",
-                  "The board was never seen.", html);
+  if (has_tags) {
+    std::ostringstream charts;
+    for (const TimeChart& chart : PoseCharts(run.tags_trace, {run.est_trace}, "cMo position"))
+      WriteHtmlTimeChart(chart, charts);
+    WriteHtmlChartFigure(charts.str(), "pose_vs_tags.png",
+                         "The object's position in the camera frame (cMo), from the tag board "
+                         "(black) and from perception; perception's rotation error against the "
+                         "tags (deg, over the object's symmetries) and whether it had the object.",
+                         html);
+  } else {
+    html << "<p class=\"missing\">The board was never seen.</p>\n";
+  }
   html << "<h2>Servo</h2>\n";
-  WriteHtmlFigure(true, "servo_error.png",
-                  "Each arm's tool point to its target (the planned grasp, or the hover point off "
-                  "it) over time.",
-                  "", html);
-  WriteHtmlFigure(has_joints, "joints.png",
-                  "Joint targets (thin) vs measured positions (thick) of each arm, deg.",
-                  "No joint samples were recorded.", html);
+  {
+    std::ostringstream charts;
+    for (const TimeChart& chart : ServoErrorCharts(run.servo_traces))
+      WriteHtmlTimeChart(chart, charts);
+    WriteHtmlChartFigure(charts.str(), "servo_error.png",
+                         "Each arm's tool point to its target (the planned grasp, or the hover "
+                         "point off it) over time; gaps: no target.",
+                         html);
+  }
+  if (has_joints) {
+    std::ostringstream charts;
+    WriteHtmlJointCharts(run.record, charts);
+    WriteHtmlChartFigure(charts.str(), "joints.png",
+                         "Joint targets (thin) vs measured positions (thick) of each arm, deg.",
+                         html);
+  } else {
+    html << "<p class=\"missing\">No joint samples were recorded.</p>\n";
+  }
   html << "<h2>Camera</h2>\n";
   WriteHtmlFigure(
       run.record.snapshot.has_value(), "camera.png",
@@ -207,6 +247,7 @@ void WriteBenchReport(const BenchReportInfo& info, const BenchResults& run, std:
                         run.record.snapshot->t_s)
           : std::string(),
       "No frame had both the board and the object.", html);
+  WriteHtmlChartScripts(html);
   WriteHtmlPage(html.str(), info.out_dir);
 
   out << fmt::format("bench: {} frames, object {}, {}\n", run.frames, info.object_name,

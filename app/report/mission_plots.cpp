@@ -62,32 +62,48 @@ std::vector<double> JointSeriesDeg(const MissionRecord& record, int arm, int joi
   return v_deg;
 }
 
+std::string JointName(const MissionRecord& record, int arm, int joint) {
+  return joint < int(record.joint_names[arm].size()) ? record.joint_names[arm][joint]
+                                                     : fmt::format("joint {}", joint + 1);
+}
+
 // ---- timeline ----
 
 constexpr int kTimelineWidthPx = 1200, kRowHeightPx = 34, kRowGapPx = 12, kNameWidthPx = 100,
               kTimelineTopPx = 34;
 constexpr double kBarTextScale = 0.42;
-// Light colours (tab20's pale half), so that black names stay readable on them.
-const PlotColor kStateColors[] = {
-    {232, 199, 174}, {120, 187, 255}, {138, 223, 152}, {150, 152, 255}, {213, 176, 197},
-    {148, 156, 196}, {210, 182, 247}, {199, 199, 199}, {141, 219, 219}, {229, 218, 158}};
 const char* const kMachines[] = {"global", "vehicle", "vision", "planner", "arms"};
 
 void AddOnce(const std::string& name, std::vector<std::string>* names) {
   if (std::find(names->begin(), names->end(), name) == names->end()) names->push_back(name);
 }
 
-cv::Scalar StateColor(const std::vector<std::string>& states, const std::string& state) {
-  const std::size_t k = std::find(states.begin(), states.end(), state) - states.begin();
-  const PlotColor& c = kStateColors[k % (sizeof(kStateColors) / sizeof(kStateColors[0]))];
-  return cv::Scalar(c.b, c.g, c.r);
+/// Each state its own colour, in order of first appearance (CategoryColor).
+PlotColor StateColor(const std::vector<std::string>& states, const std::string& state) {
+  return CategoryColor(std::find(states.begin(), states.end(), state) - states.begin());
 }
 
-/// A state a machine was in from t0_s to t1_s.
+cv::Scalar ToScalar(const PlotColor& c) { return cv::Scalar(c.b, c.g, c.r); }
+
+/// A state a machine was in from t0_s to t1_s, entered for `cause` (empty for the first).
 struct StateBar {
   std::string state;
   double t0_s, t1_s;
+  std::string cause;
 };
+
+/// The timeline's rows (kMachines, then any other machine in order of appearance) and its
+/// states in order of appearance (which gives their colours).
+void MachinesAndStates(const MissionRecord& record, std::vector<std::string>* machines,
+                       std::vector<std::string>* states) {
+  machines->assign(std::begin(kMachines), std::end(kMachines));
+  states->clear();
+  for (const MissionTransition& tr : record.transitions) {
+    AddOnce(tr.machine, machines);
+    AddOnce(tr.from, states);
+    AddOnce(tr.to, states);
+  }
+}
 
 std::vector<StateBar> MachineBars(const MissionRecord& record, const std::string& machine,
                                   const MissionSpan& span) {
@@ -100,24 +116,25 @@ std::vector<StateBar> MachineBars(const MissionRecord& record, const std::string
       [](const MissionTransition* a, const MissionTransition* b) { return a->t_s < b->t_s; });
   std::vector<StateBar> bars;
   if (mine.empty()) return bars;
-  bars.push_back({mine.front()->from, span.t0_s, mine.front()->t_s});
+  bars.push_back({mine.front()->from, span.t0_s, mine.front()->t_s, ""});
   for (std::size_t k = 0; k < mine.size(); ++k) {
-    bars.push_back({mine[k]->to, mine[k]->t_s, k + 1 < mine.size() ? mine[k + 1]->t_s : span.t1_s});
+    bars.push_back({mine[k]->to, mine[k]->t_s, k + 1 < mine.size() ? mine[k + 1]->t_s : span.t1_s,
+                    mine[k]->cause});
   }
   return bars;
 }
 
 void DrawStateBar(cv::Mat* image, const PlotPanel& row, const StateBar& bar,
-                  const cv::Scalar& color) {
+                  const PlotColor& color) {
   const int x0 = row.X(bar.t0_s), x1 = row.X(bar.t1_s);
   if (x1 <= x0) return;
-  cv::rectangle(*image, cv::Point(x0, row.y0_px), cv::Point(x1, row.y0_px + row.height_px), color,
-                cv::FILLED);
+  cv::rectangle(*image, cv::Point(x0, row.y0_px), cv::Point(x1, row.y0_px + row.height_px),
+                ToScalar(color), cv::FILLED);
   cv::line(*image, cv::Point(x0, row.y0_px), cv::Point(x0, row.y0_px + row.height_px), kWhite);
   const int width = TextWidth(bar.state, kBarTextScale);
   if (width + 6 <= x1 - x0) {
     PutText(image, bar.state, (x0 + x1 - width) / 2, row.y0_px + row.height_px / 2 + 5,
-            kBarTextScale, kBlack);
+            kBarTextScale, ToScalar(TextColorOn(color)));
   }
 }
 
@@ -193,6 +210,33 @@ std::vector<std::pair<int, int>> OutlineEdges(const TriangleMesh& mesh_o,
   return edges;
 }
 
+// ---- pose ----
+constexpr const char* kMissionPositionLabel = "object in the body frame, dto";
+
+/// The samples' object position in d, truth and estimate, with the rotation error and found.
+void MissionPoseTraces(const MissionRecord& record, PoseTrace* truth, PoseTrace* estimate) {
+  truth->name = "truth";
+  estimate->name = "estimate";
+  for (const MissionSample& s : record.samples) {
+    for (PoseTrace* trace : {truth, estimate}) {
+      const Eigen::Vector3d& dto_m = trace == truth ? s.dto_truth_m : s.dto_estimate_m;
+      trace->stamp_s.push_back(s.t_s);
+      trace->x_m.push_back(dto_m.x());
+      trace->y_m.push_back(dto_m.y());
+      trace->z_m.push_back(dto_m.z());
+    }
+    estimate->rotation_error_deg.push_back(s.rotation_error_deg);
+    estimate->found.push_back(s.found ? 1 : 0);
+  }
+}
+
+std::vector<ChartMarker> SwitchMarkers(const MissionRecord& record) {
+  std::vector<ChartMarker> markers;
+  for (std::size_t k = 0; k < record.switches.size(); ++k)
+    markers.push_back({record.switches[k].t_s, fmt::format("switch {}", k + 1)});
+  return markers;
+}
+
 }  // namespace
 
 MissionSpan ComputeMissionSpan(const MissionRecord& record) {
@@ -211,20 +255,69 @@ MissionSpan ComputeMissionSpan(const MissionRecord& record) {
 
 void WriteMissionPosePlot(const MissionRecord& record, const std::string& path) {
   PoseTrace truth, estimate;
-  truth.name = "truth";
-  estimate.name = "estimate";
-  for (const MissionSample& s : record.samples) {
-    for (PoseTrace* trace : {&truth, &estimate}) {
-      const Eigen::Vector3d& dto_m = trace == &truth ? s.dto_truth_m : s.dto_estimate_m;
-      trace->stamp_s.push_back(s.t_s);
-      trace->x_m.push_back(dto_m.x());
-      trace->y_m.push_back(dto_m.y());
-      trace->z_m.push_back(dto_m.z());
-    }
-    estimate.rotation_error_deg.push_back(s.rotation_error_deg);
-    estimate.found.push_back(s.found ? 1 : 0);
+  MissionPoseTraces(record, &truth, &estimate);
+  WritePosePlot(truth, {estimate}, path, kMissionPositionLabel);
+}
+
+std::vector<TimeChart> MissionPoseCharts(const MissionRecord& record) {
+  if (record.samples.empty()) return {};
+  PoseTrace truth, estimate;
+  MissionPoseTraces(record, &truth, &estimate);
+  std::vector<TimeChart> charts = PoseCharts(truth, {estimate}, kMissionPositionLabel);
+  for (TimeChart& chart : charts) chart.markers = SwitchMarkers(record);
+  return charts;
+}
+
+std::vector<TimeChart> MissionJointCharts(const MissionRecord& record, int arm) {
+  std::vector<TimeChart> charts;
+  std::vector<double> t_s;
+  for (const MissionSample& s : record.samples) t_s.push_back(s.t_s);
+  for (int j = 0; j < ArmDof(record, arm); ++j) {
+    TimeChart chart;
+    chart.title =
+        fmt::format("{} {} (deg)", arm == 0 ? "left arm" : "right arm", JointName(record, arm, j));
+    chart.unit = "deg";
+    chart.t_s = t_s;
+    chart.lines = {{"target", JointSeriesDeg(record, arm, j, true), kTargetColor, 1},
+                   {"actual", JointSeriesDeg(record, arm, j, false), kActualColor, 2}};
+    chart.markers = SwitchMarkers(record);
+    chart.height_px = 180;
+    charts.push_back(std::move(chart));
   }
-  WritePosePlot(truth, {estimate}, path, "object in the body frame, dto");
+  return charts;
+}
+
+void WriteHtmlJointCharts(const MissionRecord& record, std::ostream& html) {
+  html << "<div class=\"joints\">\n";
+  for (int arm = 0; arm < 2; ++arm) {
+    html << "<div>\n";
+    for (const TimeChart& chart : MissionJointCharts(record, arm)) WriteHtmlTimeChart(chart, html);
+    html << "</div>\n";
+  }
+  html << "</div>\n";
+}
+
+std::optional<TimelineChart> MissionTimelineChart(const MissionRecord& record) {
+  if (record.transitions.empty()) return std::nullopt;
+  const MissionSpan span = ComputeMissionSpan(record);
+  TimelineChart chart;
+  chart.title = "state machines over time";
+  MachinesAndStates(record, &chart.rows, &chart.states);
+  for (const std::string& state : chart.states)
+    chart.state_colors.push_back(StateColor(chart.states, state));
+  for (std::size_t row = 0; row < chart.rows.size(); ++row) {
+    for (const StateBar& bar : MachineBars(record, chart.rows[row], span)) {
+      const std::size_t state =
+          std::find(chart.states.begin(), chart.states.end(), bar.state) - chart.states.begin();
+      chart.bars.push_back(
+          {row, state, bar.t0_s, bar.t1_s,
+           bar.cause.empty() ? "the state at the start" : "entered: " + bar.cause});
+    }
+  }
+  chart.markers = SwitchMarkers(record);
+  chart.t0_s = span.t0_s;
+  chart.t1_s = span.t1_s;
+  return chart;
 }
 
 bool WriteMissionJointPlot(const MissionRecord& record, const std::string& path) {
@@ -246,9 +339,7 @@ bool WriteMissionJointPlot(const MissionRecord& record, const std::string& path)
     if (dof[arm] == 0)
       PutText(&image, "no joints recorded", column_x0 + 80, kJointTopPx + 20, 0.5, kGrey);
     for (int j = 0; j < dof[arm]; ++j) {
-      const std::string name = j < int(record.joint_names[arm].size())
-                                   ? record.joint_names[arm][j]
-                                   : fmt::format("joint {}", j + 1);
+      const std::string name = JointName(record, arm, j);
       const std::vector<double> target_deg = JointSeriesDeg(record, arm, j, true);
       const std::vector<double> actual_deg = JointSeriesDeg(record, arm, j, false);
       double lo = std::numeric_limits<double>::infinity(), hi = -lo;
@@ -266,7 +357,7 @@ bool WriteMissionJointPlot(const MissionRecord& record, const std::string& path)
                             kJointTopPx + j * (kJointPanelHeightPx + kJointGapPx),
                             column_x0 + kJointColumnWidthPx - kRightMarginPx - x0,
                             kJointPanelHeightPx};
-      DrawPanelAxes(&image, panel, "", 1);
+      DrawPanelAxes(&image, panel, "");
       for (std::size_t k = 0; k < record.switches.size(); ++k) {
         DrawPanelMarker(&image, panel, record.switches[k].t_s, fmt::format("switch {}", k + 1),
                         kSwitchColor);
@@ -283,12 +374,8 @@ bool WriteMissionJointPlot(const MissionRecord& record, const std::string& path)
 bool WriteMissionTimelinePlot(const MissionRecord& record, const std::string& path) {
   if (record.transitions.empty()) return false;
   const MissionSpan span = ComputeMissionSpan(record);
-  std::vector<std::string> machines(std::begin(kMachines), std::end(kMachines)), states;
-  for (const MissionTransition& tr : record.transitions) {
-    AddOnce(tr.machine, &machines);
-    AddOnce(tr.from, &states);
-    AddOnce(tr.to, &states);
-  }
+  std::vector<std::string> machines, states;
+  MachinesAndStates(record, &machines, &states);
   const int rows_bottom_px = kTimelineTopPx + int(machines.size()) * (kRowHeightPx + kRowGapPx);
   int legend_bottom_px = 0;
   const std::vector<cv::Point> legend =
@@ -312,7 +399,8 @@ bool WriteMissionTimelinePlot(const MissionRecord& record, const std::string& pa
   }
   for (std::size_t k = 0; k < states.size(); ++k) {
     const cv::Point& at = legend[k];
-    cv::rectangle(image, at, at + cv::Point(14, 14), StateColor(states, states[k]), cv::FILLED);
+    cv::rectangle(image, at, at + cv::Point(14, 14), ToScalar(StateColor(states, states[k])),
+                  cv::FILLED);
     cv::rectangle(image, at, at + cv::Point(14, 14), kBlack);
     PutText(&image, states[k], at.x + 20, at.y + 12, kBarTextScale, kBlack);
   }

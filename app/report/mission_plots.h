@@ -1,10 +1,15 @@
 // The plots of the mission report (app/report/mission_report.h), each drawn with
-// OpenCV into a PNG. They share the mission's time axis: the span from the
-// first to the last sample, transition or grasp switch.
+// OpenCV into a PNG and, for the page, as interactive charts (app/report/report_charts.h).
+// They share the mission's time axis: the span from the first to the last sample,
+// transition or grasp switch.
 #pragma once
 
+#include <optional>
+#include <ostream>
 #include <string>
+#include <vector>
 
+#include "app/report/report_charts.h"
 #include "app/runtime/mission_record.h"
 #include "core/mesh.h"
 
@@ -20,6 +25,20 @@ MissionSpan ComputeMissionSpan(const MissionRecord& record);
 /// the found timeline (app/report/pose_plot.h).
 /// @throws std::runtime_error "<path>: cannot be written".
 void WriteMissionPosePlot(const MissionRecord& record, const std::string& path);
+
+/// The pose plot's charts (PoseCharts) with the grasp switches marked; none without samples.
+std::vector<TimeChart> MissionPoseCharts(const MissionRecord& record);
+
+/// One chart per joint of `arm` (0 left, 1 right), degrees: target (thin) and actual (thick)
+/// with the grasp switches marked; none when the arm has no joint values.
+std::vector<TimeChart> MissionJointCharts(const MissionRecord& record, int arm);
+
+/// MissionJointCharts of both arms side by side, the left arm's on the left (narrow pages: above).
+void WriteHtmlJointCharts(const MissionRecord& record, std::ostream& html);
+
+/// The timeline plot's rows, states and colours as a chart whose bars tell, on hover, the cause
+/// of each state's transition; nullopt without transitions.
+std::optional<TimelineChart> MissionTimelineChart(const MissionRecord& record);
 
 /// Joints of the arms, in degrees. The left arm's panels form the left column, the right arm's
 /// the right; target thin, actual thick; the grasp switches are vertical lines numbered from 1.

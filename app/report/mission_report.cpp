@@ -4,11 +4,13 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
 
 #include "app/report/mission_plots.h"
+#include "app/report/report_charts.h"
 #include "app/report/report_html.h"
 
 namespace aerograsp {
@@ -72,21 +74,40 @@ void WriteMissionReport(const MissionRecord& record, const TriangleMesh& object_
   if (!headline_rows.empty()) WriteHtmlTable({"result", "value"}, headline_rows, html);
 
   html << "<h2>Object pose</h2>\n";
-  WriteHtmlFigure(
-      has_samples, "pose.png",
-      "The object's position in the body frame d (dto, m), estimate vs truth; the rotation error "
-      "(deg, over the object's symmetries) and whether vision had the object.",
-      "No samples were recorded.", html);
+  if (has_samples) {
+    std::ostringstream charts;
+    for (const TimeChart& chart : MissionPoseCharts(record)) WriteHtmlTimeChart(chart, charts);
+    WriteHtmlChartFigure(
+        charts.str(), "pose.png",
+        "The object's position in the body frame d (dto, m), estimate vs truth; the rotation "
+        "error (deg, over the object's symmetries) and whether vision had the object; red lines "
+        "mark the grasp switches.",
+        html);
+  } else {
+    html << "<p class=\"missing\">No samples were recorded.</p>\n";
+  }
   html << "<h2>Joints</h2>\n";
-  WriteHtmlFigure(
-      has_joints, "joints.png",
-      "Joint targets (thin) vs measured positions (thick) of each arm, deg; red lines mark "
-      "the grasp switches, numbered as in the table below.",
-      "No joint samples were recorded.", html);
+  if (has_joints) {
+    std::ostringstream charts;
+    WriteHtmlJointCharts(record, charts);
+    WriteHtmlChartFigure(charts.str(), "joints.png",
+                         "Joint targets (thin) vs measured positions (thick) of each arm, deg; "
+                         "red lines mark the grasp switches, numbered as in the table below.",
+                         html);
+  } else {
+    html << "<p class=\"missing\">No joint samples were recorded.</p>\n";
+  }
   html << "<h2>State machines</h2>\n";
-  WriteHtmlFigure(has_timeline, "timeline.png",
-                  "The state of each machine over time; red lines mark the grasp switches.",
-                  "No state transitions were recorded.", html);
+  if (const std::optional<TimelineChart> timeline = MissionTimelineChart(record)) {
+    std::ostringstream chart;
+    WriteHtmlTimeline(*timeline, chart);
+    WriteHtmlChartFigure(chart.str(), "timeline.png",
+                         "The state of each machine over time (hover a bar for why it was "
+                         "entered); red lines mark the grasp switches.",
+                         html);
+  } else {
+    html << "<p class=\"missing\">No state transitions were recorded.</p>\n";
+  }
   html << "<h2>Camera</h2>\n";
   WriteHtmlFigure(
       record.snapshot.has_value(), "camera.png",
@@ -110,6 +131,7 @@ void WriteMissionReport(const MissionRecord& record, const TriangleMesh& object_
     html << "<p class=\"missing\">None.</p>\n";
   else
     WriteSwitchesTable(record, html);
+  if (has_samples || has_timeline) WriteHtmlChartScripts(html);
   WriteHtmlPage(html.str(), out_dir);
 }
 

@@ -1,6 +1,8 @@
 // The mission's report: a folder with index.html and its PNG plots, drawn
-// from a MissionRecord (app/runtime/mission_record.h). Opens in a browser with no
-// network: the images sit next to the page and are referenced relatively.
+// from a MissionRecord (app/runtime/mission_record.h). The page shows the time
+// series as interactive charts (app/report/report_charts.h) and links the PNGs,
+// which replace the charts in print. Opens in a browser with no network: the
+// chart library is inlined, the images sit next to the page.
 #pragma once
 
 #include <string>
@@ -23,7 +25,9 @@ using ReportRow = std::vector<std::pair<std::string, std::string>>;
 /// - timeline.png: one row per state machine, its states as coloured bars; needs transitions.
 /// - camera.png: the snapshot with the detector box and `object_mesh_o` (object frame o,
 ///   metres) drawn at the estimated cMo; needs a snapshot.
-/// A plot without its data is not written and the page says so. `headline` rows (name, value)
+/// The page draws pose, joints and timeline as interactive charts with the same data (decimated
+/// for long missions) and links each PNG. A plot without its data is not written and the page
+/// says so. `headline` rows (name, value)
 /// form the table at the top; `runs` (may be empty) holds one row per seeded run, every row
 /// with the same columns in the same order. Every text is HTML-escaped.
 /// @throws std::runtime_error naming the folder or file that could not be written.

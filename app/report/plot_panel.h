@@ -1,10 +1,11 @@
 // The drawing pieces the app's time plots share (app/report/pose_plot.cpp,
 // app/report/mission_report.cpp): a panel maps (time, value) to pixels, draws its
-// frame with value grid lines, series that break at NaN, marker lines at given
-// times and time labels. OpenCV stays in the .cpp: images cross this header as
-// cv::Mat pointers.
+// frame with value grid lines at round numbers, series that break at NaN, marker
+// lines at given times and time labels. OpenCV stays in the .cpp: images cross
+// this header as cv::Mat pointers.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,22 @@ namespace aerograsp {
 struct PlotColor {
   int b = 0, g = 0, r = 0;
 };
+
+/// The k-th (from 0) of a set of colours for categories (states): the first 26 are clearly
+/// distinct from one another, later ones repeat them.
+PlotColor CategoryColor(std::size_t k);
+
+/// Black, or white where `background` is too dark for black text to be read on it.
+PlotColor TextColorOn(const PlotColor& background);
+
+/// Axis ticks at round numbers: the multiples of 1, 2 or 5 times a power of ten that lie in
+/// [lo, hi], spaced so that there are between 3 and about `max_count` of them (fewer when the
+/// range is empty or not finite).
+struct AxisTicks {
+  std::vector<double> values;
+  int decimals = 0;  ///< digits after the point that print every tick exactly
+};
+AxisTicks RoundTicks(double lo, double hi, int max_count = 6);
 
 /// A rectangle of an image that shows values lo..hi over times t0_s..t1_s.
 struct PlotPanel {
@@ -36,12 +53,11 @@ struct PlotPanel {
 /// Left of the frame the value labels need this much room, pixels.
 constexpr int kPlotValueLabelWidthPx = 76;
 
-/// The frame, the title, five value grid lines and their labels (`decimals`
-/// digits, then `unit`) left of the frame.
-void DrawPanelAxes(cv::Mat* image, const PlotPanel& panel, const std::string& unit,
-                   int decimals = 3);
+/// The frame, the title, value grid lines at round numbers (RoundTicks) and their labels
+/// (then `unit`) left of the frame.
+void DrawPanelAxes(cv::Mat* image, const PlotPanel& panel, const std::string& unit);
 
-/// Time labels (s) under the frame at five ticks.
+/// Time ticks and labels (s) under the frame at round numbers (RoundTicks).
 void DrawPanelTimeLabels(cv::Mat* image, const PlotPanel& panel);
 
 /// The polyline (t_s[i], v[i]), values clamped to the panel, broken where v is NaN.

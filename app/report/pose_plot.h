@@ -1,10 +1,13 @@
 // The replay's plot (paper Fig. 12): estimate vs ground truth over time for the
 // position x, y, z of cMo, the (symmetry-aware) rotation error, and the
-// found/lost timeline; drawn with OpenCV into a PNG.
+// found/lost timeline; drawn with OpenCV into a PNG, and as the report page's
+// interactive charts.
 #pragma once
 
 #include <string>
 #include <vector>
+
+#include "app/report/report_charts.h"
 
 namespace aerograsp {
 
@@ -22,5 +25,10 @@ struct PoseTrace {
 /// @throws std::runtime_error when the file cannot be written.
 void WritePosePlot(const PoseTrace& truth, const std::vector<PoseTrace>& estimates,
                    const std::string& path, const std::string& position_label = "cMo position");
+
+/// The same plot as five charts: x, y, z (m), the rotation error (deg; the axis cut at 30 deg
+/// as in the PNG) and found/lost, the traces in the PNG's colours.
+std::vector<TimeChart> PoseCharts(const PoseTrace& truth, const std::vector<PoseTrace>& estimates,
+                                  const std::string& position_label = "cMo position");
 
 }  // namespace aerograsp

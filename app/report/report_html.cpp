@@ -12,7 +12,13 @@ constexpr const char* kStyle =
     "table{border-collapse:collapse;margin:0.5em 0 1.5em}"
     "th,td{border:1px solid #bbb;padding:0.25em 0.6em;text-align:left}"
     "th{background:#eee}img{max-width:100%;border:1px solid #ddd}"
-    "figure{margin:0 0 1.5em}figcaption{color:#444;font-size:0.9em}.missing{color:#888}";
+    "figure{margin:0 0 1.5em}figcaption{color:#444;font-size:0.9em}.missing{color:#888}"
+    // Interactive charts (app/report/report_charts.h); their PNGs replace them in print.
+    ".chart{position:relative;margin:0.3em 0}.joints{display:grid;"
+    "grid-template-columns:repeat(auto-fit,minmax(420px,1fr));gap:0 1.5em}"
+    ".zoombar{position:sticky;top:0;z-index:1;background:#f4f6fa;border:1px solid #ccd;"
+    "padding:0.3em 0.6em;margin:0 0 1em;font-size:0.85em}img.print{display:none}"
+    "@media print{.chart,.zoombar{display:none}img.print{display:block}}";
 
 }  // namespace
 

@@ -10,6 +10,7 @@
 #include "core/config.h"
 #include "core/data_dir.h"
 #include "core/transforms.h"
+#include "tests/app/headless_browser.h"
 #include "tests/common/output_folder_test.h"
 
 namespace aerograsp {
@@ -63,6 +64,28 @@ TEST_F(BenchCommandTest, ArmsReachTheHoverPointOffTheGrasp) {
   EXPECT_LT(s["servo_error_m_median"].get<double>(), 0.01) << out.str();
   EXPECT_EQ(s["hover_m"].get<double>(), 0.04);
   EXPECT_TRUE(fs::exists(fs::path(folder_) / "joints.png"));
+}
+
+TEST_F(BenchCommandTest, TheReportsChartsAreDrawnInABrowser) {
+  const std::string chromium = FindChromium();
+  if (chromium.empty())
+    GTEST_SKIP() << "chromium is not installed (Debian package chromium, scripts/install_deps.sh)";
+  BenchCommandOptions options;
+  options.out_dir = folder_;
+  options.frames = 30;
+  std::ostringstream out, progress;
+  RunBenchCommand(options, out, progress);
+  std::ifstream file(fs::path(folder_) / "index.html");
+  std::stringstream html;
+  html << file.rdbuf();
+  // Pose against the tags (5 charts), servo error (2) and joints (4 per arm).
+  EXPECT_EQ(CountCharts(html.str()), 5 + 2 + 8);
+  const BrowserPage page =
+      LoadInChromium(chromium, (fs::path(folder_) / "index.html").string(),
+                     ScreenshotPath("bench_report.png"), (fs::path(folder_) / "chromium").string());
+  EXPECT_THAT(page.console, ::testing::IsEmpty());
+  EXPECT_EQ(BodyAttribute(page.dom, "data-charts-error"), "");
+  EXPECT_EQ(BodyAttribute(page.dom, "data-charts-drawn"), std::to_string(CountCharts(html.str())));
 }
 
 TEST_F(BenchCommandTest, ABoardFacingAwayIsNeverSeenAndSaysSo) {

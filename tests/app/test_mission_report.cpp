@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/core.hpp>
@@ -11,6 +12,7 @@
 
 #include "app/report/mission_report.h"
 #include "core/shape_mesh.h"
+#include "tests/app/headless_browser.h"
 
 namespace aerograsp {
 namespace {
@@ -116,7 +118,23 @@ TEST_F(MissionReportTest, HtmlReferencesEveryImageAndListsTransitionsSwitchesAnd
   EXPECT_THAT(html, HasSubstr("<td>time to grasp</td><td>9.0 s</td>"));
   EXPECT_THAT(html, HasSubstr("<th>seed</th><th>success</th>"));
   EXPECT_THAT(html, HasSubstr("<td>2</td><td>no</td>"));
-  EXPECT_THAT(html, Not(HasSubstr("http")));  // no network needed
+  // No network needed: nothing is loaded from elsewhere (Chart.js is inlined).
+  EXPECT_THAT(html, Not(HasSubstr("src=\"http")));
+  EXPECT_THAT(html, Not(HasSubstr("href=\"http")));
+  EXPECT_THAT(html, Not(HasSubstr("<script src")));
+}
+
+TEST_F(MissionReportTest, HtmlHoldsAChartPerPanelWithItsDataAndLinksThePngs) {
+  Write(SyntheticRecord());
+  const std::string html = ReadHtml();
+  // Pose: x, y, z, rotation error, found; joints: 4 per arm; the timeline.
+  EXPECT_EQ(CountCharts(html), 5 + 8 + 1);
+  for (const char* image : {"pose.png", "joints.png", "timeline.png"})
+    EXPECT_THAT(html, HasSubstr(std::string("<a href=\"") + image + "\">PNG</a>")) << image;
+  EXPECT_THAT(html, HasSubstr("\"title\":\"right arm right_j4 (deg)\""));
+  EXPECT_THAT(html, HasSubstr("{\"t\":6,\"label\":\"switch 1\"}"));
+  EXPECT_THAT(html, HasSubstr("entered: detector box in 3 frames"));
+  EXPECT_THAT(html, HasSubstr("Chart.js v3.9.1"));
 }
 
 TEST_F(MissionReportTest, EveryPlotLoadsWithAPlausibleSize) {
@@ -214,8 +232,82 @@ TEST_F(MissionReportTest, TextIsHtmlEscaped) {
   EXPECT_THAT(html, HasSubstr("pipe &lt;2&quot; &amp; &#39;co&#39;&gt;"));
   EXPECT_THAT(html, HasSubstr("score &gt; 0.8 &amp; &lt;b&gt;stable&lt;/b&gt;"));
   EXPECT_THAT(html, HasSubstr("<td>&lt;script&gt;</td><td>a &amp; b</td>"));
-  EXPECT_THAT(html, Not(HasSubstr("<script>")));
-  EXPECT_THAT(html, Not(HasSubstr("<b>")));
+  EXPECT_THAT(html, Not(HasSubstr("<td><script>")));
+  EXPECT_THAT(html, Not(HasSubstr("<b>")));  // nor in the charts' JSON
+  EXPECT_THAT(html, HasSubstr("\\u003cb>stable\\u003c/b>"));
+}
+
+/// The report of SyntheticRecord() opened in headless Chromium (Debian's `chromium`; the tests
+/// skip where it is not installed). The screenshots stay in the build folder.
+class MissionReportInBrowserTest : public MissionReportTest {
+ protected:
+  void SetUp() override {
+    MissionReportTest::SetUp();
+    chromium_ = FindChromium();
+    if (chromium_.empty())
+      GTEST_SKIP()
+          << "chromium is not installed (Debian package chromium, scripts/install_deps.sh)";
+  }
+  BrowserPage Load(const std::string& html_path, const std::string& screenshot_name) const {
+    return LoadInChromium(chromium_, html_path, ScreenshotPath(screenshot_name),
+                          (dir_ / "chromium_profile").string());
+  }
+
+  std::string chromium_;
+};
+
+TEST_F(MissionReportInBrowserTest, EveryChartIsDrawnWithoutAConsoleMessage) {
+  Write(SyntheticRecord());
+  const std::string screenshot = ScreenshotPath("mission_report.png");
+  fs::remove(screenshot);
+  const BrowserPage page = Load((fs::path(out_dir_) / "index.html").string(), "mission_report.png");
+  EXPECT_THAT(page.console, ::testing::IsEmpty());
+  EXPECT_EQ(BodyAttribute(page.dom, "data-charts-error"), "");
+  EXPECT_EQ(BodyAttribute(page.dom, "data-charts-drawn"), std::to_string(CountCharts(ReadHtml())));
+  EXPECT_THAT(page.dom, HasSubstr("Showing the whole record, 0.00 to 9.95 s."));
+  const cv::Mat shot = cv::imread(screenshot);
+  ASSERT_FALSE(shot.empty()) << screenshot;
+  EXPECT_EQ(shot.cols, 1400);
+}
+
+TEST_F(MissionReportInBrowserTest, DraggingAcrossAChartZoomsEveryChartToThatSpan) {
+  Write(SyntheticRecord());
+  // The page with a script that drags across the first chart's middle half (2.49 s to 7.46 s
+  // of the record's 0 to 9.95 s) and writes every chart's time axis into <body>.
+  std::string html = ReadHtml();
+  const std::string drag = R"(<script>
+(function () {
+  const chart = Object.values(Chart.instances)[0];
+  const box = chart.canvas.getBoundingClientRect();
+  const area = chart.chartArea;
+  const at = (f) => box.left + area.left + f * (area.right - area.left);
+  const y = box.top + (area.top + area.bottom) / 2;
+  const mouse = (type, target, f) => target.dispatchEvent(
+      new MouseEvent(type, {clientX: at(f), clientY: y, button: 0, bubbles: true}));
+  mouse('mousedown', chart.canvas, 0.25);
+  mouse('mousemove', window, 0.5);
+  mouse('mouseup', window, 0.75);
+  const ranges = Object.values(Chart.instances).map(
+      (c) => c.scales.x.min.toFixed(2) + '..' + c.scales.x.max.toFixed(2));
+  document.body.setAttribute('data-test-ranges', Array.from(new Set(ranges)).join(' '));
+  document.body.setAttribute('data-test-charts', String(ranges.length));
+})();
+</script>
+)";
+  html.insert(html.rfind("</body>"), drag);
+  const std::string dragged = (dir_ / "dragged.html").string();
+  std::ofstream(dragged) << html;
+  const BrowserPage page = Load(dragged, "mission_report_zoomed.png");
+  EXPECT_THAT(page.console, ::testing::IsEmpty());
+  EXPECT_EQ(BodyAttribute(page.dom, "data-test-charts"), std::to_string(CountCharts(html)));
+  // One range for all (pointer positions are whole pixels: 0.01 s here).
+  const std::string ranges = BodyAttribute(page.dom, "data-test-ranges");
+  ASSERT_THAT(ranges, Not(HasSubstr(" ")));
+  double t0_s = NAN, t1_s = NAN;
+  ASSERT_EQ(std::sscanf(ranges.c_str(), "%lf..%lf", &t0_s, &t1_s), 2) << ranges;
+  EXPECT_NEAR(t0_s, 0.25 * 9.95, 0.02);
+  EXPECT_NEAR(t1_s, 0.75 * 9.95, 0.02);
+  EXPECT_THAT(page.dom, HasSubstr(" s of 0.00 to 9.95 s."));
 }
 
 }  // namespace
