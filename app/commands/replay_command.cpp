@@ -16,6 +16,7 @@
 #include "app/exit_codes.h"
 #include "app/report/pose_plot.h"
 #include "app/report/progress.h"
+#include "app/report/replay_report.h"
 #include "app/report/statistics.h"
 #include "core/data_dir.h"
 #include "core/object_model.h"
@@ -450,16 +451,26 @@ int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
   std::ofstream file(summary_path);
   file << summary.dump(2) << "\n";
   if (!file) throw std::runtime_error(summary_path + ": cannot be written");
-  std::vector<PoseTrace> traces{our_trace};
-  if (peer) traces.push_back(peer_trace);
-  if (camera.has_groundtruth())
-    WritePosePlot(truth_trace, traces, (fs::path(options.out_dir) / "pose_vs_truth.png").string());
-
   auto num = [&](const char* key, double scale) {
     return summary.contains(key) && summary[key].is_number()
                ? fmt::format("{:.2f}", scale * summary[key].get<double>())
                : std::string("-");
   };
+  std::vector<PoseTrace> traces{our_trace};
+  if (peer) traces.push_back(peer_trace);
+  std::vector<std::vector<std::string>> headline = {
+      {"recording", options.sequence},
+      {"frames (object found)", fmt::format("{} ({})", frames, found_frames)},
+      {"frame time median / p95 (ms)", num("frame_ms_median", 1) + " / " + num("frame_ms_p95", 1)}};
+  if (camera.has_groundtruth()) {
+    headline.push_back({"translation RMSE (mm)", num("translation_rmse_m", 1e3)});
+    headline.push_back({"rotation RMSE (deg)", num("rotation_rmse_deg", 1)});
+    headline.push_back({"detection recall (%)", num("detection_recall", 100)});
+    headline.push_back({"ADD-S recall (%)", num("add_s_recall", 100)});
+  }
+  if (!stop_reason.empty()) headline.push_back({"stopped early", stop_reason});
+  WriteReplayReport("Replay report: " + object.name, headline,
+                    camera.has_groundtruth() ? truth_trace : PoseTrace{}, traces, options.out_dir);
   out << fmt::format("replay: {} frames of {}, object {}, detector {}\n", frames, options.sequence,
                      object.name,
                      tracker.has_detector() ? "yes" : "no (whole-frame global registration)");
@@ -489,7 +500,8 @@ int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
           acc.value("reacquire_max_frames", 0), acc.value("never_reacquired", 0));
     }
   }
-  out << "  wrote " << summary_path << "\n";
+  out << "  wrote " << summary_path << " and "
+      << (fs::path(options.out_dir) / "index.html").string() << "\n";
   return stop_reason.empty() ? kExitOk : kExitStoppedEarly;
 }
 

@@ -5,6 +5,8 @@
 //   DIR/summary.json   frames, timings per stage, and accuracy against the
 //                      ground truth when the sequence has it
 //   DIR/pose_vs_truth.png  estimate vs truth per axis over time (paper Fig. 12)
+//   DIR/index.html     the headline figures and the estimates over time as
+//                      interactive charts (app/report/replay_report.h)
 // Beside ours it runs ViSP's model-based tracker with dense depth features
 // (vpMbGenericTracker), initialised the same way, and reports it the same way.
 #pragma once
@@ -21,7 +23,7 @@ namespace aerograsp {
 
 struct ReplayCommandOptions {
   std::string sequence;      ///< sequence folder, .bag file or TUM RGB-D folder
-  std::string out_dir;       ///< created; poses.csv, summary.json, pose_vs_truth.png
+  std::string out_dir;       ///< created; poses.csv, summary.json, index.html, pose_vs_truth.png
   std::string object;        ///< overrides the sequence's object (shipped name or model path)
   std::string detector;      ///< ONNX path; "" = data/objects/NAME/detector.onnx when it exists
   bool use_detector = true;  ///< false: whole-frame global registration, no CNN

@@ -86,30 +86,38 @@ void WritePosePlot(const PoseTrace& truth, const std::vector<PoseTrace>& estimat
 
 std::vector<TimeChart> PoseCharts(const PoseTrace& truth, const std::vector<PoseTrace>& estimates,
                                   const std::string& position_label) {
+  // Without a truth the first estimate gives the time axis.
+  const bool has_truth = !truth.stamp_s.empty();
+  const std::vector<double>& t_s =
+      has_truth || estimates.empty() ? truth.stamp_s : estimates.front().stamp_s;
   std::vector<TimeChart> charts;
   for (int a = 0; a < 3; ++a) {
     TimeChart chart;
     chart.title = fmt::format("{} {} (m)", position_label, kAxes[a]);
     chart.unit = "m";
-    chart.t_s = truth.stamp_s;
-    chart.lines.push_back({truth.name, AxisOf(truth, a), kBlack, 2});
+    chart.t_s = t_s;
+    if (has_truth) chart.lines.push_back({truth.name, AxisOf(truth, a), kBlack, 2});
     for (std::size_t k = 0; k < estimates.size(); ++k)
       chart.lines.push_back({estimates[k].name, AxisOf(estimates[k], a), kColors[k % 3], 1});
     charts.push_back(std::move(chart));
   }
-  TimeChart rotation;
-  rotation.title = "rotation error (deg, over the object's symmetries)";
-  rotation.unit = "deg";
-  rotation.t_s = truth.stamp_s;
-  rotation.y_cut = kRotationAxisCutDeg;
-  for (std::size_t k = 0; k < estimates.size(); ++k)
-    rotation.lines.push_back({estimates[k].name, estimates[k].rotation_error_deg, kColors[k % 3]});
-  charts.push_back(std::move(rotation));
+  if (has_truth) {
+    TimeChart rotation;
+    rotation.title = "rotation error (deg, over the object's symmetries)";
+    rotation.unit = "deg";
+    rotation.t_s = t_s;
+    rotation.y_cut = kRotationAxisCutDeg;
+    for (std::size_t k = 0; k < estimates.size(); ++k) {
+      rotation.lines.push_back(
+          {estimates[k].name, estimates[k].rotation_error_deg, kColors[k % 3]});
+    }
+    charts.push_back(std::move(rotation));
+  }
   TimeChart found;
   found.title = "found / lost";
-  found.t_s = truth.stamp_s;
+  found.t_s = t_s;
   found.value_names = {"lost", "found"};
-  found.height_px = 120;
+  found.height_px = 140;
   for (std::size_t k = 0; k < estimates.size(); ++k) {
     if (estimates[k].found.empty()) continue;
     found.lines.push_back(

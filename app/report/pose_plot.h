@@ -27,7 +27,8 @@ void WritePosePlot(const PoseTrace& truth, const std::vector<PoseTrace>& estimat
                    const std::string& path, const std::string& position_label = "cMo position");
 
 /// The same plot as five charts: x, y, z (m), the rotation error (deg; the axis cut at 30 deg
-/// as in the PNG) and found/lost, the traces in the PNG's colours.
+/// as in the PNG) and found/lost, the traces in the PNG's colours. A `truth` without samples
+/// (a recording without ground truth) leaves out its lines and the rotation error.
 std::vector<TimeChart> PoseCharts(const PoseTrace& truth, const std::vector<PoseTrace>& estimates,
                                   const std::string& position_label = "cMo position");
 

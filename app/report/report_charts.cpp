@@ -160,10 +160,14 @@ void WriteHtmlTimeline(const TimelineChart& chart, std::ostream& html) {
 
 void WriteHtmlChartFigure(const std::string& charts_html, const std::string& image,
                           const std::string& caption, std::ostream& html) {
-  html << "<figure class=\"charts\"><figcaption>" << EscapeHtml(caption) << " <a href=\""
-       << EscapeHtml(image) << "\">PNG</a></figcaption>\n"
-       << charts_html << "<img class=\"print\" src=\"" << EscapeHtml(image) << "\" alt=\""
-       << EscapeHtml(caption) << "\"></figure>\n";
+  html << "<figure class=\"charts\"><figcaption>" << EscapeHtml(caption);
+  if (!image.empty()) html << " <a href=\"" << EscapeHtml(image) << "\">PNG</a>";
+  html << "</figcaption>\n" << charts_html;
+  if (!image.empty()) {
+    html << "<img class=\"print\" src=\"" << EscapeHtml(image) << "\" alt=\"" << EscapeHtml(caption)
+         << "\">";
+  }
+  html << "</figure>\n";
 }
 
 void WriteHtmlChartScripts(std::ostream& html) {

@@ -78,7 +78,8 @@ void WriteHtmlTimeChart(const TimeChart& chart, std::ostream& html);
 void WriteHtmlTimeline(const TimelineChart& chart, std::ostream& html);
 
 /// A section's charts (`charts_html`, from the functions above) under a caption with a link to
-/// the PNG of the same plot, which replaces the charts when the page is printed.
+/// `image`, the PNG of the same plot, which replaces the charts when the page is printed (an
+/// empty `image`: there is none).
 void WriteHtmlChartFigure(const std::string& charts_html, const std::string& image,
                           const std::string& caption, std::ostream& html);
 

@@ -124,7 +124,7 @@
       y.afterBuildTicks = (scale) => {
         scale.ticks = spec.valueNames.map((name, v) => ({ value: v }));
       };
-      y.ticks = { callback: (v) => spec.valueNames[v] };
+      y.ticks = { autoSkip: false, callback: (v) => spec.valueNames[v] };
     }
     const values = spec.lines.flatMap((line) => line.v.filter((v) => v !== null));
     const cut = spec.yCut !== undefined && values.some((v) => v > spec.yCut);

@@ -13,6 +13,7 @@
 #include "core/config.h"
 #include "core/transforms.h"
 #include "hardware/rgbd_camera.h"
+#include "tests/app/headless_browser.h"
 
 namespace aerograsp {
 namespace {
@@ -76,6 +77,12 @@ TEST_F(ReplayCommandTest, TracksTheRecordedObjectAndWritesTheReport) {
   EXPECT_TRUE(s["stage_ms"]["crop_cloud_normals"]["median"].is_number());
   EXPECT_TRUE(s["visp_peer"]["initialised"].get<bool>());
   EXPECT_TRUE(fs::exists(fs::path(out_dir_) / "pose_vs_truth.png"));
+  std::ifstream page(fs::path(out_dir_) / "index.html");
+  std::stringstream html;
+  html << page.rdbuf();
+  // x, y, z, the rotation error and found, ours and the peer's in each.
+  EXPECT_EQ(CountCharts(html.str()), 5);
+  EXPECT_THAT(html.str(), ::testing::HasSubstr("\"name\":\"ViSP mbt (dense depth)\""));
   std::ifstream poses(fs::path(out_dir_) / "poses.csv");
   std::string line;
   int lines = 0;
