@@ -55,9 +55,11 @@ std::string JsonMarkers(const std::vector<ChartMarker>& markers) {
   return out + "]";
 }
 
-void WriteChartDiv(const std::string& json, int height_px, std::ostream& html) {
+void WriteChartDiv(const std::string& title, const std::string& json, int height_px,
+                   std::ostream& html) {
   html << "<div class=\"chart\" style=\"height:" << height_px
-       << "px\"><canvas></canvas><script type=\"application/json\" class=\"chart-data\">" << json
+       << "px\"><canvas role=\"img\" aria-label=\"" << EscapeHtml(title)
+       << "\"></canvas><script type=\"application/json\" class=\"chart-data\">" << json
        << "</script></div>\n";
 }
 
@@ -131,7 +133,7 @@ void WriteHtmlTimeChart(const TimeChart& chart, std::ostream& html) {
       json += (k ? "," : "") + JsonString(chart.value_names[k]);
     json += "]";
   }
-  WriteChartDiv(json + "}", chart.height_px, html);
+  WriteChartDiv(chart.title, json + "}", chart.height_px, html);
 }
 
 void WriteHtmlTimeline(const TimelineChart& chart, std::ostream& html) {
@@ -155,7 +157,7 @@ void WriteHtmlTimeline(const TimelineChart& chart, std::ostream& html) {
   }
   json += "],\"markers\":" + JsonMarkers(chart.markers) + "}";
   constexpr int kRowPx = 38, kAxesPx = 90;
-  WriteChartDiv(json, kAxesPx + kRowPx * int(chart.rows.size()), html);
+  WriteChartDiv(chart.title, json, kAxesPx + kRowPx * int(chart.rows.size()), html);
 }
 
 void WriteHtmlChartFigure(const std::string& charts_html, const std::string& image,
