@@ -55,9 +55,15 @@ if(NOT AEROGRASP_CHARTJS)
                       "package libjs-chart.js (scripts/install_deps.sh)")
 endif()
 
+# ROS 2 topics over DDS (ros2/): Cyclone DDS, whose idlc generates the message types.
+find_package(CycloneDDS REQUIRED)
+
 if(AEROGRASP_BUILD_TESTS)
   find_package(GTest REQUIRED)
   find_package(benchmark REQUIRED)
+  # The independent ROS 2 peer of the tests (tests/peers/ros2): Fast DDS, dynamic types.
+  find_package(fastrtps REQUIRED)
+  find_package(fastcdr REQUIRED)
 endif()
 
 # urdfdom's config exports plain variables; wrap them in one target.

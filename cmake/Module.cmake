@@ -10,7 +10,8 @@ function(aerograsp_module name)
 endfunction()
 
 function(aerograsp_warnings target)
-  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wno-deprecated-copy)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic
+                         $<$<COMPILE_LANGUAGE:CXX>:-Wno-deprecated-copy>)
   if(AEROGRASP_WARNINGS_AS_ERRORS)
     target_compile_options(${target} PRIVATE -Werror)
   endif()

@@ -24,6 +24,8 @@ PACKAGES=(
   liblz4-dev libzstd-dev
   # the reports' interactive charts: Chart.js, built into the program
   libjs-chart.js
+  # ROS 2 topics over DDS: Cyclone DDS and its IDL compiler; Fast DDS as the tests' independent peer
+  cyclonedds-dev cyclonedds-tools libfastrtps-dev libfastcdr-dev
   # tests and benchmarks; Chromium loads the report pages headless in the tests
   libgtest-dev libgmock-dev libbenchmark-dev chromium
   # the parsers' fuzz campaigns (scripts/run_fuzz.sh): clang with libFuzzer and the sanitizers
