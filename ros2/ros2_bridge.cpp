@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <set>
@@ -208,6 +210,75 @@ class NoteQueue {
  private:
   std::mutex mutex_;
   std::vector<std::string> lines_;
+};
+
+// ---- Cyclone's log lines ----------------------------------------------------------------
+
+/// Cyclone says some things only in its log (a message that does not decode,
+/// an interface that does not exist). The log sink is one per process: each
+/// handler sees every line and takes those it understands; the others go to
+/// stderr as Cyclone would print them.
+class CycloneLog {
+ public:
+  using Handler = std::function<bool(const std::string&)>;
+
+  static CycloneLog& Get() {
+    static CycloneLog log;
+    return log;
+  }
+  int Add(Handler handler) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!installed_) {
+      installed_ = true;
+      dds_set_log_sink(&CycloneLog::Sink, this);
+    }
+    handlers_[next_id_] = std::move(handler);
+    return next_id_++;
+  }
+  void Remove(int id) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    handlers_.erase(id);
+  }
+
+ private:
+  static void Sink(void* arg, const dds_log_data_t* data) {
+    auto* self = static_cast<CycloneLog*>(arg);
+    std::string line(data->message, data->size);
+    while (!line.empty() && (line.back() == '\n' || line.back() == ' ')) line.pop_back();
+    std::lock_guard<std::mutex> lock(self->mutex_);
+    for (auto& [id, handler] : self->handlers_) {
+      if (handler(line)) return;
+    }
+    std::fprintf(stderr, "cyclonedds: %s\n", line.c_str());
+  }
+
+  std::mutex mutex_;
+  bool installed_ = false;
+  int next_id_ = 1;
+  std::map<int, Handler> handlers_;
+};
+
+/// Collects Cyclone's log lines while it lives (the reasons of a failed start).
+class CycloneLogCapture {
+ public:
+  CycloneLogCapture()
+      : id_(CycloneLog::Get().Add([this](const std::string& line) {
+          lines_.push_back(line);
+          return true;
+        })) {}
+  ~CycloneLogCapture() { CycloneLog::Get().Remove(id_); }
+  CycloneLogCapture(const CycloneLogCapture&) = delete;
+  CycloneLogCapture& operator=(const CycloneLogCapture&) = delete;
+  /// The lines so far, joined by "; ".
+  std::string Text() const {
+    std::string text;
+    for (const std::string& l : lines_) text += (text.empty() ? "" : "; ") + l;
+    return text;
+  }
+
+ private:
+  std::vector<std::string> lines_;  // written under CycloneLog's lock
+  int id_;
 };
 
 // ---- Writers ------------------------------------------------------------------------------
@@ -661,7 +732,6 @@ class Ros2EmergencyStop final : public EmergencyStopSource {
     dds_listener_t* listener = dds_create_listener(this);
     dds_lset_data_available(listener, &Ros2EmergencyStop::OnData);
     dds_lset_requested_incompatible_qos(listener, &Ros2EmergencyStop::OnIncompatible);
-    dds_lset_sample_rejected(listener, &Ros2EmergencyStop::OnRejected);
     reader_ = dds_create_reader(participant_->handle(), topic, qos, listener);
     dds_delete_listener(listener);
     dds_delete_qos(qos);
@@ -669,8 +739,12 @@ class Ros2EmergencyStop final : public EmergencyStopSource {
       throw std::runtime_error(
           fmt::format("cannot create a reader on {}: {}", ros_name, dds_strretcode(reader_)));
     }
+    // A message that does not decode as std_msgs/Bool (a byte other than 0
+    // or 1, too short) is dropped by Cyclone, which says so only in its log.
+    log_id_ = CycloneLog::Get().Add([this](const std::string& line) { return OnLog(line); });
   }
   ~Ros2EmergencyStop() override {
+    CycloneLog::Get().Remove(log_id_);
     if (reader_ > 0) dds_delete(reader_);  // waits for a listener call in progress
   }
   Ros2EmergencyStop(const Ros2EmergencyStop&) = delete;
@@ -716,12 +790,25 @@ class Ros2EmergencyStop final : public EmergencyStopSource {
         self->ros_name_, status.last_policy_id));
   }
 
-  static void OnRejected(dds_entity_t /*reader*/, const dds_sample_rejected_status_t status,
-                         void* arg) {
-    auto* self = static_cast<Ros2EmergencyStop*>(arg);
-    if (status.total_count_change <= 0 || self->said_rejected_) return;
-    self->said_rejected_ = true;
-    self->latch_.Note(fmt::format("ROS 2: {}: a message was rejected", self->ros_name_));
+  /// Takes Cyclone's "deserialization <topic>/<type> failed" lines of our topic.
+  bool OnLog(const std::string& line) {
+    const std::string topic = "deserialization rt" + ros_name_ + "/";
+    if (line.find(topic) == std::string::npos || line.find("failed") == std::string::npos)
+      return false;
+    if (!said_malformed_) {
+      said_malformed_ = true;
+      // "... data(application, vendor 1.15): <writer guid> #<seq>: deserialization ..."
+      const std::size_t from = line.find("): ");
+      const std::size_t to = line.find(" #", from);
+      const std::string writer = from != std::string::npos && to != std::string::npos
+                                     ? "writer " + line.substr(from + 3, to - from - 3)
+                                     : "a writer";
+      latch_.Note(
+          fmt::format("ROS 2: {}: a malformed message from {} was dropped (it does not decode as "
+                      "std_msgs/Bool); it does not stop the mission",
+                      ros_name_, writer));
+    }
+    return true;
   }
 
   std::string WriterName(dds_instance_handle_t handle) const {
@@ -737,7 +824,9 @@ class Ros2EmergencyStop final : public EmergencyStopSource {
   dds_entity_t reader_ = 0;
   EmergencyStopLatch latch_;
   // Touched on DDS's listener thread only.
-  bool said_false_ = false, said_incompatible_ = false, said_rejected_ = false;
+  bool said_false_ = false, said_incompatible_ = false;
+  bool said_malformed_ = false;  // under CycloneLog's lock
+  int log_id_ = 0;
 };
 
 }  // namespace
@@ -755,20 +844,22 @@ Ros2Bridge OpenRos2(const Ros2Config& config, std::function<void(const std::stri
                      config.domain_id, why));
     return Ros2Bridge{};
   };
+  CycloneLogCapture reasons;  // what Cyclone says while it starts
   dds_entity_t domain = 0;
   if (!config.dds_config.empty()) {
     const std::string uri =
         "file://" + std::filesystem::absolute(config.dds_config).lexically_normal().string();
     domain = dds_create_domain(static_cast<dds_domainid_t>(config.domain_id), uri.c_str());
     if (domain < 0) {
-      return fail(fmt::format("{} with {}", dds_strretcode(domain), config.dds_config));
+      return fail(
+          fmt::format("{} with {}: {}", dds_strretcode(domain), config.dds_config, reasons.Text()));
     }
   }
   const dds_entity_t participant =
       dds_create_participant(static_cast<dds_domainid_t>(config.domain_id), nullptr, nullptr);
   if (participant < 0) {
     if (domain > 0) dds_delete(domain);
-    return fail(dds_strretcode(participant));
+    return fail(fmt::format("{}: {}", dds_strretcode(participant), reasons.Text()));
   }
   auto shared = std::make_shared<Ros2Participant>(domain, participant);
   try {

@@ -17,6 +17,7 @@
 //     --no-images            do not subscribe to the camera topics
 //     --leave-after N        exit (without goodbye) after N messages in all
 //     --ready-file PATH      create PATH once every reader has matched a writer
+//     --lease-s S            the participant's lease (how soon others notice it died)
 //   ros2_peer estop DOMAIN NS [--malformed]
 //     Publishes one stop (or one malformed Bool) when aerograsp's reader is
 //     matched, waits for it to be acknowledged, and exits.
@@ -46,6 +47,7 @@
 #include <fastdds/dds/topic/TopicDataType.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -287,7 +289,7 @@ DataReaderQos ReaderQos(Qos kind) {
   return q;
 }
 
-DomainParticipant* JoinLoopback(int domain) {
+DomainParticipant* JoinLoopback(int domain, double lease_s) {
   DomainParticipantQos pqos = PARTICIPANT_QOS_DEFAULT;
   pqos.name("aerograsp_test_peer");
   pqos.transport().use_builtin_transports = false;  // no shared memory, no default UDP
@@ -302,6 +304,10 @@ DomainParticipant* JoinLoopback(int domain) {
   pqos.wire_protocol().builtin.metatrafficUnicastLocatorList.push_back(local);
   pqos.wire_protocol().default_unicast_locator_list.push_back(local);
   pqos.wire_protocol().builtin.initialPeersList.push_back(local);
+  // How soon the others notice that this peer is gone without a goodbye.
+  auto& discovery = pqos.wire_protocol().builtin.discovery_config;
+  discovery.leaseDuration = eprosima::fastrtps::Duration_t(lease_s);
+  discovery.leaseDuration_announcementperiod = eprosima::fastrtps::Duration_t(lease_s / 4);
   return DomainParticipantFactory::get_instance()->create_participant(domain, pqos);
 }
 
@@ -321,17 +327,22 @@ struct Args {
   bool malformed_first = false, no_images = false, malformed = false;
   long leave_after = -1;
   std::string ready_file;
+  double lease_s = 10;  // Fast DDS's default participant lease
 };
 
 class Peer {
  public:
   Peer(const Args& args) : args_(args) {
-    participant_ = JoinLoopback(args.domain);
+    participant_ = JoinLoopback(args.domain, args.lease_s);
     if (!participant_) throw std::runtime_error("cannot create the Fast DDS participant");
     subscriber_ = participant_->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
     publisher_ = participant_->create_publisher(PUBLISHER_QOS_DEFAULT);
   }
   ~Peer() {
+    if (raw_participant_) {
+      raw_participant_->delete_contained_entities();
+      DomainParticipantFactory::get_instance()->delete_participant(raw_participant_);
+    }
     participant_->delete_contained_entities();
     DomainParticipantFactory::get_instance()->delete_participant(participant_);
   }
@@ -394,7 +405,9 @@ class Peer {
       readers.push_back({spec, registered, reader});
     }
     DataWriter* estop = nullptr;
-    if (!args_.estop_on.empty()) estop = EstopWriter(args_.malformed_first);
+    DataWriter* malformed = nullptr;
+    if (!args_.estop_on.empty()) estop = EstopWriter(false);
+    if (!args_.estop_on.empty() && args_.malformed_first) malformed = EstopWriter(true);
     std::cout << "ros2_peer: listening on domain " << args_.domain << std::endl;
     bool ready = args_.ready_file.empty();
 
@@ -437,7 +450,8 @@ class Peer {
           if (estop && !stopped && r.spec.ros_name == Ns() + "/transitions" &&
               f["data"].get<std::string>().find(args_.estop_on) != std::string::npos) {
             stopped = true;
-            SendStop(estop, args_.malformed_first);
+            if (malformed) SendMalformed(malformed);
+            SendStop(estop);
             std::cout << "ros2_peer: sent the emergency stop on: " << f["data"].get<std::string>()
                       << std::endl;
           }
@@ -468,36 +482,49 @@ class Peer {
 
   /// Sends one stop (or malformed Bools) once matched, then waits for the acknowledgement.
   int Estop() {
-    DataWriter* w = EstopWriter(args_.malformed);
-    SendStop(w, args_.malformed);
+    if (args_.malformed)
+      SendMalformed(EstopWriter(true));
+    else
+      SendStop(EstopWriter(false));
     return 0;
   }
 
  private:
   std::string Ns() const { return args_.ns.empty() ? "" : "/" + args_.ns; }
 
+  /// A writer on /NS/emergency_stop: std_msgs/Bool, or (malformed) raw bytes
+  /// under the same type name, from a participant of its own (one participant
+  /// cannot register two types of one name).
   DataWriter* EstopWriter(bool malformed) {
+    DomainParticipant* participant = participant_;
+    Publisher* publisher = publisher_;
+    if (malformed) {
+      raw_participant_ = JoinLoopback(args_.domain, args_.lease_s);
+      if (!raw_participant_) throw std::runtime_error("cannot create a second participant");
+      participant = raw_participant_;
+      publisher = raw_participant_->create_publisher(PUBLISHER_QOS_DEFAULT);
+    }
     TypeSupport support(malformed
                             ? static_cast<TopicDataType*>(new RawType("std_msgs::msg::dds_::Bool_"))
                             : new DynamicPubSubType(types_.bool_));
     support->auto_fill_type_information(false);
     support->auto_fill_type_object(false);
-    support.register_type(participant_);
-    Topic* topic = participant_->create_topic("rt" + Ns() + "/emergency_stop", support->getName(),
-                                              TOPIC_QOS_DEFAULT);
+    support.register_type(participant);
+    Topic* topic = participant->create_topic("rt" + Ns() + "/emergency_stop", support->getName(),
+                                             TOPIC_QOS_DEFAULT);
     DataWriterQos q = DATAWRITER_QOS_DEFAULT;
     q.reliability().kind = RELIABLE_RELIABILITY_QOS;
     q.durability().kind = VOLATILE_DURABILITY_QOS;
     q.history().kind = KEEP_LAST_HISTORY_QOS;
     q.history().depth = 10;
-    DataWriter* w = publisher_->create_datawriter(topic, q);
+    DataWriter* w = publisher->create_datawriter(topic, q);
     if (!w) throw std::runtime_error("cannot create the emergency-stop writer");
-    malformed_ = malformed;
     return w;
   }
 
-  void SendStop(DataWriter* w, bool malformed_first) {
-    // Wait for aerograsp's reader to be matched, so the message is not written into the void.
+  /// Waits for aerograsp's reader to be matched (so nothing is written into
+  /// the void), writes, and waits for the acknowledgement.
+  static void WhenMatched(DataWriter* w, const std::function<void()>& write) {
     const auto start = std::chrono::steady_clock::now();
     PublicationMatchedStatus status;
     while (w->get_publication_matched_status(status) == ReturnCode_t::RETCODE_OK &&
@@ -506,27 +533,27 @@ class Peer {
         throw std::runtime_error("no emergency-stop reader matched within 30 s");
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
-    if (malformed_) {
+    write();
+    w->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(10, 0));
+  }
+
+  void SendMalformed(DataWriter* w) {
+    WhenMatched(w, [w] {
       // Encapsulation CDR_LE, then the bool's byte: 7 is neither false nor true.
       std::vector<uint8_t> bad = {0x00, 0x01, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00};
       w->write(&bad);
-      std::vector<uint8_t> truncated = {0x00, 0x01, 0x00, 0x00};
+      std::vector<uint8_t> truncated = {0x00, 0x01, 0x00, 0x00};  // no byte at all
       w->write(&truncated);
-      std::cout << "ros2_peer: sent two malformed emergency stops" << std::endl;
-    }
-    if (malformed_first && malformed_) {
-      // The real stop follows on a well-typed writer.
-      malformed_ = false;
-      DataWriter* good = EstopWriter(false);
-      SendStop(good, false);
-      return;
-    }
-    if (!malformed_) {
+    });
+    std::cout << "ros2_peer: sent two malformed emergency stops" << std::endl;
+  }
+
+  void SendStop(DataWriter* w) {
+    WhenMatched(w, [this, w] {
       DynamicData_ptr stop(DynamicDataFactory::get_instance()->create_data(types_.bool_));
       stop->set_bool_value(true, 0);
       w->write(stop.get());
-    }
-    w->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(10, 0));
+    });
   }
 
   Args args_;
@@ -534,13 +561,14 @@ class Peer {
   DomainParticipant* participant_ = nullptr;
   Subscriber* subscriber_ = nullptr;
   Publisher* publisher_ = nullptr;
-  bool malformed_ = false;
+  DomainParticipant* raw_participant_ = nullptr;
 };
 
 int Usage() {
   std::cerr << "usage: ros2_peer listen DOMAIN NS OUT.jsonl [--until TEXT] [--timeout-s S]\n"
                "                 [--estop-on TEXT] [--malformed-first] [--no-images]\n"
                "                 [--leave-after N] [--ready-file PATH]\n"
+               "                 [--lease-s S]\n"
                "       ros2_peer estop DOMAIN NS [--malformed]\n";
   return 1;
 }
@@ -582,6 +610,8 @@ int main(int argc, char** argv) {
       args.leave_after = std::stol(value());
     else if (a == "--ready-file")
       args.ready_file = value();
+    else if (a == "--lease-s")
+      args.lease_s = std::stod(value());
     else
       return Usage();
   }
