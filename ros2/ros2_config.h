@@ -1,7 +1,8 @@
 // Settings of the ROS 2 bridge (ros2/ros2_bridge.h): whether aerograsp joins a
 // DDS domain, which one, under which namespace, and how often the high-rate
-// topics go out. Read from data/config/ros2.yaml (or --ros2-config); the
-// commands' --ros2 and --ros2-domain override `enabled` and `domain_id`.
+// topics go out. The `ros2:` section of the telemetry file
+// (data/config/telemetry.yaml, or --telemetry); the commands' --ros2 and
+// --ros2-domain override `enabled` and `domain_id`.
 #pragma once
 
 #include <string>
@@ -9,7 +10,7 @@
 namespace aerograsp {
 
 struct Ros2Config {
-  std::string source = "ros2 settings";  ///< the file read, for messages
+  std::string source = "ros2 settings";  ///< the file read, for messages (keys are under ros2.)
   bool enabled = false;                  ///< join the domain and publish (off: nothing is opened)
   int domain_id = 0;                     ///< ROS_DOMAIN_ID, [0, 232]
   /// Prefix of aerograsp's own topics ("aerograsp" -> /aerograsp/joint_states;
@@ -28,7 +29,8 @@ struct Ros2Config {
 
   /// @throws ConfigError naming the file and the key of the first bad value.
   void Validate() const;
-  /// Reads `path` (keys as the fields); missing keys keep the defaults.
+  /// Reads the `ros2:` section of `path` (keys as the fields); a missing
+  /// section or key keeps the defaults.
   /// @throws ConfigError for an unreadable file, an unknown key or a bad value.
   static Ros2Config Load(const std::string& path);
 };

@@ -6,7 +6,7 @@ namespace aerograsp {
 
 TelemetryConfig TelemetryConfig::Load(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);
-  root.RequireOnlyKeys({"mcap"});
+  root.RequireOnlyKeys({"mcap", "ros2"});  // ros2: ros2/ros2_config.h reads it
   TelemetryConfig c;
   c.source = path;
   if (root.Has("mcap")) {

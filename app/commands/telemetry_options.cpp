@@ -15,6 +15,10 @@ void AddTelemetryOptions(CLI::App* cmd, TelemetryOptions* o) {
                   "Telemetry YAML: the MCAP log's images and rates [data/config/telemetry.yaml]")
       ->check(CLI::ExistingFile);
   cmd->add_flag("--no-mcap", o->no_mcap, "Write no MCAP log (Foxglove, ROS 2 tools)");
+  cmd->add_flag("--ros2", o->ros2,
+                "Publish ROS 2 topics over DDS and hear /aerograsp/emergency_stop (docs/ros2.md)");
+  cmd->add_option("--ros2-domain", o->ros2_domain, "ROS_DOMAIN_ID for --ros2 (implies it) [0]")
+      ->check(CLI::Range(0, 232));
 }
 
 TelemetryConfig LoadTelemetryConfig(const TelemetryOptions& options) {

@@ -18,9 +18,11 @@ namespace aerograsp {
 struct TelemetryOptions {
   std::string config_path;  ///< telemetry YAML; empty: data/config/telemetry.yaml
   bool no_mcap = false;     ///< no MCAP file, whatever the config says
+  bool ros2 = false;  ///< publish ROS 2 topics (app/commands/ros2_link.h), whatever the config says
+  int ros2_domain = -1;  ///< ROS_DOMAIN_ID [0, 232] (implies ros2); < 0: the config's
 };
 
-/// Adds --telemetry and --no-mcap to `cmd` (a CLI11 subcommand).
+/// Adds --telemetry, --no-mcap, --ros2 and --ros2-domain to `cmd` (a CLI11 subcommand).
 void AddTelemetryOptions(CLI::App* cmd, TelemetryOptions* options);
 
 /// Reads the telemetry config of `options` (data/config/telemetry.yaml unless

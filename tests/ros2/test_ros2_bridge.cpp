@@ -83,7 +83,7 @@ EmergencyStopPoll PollUntilStop(EmergencyStopSource& source, double timeout_s,
 
 TEST(Ros2ConfigTest, ShippedFileEqualsTheDefaults) {
   const Ros2Config shipped =
-      Ros2Config::Load(std::string(AEROGRASP_DATA_DIR) + "/config/ros2.yaml");
+      Ros2Config::Load(std::string(AEROGRASP_DATA_DIR) + "/config/telemetry.yaml");
   const Ros2Config defaults;
   EXPECT_EQ(shipped.enabled, defaults.enabled);
   EXPECT_EQ(shipped.domain_id, defaults.domain_id);
@@ -105,14 +105,16 @@ TEST(Ros2ConfigTest, BadValuesAreRefusedWithTheirKey) {
     }
     return std::string("no error");
   };
-  EXPECT_THAT(load_error("domain_id: 233\n"),
-              HasSubstr("domain_id: 233 is above the upper bound 232"));
-  EXPECT_THAT(load_error("topic_namespace: /aerograsp\n"),
-              HasSubstr("topic_namespace: '/aerograsp' must not start with '/'"));
-  EXPECT_THAT(load_error("topic_namespace: aero-grasp\n"), HasSubstr("is not a letter, digit"));
-  EXPECT_THAT(load_error("image_rate_hz: -1\n"), HasSubstr("image_rate_hz"));
-  EXPECT_THAT(load_error("dds_config: missing.xml\n"), HasSubstr("dds_config: file"));
-  EXPECT_THAT(load_error("domain: 3\n"), HasSubstr("domain"));
+  EXPECT_THAT(load_error("ros2:\n  domain_id: 233\n"),
+              HasSubstr("ros2.domain_id: 233 is above the upper bound 232"));
+  EXPECT_THAT(load_error("ros2:\n  topic_namespace: /aerograsp\n"),
+              HasSubstr("ros2.topic_namespace: '/aerograsp' must not start with '/'"));
+  EXPECT_THAT(load_error("ros2:\n  topic_namespace: aero-grasp\n"),
+              HasSubstr("is not a letter, digit"));
+  EXPECT_THAT(load_error("ros2:\n  image_rate_hz: -1\n"), HasSubstr("ros2.image_rate_hz: -1 Hz"));
+  EXPECT_THAT(load_error("ros2:\n  dds_config: missing.xml\n"), HasSubstr("ros2.dds_config: file"));
+  EXPECT_THAT(load_error("ros2:\n  domain: 3\n"), HasSubstr("ros2.domain"));
+  EXPECT_THAT(load_error("ros2:\n  enabled: maybe\n"), HasSubstr("ros2.enabled"));
   fs::remove(file);
 }
 
