@@ -190,11 +190,14 @@ geometry_msgs_msg_dds__Pose_ PoseOf(const Eigen::Isometry3d& aMb) {
   return p;
 }
 
-/// Lines from DDS's threads, said on the caller's thread at its next call.
+/// What went wrong, each kind said once per bridge (a subscriber that leaves
+/// would otherwise be said on every topic), on the caller's thread at its next
+/// call (DDS's threads find it first).
 class NoteQueue {
  public:
-  void Push(const std::string& line) {
+  void Once(const std::string& kind, const std::string& line) {
     std::lock_guard<std::mutex> lock(mutex_);
+    if (!said_.insert(kind).second) return;
     lines_.push_back(line);
   }
   void Flush(const Note& note) {
@@ -209,6 +212,7 @@ class NoteQueue {
 
  private:
   std::mutex mutex_;
+  std::set<std::string> said_;
   std::vector<std::string> lines_;
 };
 
@@ -309,37 +313,35 @@ class Writer {
   Writer& operator=(const Writer&) = delete;
 
   /// Writes `sample` (the generated C type of the topic).
-  void Write(const void* sample, const Note& note) {
+  void Write(const void* sample) {
     const dds_return_t rc = dds_write(writer_, sample);
     if (rc == DDS_RETCODE_OK) return;
-    ++dropped_;
-    if (said_failure_) return;
-    said_failure_ = true;
-    note(rc == DDS_RETCODE_TIMEOUT
-             ? fmt::format("ROS 2: {}: a subscriber does not acknowledge; messages are dropped "
-                           "while it lasts (the mission does not wait)",
-                           ros_name_)
-             : fmt::format("ROS 2: {}: cannot write ({}); messages are dropped", ros_name_,
-                           dds_strretcode(rc)));
+    if (rc == DDS_RETCODE_TIMEOUT) {
+      notes_->Once("unacknowledged",
+                   fmt::format("ROS 2: a subscriber of {} does not acknowledge; messages are "
+                               "dropped while it lasts (the mission does not wait)",
+                               ros_name_));
+    } else {
+      notes_->Once("write " + ros_name_,
+                   fmt::format("ROS 2: {}: cannot write ({}); its messages are dropped", ros_name_,
+                               dds_strretcode(rc)));
+    }
   }
 
  private:
   static void OnMatched(dds_entity_t /*writer*/, const dds_publication_matched_status_t status,
                         void* arg) {
     auto* self = static_cast<Writer*>(arg);
-    if (status.current_count_change < 0 && !self->said_left_) {
-      self->said_left_ = true;
-      self->notes_->Push(fmt::format("ROS 2: {}: a subscriber left ({} remain)", self->ros_name_,
-                                     status.current_count));
+    if (status.current_count_change < 0) {
+      self->notes_->Once("left", fmt::format("ROS 2: a subscriber of {} left ({} remain); "
+                                             "publishing goes on",
+                                             self->ros_name_, status.current_count));
     }
   }
 
   std::string ros_name_;
   NoteQueue* notes_ = nullptr;
   dds_entity_t writer_ = 0;
-  long dropped_ = 0;
-  bool said_failure_ = false;
-  bool said_left_ = false;  // read and written on DDS's listener thread only
 };
 
 /// Lets a topic through at most `rate_hz` on mission time.
@@ -442,19 +444,19 @@ class Ros2Sink final : public TelemetrySink {
       geometry_msgs_msg_dds__PoseStamped_ msg{};
       msg.header = header;
       msg.pose = PoseOf(pose.fMo);
-      pose_->Write(&msg, note_);
+      pose_->Write(&msg);
       if (pose.covariance) {
         geometry_msgs_msg_dds__PoseWithCovarianceStamped_ cov{};
         cov.header = header;
         cov.pose.pose = msg.pose;
         for (int r = 0; r < 6; ++r)
           for (int c = 0; c < 6; ++c) cov.pose.covariance[6 * r + c] = (*pose.covariance)(r, c);
-        pose_cov_->Write(&cov, note_);
+        pose_cov_->Write(&cov);
       }
     }
     std_msgs_msg_dds__Bool_ found{};
     found.data = pose.found;
-    found_->Write(&found, note_);
+    found_->Write(&found);
     if (pose.found != object_found_) {
       object_found_ = pose.found;
       PublishDiagnostics(pose.t_s);
@@ -485,7 +487,7 @@ class Ros2Sink final : public TelemetrySink {
     const std::string line = fmt::format("{}: {} -> {}: {}", t.machine, t.from, t.to, t.cause);
     std_msgs_msg_dds__String_ msg{};
     msg.data = Chars(line);
-    transitions_->Write(&msg, note_);
+    transitions_->Write(&msg);
     machines_[t.machine] = {t.to, t.cause};
     PublishDiagnostics(t.t_s);
   }
@@ -496,7 +498,7 @@ class Ros2Sink final : public TelemetrySink {
         fmt::format("left {} right {}: {}", pair.left_pair, pair.right_pair, pair.reason);
     std_msgs_msg_dds__String_ msg{};
     msg.data = Chars(grasp_pair_line_);
-    grasp_pair_->Write(&msg, note_);
+    grasp_pair_->Write(&msg);
     PublishDiagnostics(pair.t_s);
   }
 
@@ -512,7 +514,7 @@ class Ros2Sink final : public TelemetrySink {
     // The sample borrows the image's pixels: dds_write serialises them before returning.
     color.data._buffer = const_cast<uint8_t*>(image.color->data.data());
     color.data._length = color.data._maximum = static_cast<uint32_t>(image.color->data.size());
-    color_->Write(&color, note_);
+    color_->Write(&color);
 
     sensor_msgs_msg_dds__CameraInfo_ info{};
     info.header = header;
@@ -529,7 +531,7 @@ class Ros2Sink final : public TelemetrySink {
     std::copy(k, k + 9, info.k);
     std::copy(r, r + 9, info.r);
     std::copy(p, p + 12, info.p);
-    camera_info_->Write(&info, note_);
+    camera_info_->Write(&info);
 
     if (!image.depth) return;
     sensor_msgs_msg_dds__Image_ depth{};
@@ -557,7 +559,7 @@ class Ros2Sink final : public TelemetrySink {
       depth.data._length = static_cast<uint32_t>(metres.size() * 4);
     }
     depth.data._maximum = depth.data._length;
-    depth_->Write(&depth, note_);
+    depth_->Write(&depth);
   }
 
   void Log(double t_s, TelemetryLevel level, const std::string& name,
@@ -572,7 +574,7 @@ class Ros2Sink final : public TelemetrySink {
     msg.msg = Chars(line);
     msg.file = Chars(kEmpty);
     msg.function = Chars(kEmpty);
-    rosout_->Write(&msg, note_);
+    rosout_->Write(&msg);
   }
 
   /// Stops publishing and waits (at most kCloseWaitS) for subscribers to
@@ -619,7 +621,7 @@ class Ros2Sink final : public TelemetrySink {
     tf2_msgs_msg_dds__TFMessage_ msg{};
     msg.transforms._buffer = items.data();
     msg.transforms._length = msg.transforms._maximum = static_cast<uint32_t>(items.size());
-    writer.Write(&msg, note_);
+    writer.Write(&msg);
   }
 
   void PublishJoints(Writer& writer, const TelemetryArms& arms, bool targets) {
@@ -654,14 +656,14 @@ class Ros2Sink final : public TelemetrySink {
     msg.position._length = msg.position._maximum = static_cast<uint32_t>(position.size());
     msg.velocity._buffer = velocity.data();
     msg.velocity._length = msg.velocity._maximum = static_cast<uint32_t>(velocity.size());
-    writer.Write(&msg, note_);
+    writer.Write(&msg);
   }
 
   void PublishClock(double t_s) {
     if (!clock_ || !clock_rate_.Due(t_s)) return;
     rosgraph_msgs_msg_dds__Clock_ msg{};
     msg.clock = StampOf(start_wall_s_, t_s);
-    clock_->Write(&msg, note_);
+    clock_->Write(&msg);
   }
 
   /// One status per state machine (its state, the last transition's cause),
@@ -699,7 +701,7 @@ class Ros2Sink final : public TelemetrySink {
     msg.header = Header(t_s, kEmpty);
     msg.status._buffer = items.data();
     msg.status._length = msg.status._maximum = static_cast<uint32_t>(items.size());
-    diagnostics_->Write(&msg, note_);
+    diagnostics_->Write(&msg);
   }
 
   static constexpr const char* kHardwareId = "aerograsp";

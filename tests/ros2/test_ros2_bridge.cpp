@@ -221,7 +221,9 @@ TEST(Ros2BridgeTest, SubscriberThatDisappearsIsSaidOnceAndPublishingGoesOn) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   const auto left = [&] {
     for (const std::string& n : notes)
-      if (n.find("a subscriber left") != std::string::npos) return true;
+      if (n.find("ROS 2: a subscriber of") != std::string::npos &&
+          n.find(" left (") != std::string::npos)
+        return true;
     return false;
   };
   long calls = 0;
