@@ -4,7 +4,8 @@
 // the emergency stops heard on a std_msgs/Bool topic. docs/ros2.md lists every
 // topic with its type, QoS and frames.
 //
-// On the wire (NS: Ros2Config::topic_namespace, "aerograsp" by default):
+// Settings: Ros2Config (telemetry/telemetry_config.h). On the wire (NS:
+// Ros2Config::topic_namespace, "aerograsp" by default):
 //   /NS/object_pose             geometry_msgs/PoseStamped            sensor data QoS
 //   /NS/object_pose_covariance  geometry_msgs/PoseWithCovarianceStamped  sensor data QoS
 //   /NS/object_found            std_msgs/Bool                        reliable, keep last 10
@@ -19,7 +20,7 @@
 //   1000 /NS/camera/color/image_raw, /NS/camera/depth/image_raw  sensor_msgs/Image  sensor data QoS
 //   /NS/camera/color/camera_info  sensor_msgs/CameraInfo             sensor data QoS
 //   /clock                      rosgraph_msgs/Clock                  best effort, keep last 1
-//   /NS/emergency_stop (in)     std_msgs/Bool                        reliable, keep last 10
+//   /NS/emergency_stop (heard)     std_msgs/Bool                        reliable, keep last 10
 // Stamps: the command's start on the wall clock plus mission time (so, in
 // simulation, /clock runs ahead of the wall clock as the mission does).
 #pragma once
@@ -28,8 +29,8 @@
 #include <memory>
 #include <string>
 
-#include "ros2/ros2_config.h"
 #include "telemetry/telemetry.h"
+#include "telemetry/telemetry_config.h"
 
 namespace aerograsp {
 

@@ -21,9 +21,33 @@ struct McapConfig {
   int chunk_size_kib = 1024;         ///< a chunk is closed past this much data, [16, 65536] KiB
 };
 
+/// ROS 2 topics over DDS (ros2/ros2_bridge.h, docs/ros2.md): whether a
+/// command joins a DDS domain, which one, under which namespace, and how often
+/// the high-rate topics go out. The commands' --ros2 and --ros2-domain
+/// override `enabled` and `domain_id`.
+struct Ros2Config {
+  bool enabled = false;  ///< join the domain, publish, hear the emergency stop
+  int domain_id = 0;     ///< ROS_DOMAIN_ID, [0, 232]
+  /// Prefix of aerograsp's own topics ("aerograsp" -> /aerograsp/joint_states;
+  /// DDS topic rt/aerograsp/joint_states). Letters, digits, '_' and '/', no
+  /// leading digit or '/', no trailing '/'. /tf, /tf_static, /clock,
+  /// /diagnostics and /rosout are ROS's global names and never prefixed.
+  std::string topic_namespace = "aerograsp";
+  /// A Cyclone DDS XML configuration file for the participant (what a
+  /// CYCLONEDDS_URI would name); empty: CYCLONEDDS_URI from the environment,
+  /// else Cyclone's defaults (the first multicast-capable interface).
+  std::string dds_config;
+  /// Joints, targets, /tf and /clock at most this often, Hz of mission time, (0, 1000].
+  double joint_states_rate_hz = 100.0;
+  double image_rate_hz =
+      5.0;  ///< colour, depth and camera_info, Hz of mission time, [0, 60]; 0: none
+  bool publish_clock = true;  ///< /clock with the stamps (mission time in simulation)
+};
+
 struct TelemetryConfig {
   std::string source;  ///< the file it was read from (for messages)
   McapConfig mcap;
+  Ros2Config ros2;
 
   /// Reads and validates `path`.
   /// @throws ConfigError naming the file, the key and the bound.

@@ -11,7 +11,6 @@
 #include <stdexcept>
 
 #include "app/cli_checks.h"
-#include "app/commands/ros2_link.h"
 #include "app/exit_codes.h"
 #include "app/report/mission_report.h"
 #include "app/report/mission_statistics.h"
@@ -149,7 +148,6 @@ int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, s
   summary["arm"] = options.mission.arm_type;
   MissionRecord record;  // of the first run: the report's plots
   const TelemetryConfig telemetry_config = LoadTelemetryConfig(options.telemetry);
-  const Ros2Config ros2_config = LoadRos2Config(options.telemetry);
 
   if (options.runs == 1) {
     std::ostringstream log;
@@ -169,12 +167,9 @@ int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, s
     CommandTelemetry telemetry =
         OpenTelemetry(telemetry_config, dir.string(), "mission",
                       [&both](const std::string& line) { both << "telemetry: " << line << "\n"; });
-    const std::unique_ptr<EmergencyStopSource> ros2_stop =
-        OpenRos2Link(ros2_config, telemetry.sinks.get(),
-                     [&both](const std::string& line) { both << "telemetry: " << line << "\n"; });
     MissionLinks links;
     links.telemetry = telemetry.sink();
-    links.emergency_stop = ros2_stop.get();
+    links.emergency_stop = telemetry.emergency_stop.get();
     MissionResult result;
     try {
       result = RunMission(options.mission, &record, &both, links);

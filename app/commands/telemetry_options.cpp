@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "core/data_dir.h"
+#include "ros2/ros2_bridge.h"
 #include "telemetry/mcap_sink.h"
 
 namespace aerograsp {
@@ -25,6 +26,8 @@ TelemetryConfig LoadTelemetryConfig(const TelemetryOptions& options) {
   TelemetryConfig config = TelemetryConfig::Load(
       options.config_path.empty() ? DataPath("config/telemetry.yaml") : options.config_path);
   if (options.no_mcap) config.mcap.enabled = false;
+  if (options.ros2 || options.ros2_domain >= 0) config.ros2.enabled = true;
+  if (options.ros2_domain >= 0) config.ros2.domain_id = options.ros2_domain;
   return config;
 }
 
@@ -41,6 +44,11 @@ CommandTelemetry OpenTelemetry(const TelemetryConfig& config, const std::string&
     } catch (const std::exception& e) {
       if (note) note(std::string("no MCAP log: ") + e.what() + "; the run goes on without it");
     }
+  }
+  Ros2Bridge ros2 = OpenRos2(config.ros2, note);  // empty when off or when DDS cannot start
+  if (ros2) {
+    t.sinks->Add(std::move(ros2.sink));
+    t.emergency_stop = std::move(ros2.emergency_stop);
   }
   return t;
 }

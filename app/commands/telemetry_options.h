@@ -18,8 +18,8 @@ namespace aerograsp {
 struct TelemetryOptions {
   std::string config_path;  ///< telemetry YAML; empty: data/config/telemetry.yaml
   bool no_mcap = false;     ///< no MCAP file, whatever the config says
-  bool ros2 = false;  ///< publish ROS 2 topics (app/commands/ros2_link.h), whatever the config says
-  int ros2_domain = -1;  ///< ROS_DOMAIN_ID [0, 232] (implies ros2); < 0: the config's
+  bool ros2 = false;        ///< publish ROS 2 topics (docs/ros2.md), whatever the config says
+  int ros2_domain = -1;     ///< ROS_DOMAIN_ID [0, 232] (implies ros2); < 0: the config's
 };
 
 /// Adds --telemetry, --no-mcap, --ros2 and --ros2-domain to `cmd` (a CLI11 subcommand).
@@ -36,6 +36,9 @@ class McapSink;
 struct CommandTelemetry {
   std::unique_ptr<FanOutSink> sinks = std::make_unique<FanOutSink>();
   const McapSink* mcap = nullptr;  ///< owned by `sinks`; null when off or not created
+  /// /NS/emergency_stop heard over ROS 2 (ros2/ros2_bridge.h) for the command
+  /// to poll; null when ROS 2 is off or could not start.
+  std::unique_ptr<EmergencyStopSource> emergency_stop;
 
   /// What the command passes on: null when there is no sink.
   TelemetrySink* sink() const { return sinks->empty() ? nullptr : sinks.get(); }
@@ -44,9 +47,9 @@ struct CommandTelemetry {
 };
 
 /// The sinks of a command writing its results to `out_dir`: the MCAP file
-/// `out_dir/<name>.mcap` unless turned off. A sink that cannot start (an
-/// unwritable folder) or fails later (a full disk) tells `note` once and the
-/// command goes on without it; `note` must outlive the sinks.
+/// `out_dir/<name>.mcap` unless turned off, and the ROS 2 topics when on. A sink that cannot start
+/// (an unwritable folder) or fails later (a full disk) tells `note` once and the command goes on
+/// without it; `note` must outlive the sinks.
 CommandTelemetry OpenTelemetry(const TelemetryConfig& config, const std::string& out_dir,
                                const std::string& name,
                                const std::function<void(const std::string&)>& note);

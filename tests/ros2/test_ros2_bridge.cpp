@@ -83,7 +83,7 @@ EmergencyStopPoll PollUntilStop(EmergencyStopSource& source, double timeout_s,
 
 TEST(Ros2ConfigTest, ShippedFileEqualsTheDefaults) {
   const Ros2Config shipped =
-      Ros2Config::Load(std::string(AEROGRASP_DATA_DIR) + "/config/telemetry.yaml");
+      TelemetryConfig::Load(std::string(AEROGRASP_DATA_DIR) + "/config/telemetry.yaml").ros2;
   const Ros2Config defaults;
   EXPECT_EQ(shipped.enabled, defaults.enabled);
   EXPECT_EQ(shipped.domain_id, defaults.domain_id);
@@ -99,7 +99,7 @@ TEST(Ros2ConfigTest, BadValuesAreRefusedWithTheirKey) {
   const auto load_error = [&](const std::string& yaml) {
     std::ofstream(file) << yaml;
     try {
-      Ros2Config::Load(file.string());
+      TelemetryConfig::Load(file.string());
     } catch (const ConfigError& e) {
       return std::string(e.what());
     }

@@ -16,8 +16,8 @@
 #include <sstream>
 #include <thread>
 
-#include "app/commands/ros2_link.h"
 #include "app/runtime/mission_runner.h"
+#include "ros2/ros2_bridge.h"
 
 extern char** environ;
 
@@ -88,8 +88,10 @@ class Ros2MissionTest : public ::testing::Test {
     config.image_rate_hz = 0;
     FanOutSink sinks;
     const auto note = [](const std::string& line) { log_ << "telemetry: " << line << "\n"; };
-    std::unique_ptr<EmergencyStopSource> ros2_stop = OpenRos2Link(config, &sinks, note);
-    ASSERT_NE(ros2_stop, nullptr) << log_.str();
+    Ros2Bridge bridge = OpenRos2(config, note);
+    ASSERT_TRUE(bridge) << log_.str();
+    sinks.Add(std::move(bridge.sink));
+    const std::unique_ptr<EmergencyStopSource> ros2_stop = std::move(bridge.emergency_stop);
     recorder_ = new ArmsRecorder;
     sinks.Add(std::unique_ptr<TelemetrySink>(new ForwardTo(recorder_)));
 
