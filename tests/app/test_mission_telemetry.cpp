@@ -11,10 +11,12 @@
 #include "app/exit_codes.h"
 #include "app/runtime/mission_runner.h"
 #include "telemetry/telemetry.h"
+#include "tests/common/joint_travel.h"
 
 namespace aerograsp {
 namespace {
 
+using aerograsp::testing::JointTravel;
 using ::testing::HasSubstr;
 
 /// Keeps what the mission sends, to look at after it.
@@ -87,20 +89,6 @@ MissionOptions ServoingMission() {
   m.object = "u_shape";
   m.timeout_s = 25.0;
   return m;
-}
-
-double JointTravel(const std::vector<TelemetryArms>& arms, double from_s, double to_s) {
-  const TelemetryArms* first = nullptr;
-  double travel = 0.0;
-  for (const TelemetryArms& a : arms) {
-    if (a.t_s < from_s || a.t_s > to_s) continue;
-    if (!first) first = &a;
-    for (int k = 0; k < 2; ++k) {
-      travel = std::max(
-          travel, (a.arms[k].position_rad - first->arms[k].position_rad).cwiseAbs().maxCoeff());
-    }
-  }
-  return travel;
 }
 
 class MissionTelemetryTest : public ::testing::Test {

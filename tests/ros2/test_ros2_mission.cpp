@@ -18,6 +18,7 @@
 
 #include "app/runtime/mission_runner.h"
 #include "ros2/ros2_bridge.h"
+#include "tests/common/joint_travel.h"
 
 extern char** environ;
 
@@ -25,6 +26,7 @@ namespace aerograsp {
 namespace {
 
 namespace fs = std::filesystem;
+using aerograsp::testing::JointTravel;
 using ::testing::HasSubstr;
 
 constexpr int kDomain = 82;
@@ -59,21 +61,6 @@ class FirstStop final : public EmergencyStopSource {
  private:
   EmergencyStopSource* inner_;
 };
-
-/// The largest change of any joint between the first and any later sample in [from_s, to_s].
-double JointTravel(const std::vector<TelemetryArms>& arms, double from_s, double to_s) {
-  const TelemetryArms* first = nullptr;
-  double travel = 0.0;
-  for (const TelemetryArms& a : arms) {
-    if (a.t_s < from_s || a.t_s > to_s) continue;
-    if (!first) first = &a;
-    for (int k = 0; k < 2; ++k) {
-      travel = std::max(
-          travel, (a.arms[k].position_rad - first->arms[k].position_rad).cwiseAbs().maxCoeff());
-    }
-  }
-  return travel;
-}
 
 class Ros2MissionTest : public ::testing::Test {
  protected:
