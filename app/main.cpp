@@ -20,6 +20,7 @@
 #include "app/commands/record_command.h"
 #include "app/commands/replay_command.h"
 #include "app/commands/robot_command.h"
+#include "app/commands/telemetry_options.h"
 #include "app/exit_codes.h"
 #include "core/data_dir.h"
 
@@ -271,6 +272,7 @@ int main(int argc, char** argv) {
   calibrate_cmd->add_flag(
       "--hand-guided", calibrate.hand_guided,
       "Torque off on the arm: place it by hand, Enter takes a sample, q solves");
+  aerograsp::AddTelemetryOptions(calibrate_cmd, &calibrate.telemetry);
   // ---- replay and dataset: perception ----
   aerograsp::ReplayCommandOptions replay;
   std::vector<double> replay_init;
@@ -311,6 +313,7 @@ int main(int argc, char** argv) {
           "--perception", replay.perception_config,
           "Perception YAML (see data/config/perception_default.yaml) [the code's defaults]")
       ->check(CLI::ExistingFile);
+  aerograsp::AddTelemetryOptions(replay_cmd, &replay.telemetry);
   // Recordings from other sources: options shared by replay and convert.
   std::vector<double> replay_wMo, convert_wMo;
   double replay_gap_ms = 0.0, convert_gap_ms = 0.0;
@@ -437,6 +440,7 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--seed", bench.seed, "World seed")
       ->capture_default_str()
       ->check(aerograsp::cli::Seed());
+  aerograsp::AddTelemetryOptions(bench_cmd, &bench.telemetry);
   bench_cmd
       ->add_option(
           "--hover-m", bench.hover_m,

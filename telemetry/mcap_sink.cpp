@@ -89,7 +89,10 @@ void McapSink::StaticTransforms(double t_s, const std::vector<TelemetryTransform
 }
 
 void McapSink::Transforms(double t_s, const std::vector<TelemetryTransform>& transforms) {
-  if (!Due(t_s, config_.state_rate_hz, &last_tf_s_)) return;
+  std::string children;  // each set of frames keeps its own rate (a rare one is never dropped)
+  for (const TelemetryTransform& t : transforms) children += t.child + ' ';
+  auto last = last_tf_s_.emplace(children, -1e300).first;
+  if (!Due(t_s, config_.state_rate_hz, &last->second)) return;
   Put(ros_topic::kTf, ros_type::kTfMessage, t_s, EncodeTfMessage(t_s, transforms));
 }
 

@@ -4,7 +4,7 @@
 // open it. Log times are the telemetry's t_s in nanoseconds.
 //
 // What is kept (McapConfig): every object pose, transition, grasp pair and
-// log line; the arms and moving transforms at state_rate_hz; the camera at
+// log line; the arms and each set of moving transforms at state_rate_hz; the camera at
 // image_rate_hz (JPEG, with its CameraInfo; depth as 16UC1 when asked).
 // A write that fails (a full disk) is said once through `note`; the run goes
 // on without the log, and the file keeps its complete chunks.
@@ -57,7 +57,8 @@ class McapSink final : public TelemetrySink {
   McapWriter writer_;
   bool reported_ = false;
   std::map<std::string, std::uint16_t> schemas_, channels_;
-  double last_image_s_ = -1e300, last_arms_s_ = -1e300, last_tf_s_ = -1e300;
+  double last_image_s_ = -1e300, last_arms_s_ = -1e300;
+  std::map<std::string, double> last_tf_s_;  // by the transforms' child frames
 };
 
 }  // namespace aerograsp

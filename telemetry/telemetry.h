@@ -30,6 +30,9 @@
 //     arm_left_tool   [el] the tool point between the left fingers; z the
 //                          approach axis (arm_right_tool [er])
 //     object          [o]  the object model's frame
+//     tag_board       [t]  the calibration or bench tag board, as the camera sees it
+//     object_truth         the object's true pose (simulation and recordings
+//                          with a ground truth), beside the estimate
 // - Calls come from one thread at a time (the command's loop), never
 //   concurrently; a sink must not block the loop for long (no network round
 //   trips, no fsync) and must not throw: it reports its own failures once,
@@ -61,6 +64,8 @@ inline constexpr const char* kRightBase = "arm_right_mount";
 inline constexpr const char* kLeftTool = "arm_left_tool";
 inline constexpr const char* kRightTool = "arm_right_tool";
 inline constexpr const char* kObject = "object";
+inline constexpr const char* kObjectTruth = "object_truth";
+inline constexpr const char* kTagBoard = "tag_board";
 }  // namespace telemetry_frame
 
 /// The object as perception sees it, once per processed camera frame.
@@ -105,7 +110,8 @@ struct TelemetryTransform {
 };
 
 /// A state machine changed state (machines: global, vehicle, vision, planner,
-/// arms; the calibration wizard: calibrate).
+/// arms; the calibration wizard: calibrate, with preflight, moving or
+/// hand-guided, solving, done, stopped).
 struct TelemetryTransition {
   double t_s = 0.0;
   std::string machine;

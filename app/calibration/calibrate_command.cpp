@@ -16,6 +16,7 @@
 #include "app/calibration/interrupt_guard.h"
 #include "app/calibration/tag_board_mesh.h"
 #include "app/report/progress.h"
+#include "app/runtime/telemetry_frames.h"
 #include "core/collision.h"
 #include "core/config.h"
 #include "hardware/sim/world.h"
@@ -94,6 +95,12 @@ void RunHandEyeWizard(const CalibrateCommandOptions& options, HandEyeHardware& h
     if (answer != "y" && answer != "yes") throw std::runtime_error("not confirmed: nothing moved");
   }
 
+  TelemetrySink* sink = hw.telemetry();
+  std::string phase = "preflight";
+  const auto enter = [&](const std::string& to, const std::string& cause) {
+    if (sink) sink->Transition({hw.now_s(), "calibrate", phase, to, cause});
+    phase = to;
+  };
   fs::create_directories(fs::path(options.out_dir) / "samples");
   const std::string visp_folder = (fs::path(options.out_dir) / "visp").string();
   fs::create_directories(visp_folder);
@@ -108,6 +115,8 @@ void RunHandEyeWizard(const CalibrateCommandOptions& options, HandEyeHardware& h
                      samples);  // nothing is lost on an error
   };
   try {
+    enter(options.hand_guided ? "hand-guided" : "moving",
+          fmt::format("{} poses planned for the {} arm", poses.size(), SideName(side)));
     if (options.hand_guided) {
       hw.Arm(side);
       out << fmt::format(
@@ -163,6 +172,7 @@ void RunHandEyeWizard(const CalibrateCommandOptions& options, HandEyeHardware& h
     }
   } catch (const StopRun& stop) {
     arms.Stop();
+    enter("stopped", stop.reason);
     out << fmt::format("stopped: {}; both arms hold where they are (the {} arm at [{}] deg)\n",
                        stop.reason, SideName(side), Degrees(arms.JointPositions(side)));
     throw HardwareError(fmt::format(
@@ -178,8 +188,10 @@ void RunHandEyeWizard(const CalibrateCommandOptions& options, HandEyeHardware& h
   std::optional<Eigen::Isometry3d> truth_cMb;
   if (World* world = hw.world())
     truth_cMb = world->platform().dMc().inverse() * world->platform().dMb(side);
+  enter("solving", fmt::format("{} samples taken", samples.size()));
   SolveHandEyeAndReport(options.out_dir, hw.config().platform, side, board, samples, truth_cMb,
                         out);
+  enter("done", "solved");
 }
 
 namespace {
@@ -196,7 +208,27 @@ void RunWizard(const CalibrateCommandOptions& options, std::istream& in, std::os
   }
   const std::unique_ptr<HandEyeHardware> hw =
       OpenHandEyeHardware(options.hardware_path, options.world_config, options.seed, side, out);
-  RunHandEyeWizard(options, *hw, in, out, progress);
+  CommandTelemetry telemetry;
+  if (!options.out_dir.empty() && !options.dry_run) {
+    telemetry =
+        OpenTelemetry(LoadTelemetryConfig(options.telemetry), options.out_dir, "calibrate",
+                      [&out](const std::string& line) { out << "telemetry: " << line << "\n"; });
+  }
+  if (TelemetrySink* sink = telemetry.sink()) {
+    sink->StaticTransforms(hw->now_s(), PlatformStaticFrames(hw->platform()));
+    sink->Transition({hw->now_s(), "calibrate", "idle", "preflight", "start"});
+    hw->SetTelemetry(sink);
+  }
+  try {
+    RunHandEyeWizard(options, *hw, in, out, progress);
+  } catch (...) {
+    hw->SetTelemetry(nullptr);
+    telemetry.Close();
+    throw;
+  }
+  hw->SetTelemetry(nullptr);
+  const std::string mcap = telemetry.Close();
+  if (!mcap.empty()) out << "wrote " << mcap << "\n";
 }
 
 }  // namespace

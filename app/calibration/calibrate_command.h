@@ -9,6 +9,8 @@
 #include <ostream>
 #include <string>
 
+#include "app/commands/telemetry_options.h"
+
 namespace aerograsp {
 
 struct CalibrateCommandOptions {
@@ -24,10 +26,11 @@ struct CalibrateCommandOptions {
   std::string
       hardware_path;  ///< empty: the built-in simulation (app/calibration/calibration_hardware.h)
   int poses = 15;     ///< arm poses (or board views) to visit, [4, 100]
-  std::uint64_t seed = 1;    ///< world and pose-planning seed
-  bool dry_run = false;      ///< pre-flight check and plan only: nothing moves
-  bool yes = false;          ///< no confirmation asked before the arm moves (scripts)
-  bool hand_guided = false;  ///< the arm's torque off: a person places it, Enter takes a sample
+  std::uint64_t seed = 1;      ///< world and pose-planning seed
+  bool dry_run = false;        ///< pre-flight check and plan only: nothing moves
+  bool yes = false;            ///< no confirmation asked before the arm moves (scripts)
+  bool hand_guided = false;    ///< the arm's torque off: a person places it, Enter takes a sample
+  TelemetryOptions telemetry;  ///< the hand-eye wizard's telemetry (DIR/calibrate.mcap)
 };
 
 class HandEyeHardware;

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "app/calibration/tag_board_mesh.h"
+#include "app/runtime/telemetry_frames.h"
 #include "core/config.h"
 #include "core/data_dir.h"
 #include "core/transforms.h"
@@ -127,11 +128,17 @@ double HandEyeHardware::now_s() const { return world_ ? world_->now_s() : Steady
 void HandEyeHardware::Wait(double dt_s) {
   if (!world_) {
     std::this_thread::sleep_for(std::chrono::duration<double>(dt_s));
-    return;
+  } else {
+    if (scs_) scs_->Cycle();
+    if (sim_bus_) sim_bus_->SyncWithWorld();
+    world_->Step(dt_s);
   }
-  if (scs_) scs_->Cycle();
-  if (sim_bus_) sim_bus_->SyncWithWorld();
-  world_->Step(dt_s);
+  if (telemetry_) {
+    const Eigen::VectorXd q[2] = {arms_->JointPositions(Side::kLeft),
+                                  arms_->JointPositions(Side::kRight)};
+    telemetry_->Arms(ArmsState(now_s(), *platform_, q, *arms_));
+    telemetry_->Transforms(now_s(), ToolFrames(*platform_, q));
+  }
 }
 
 void HandEyeHardware::Arm(std::optional<Side> limp) {

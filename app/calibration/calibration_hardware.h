@@ -25,6 +25,7 @@
 #include "core/platform.h"
 #include "hardware/hardware_config.h"
 #include "hardware/hardware_factory.h"
+#include "telemetry/telemetry.h"
 
 namespace aerograsp {
 
@@ -83,6 +84,10 @@ class HandEyeHardware {
   void Arm(std::optional<Side> limp = std::nullopt);
   /// Torque back on for `side`, holding where the arm stands (no jump).
   void Stiffen(Side side);
+  /// From now on each Wait tells `sink` (may be null; must outlive the
+  /// hardware) both arms' joints and tools.
+  void SetTelemetry(TelemetrySink* sink) { telemetry_ = sink; }
+  TelemetrySink* telemetry() const { return telemetry_; }
 
  private:
   friend std::unique_ptr<HandEyeHardware> OpenHandEyeHardware(const std::string&,
@@ -97,6 +102,7 @@ class HandEyeHardware {
   std::unique_ptr<RgbdCamera> camera_;
   std::unique_ptr<ArmsDriver> arms_;
   ScsArmsDriver* scs_ = nullptr;
+  TelemetrySink* telemetry_ = nullptr;
 };
 
 /// Loads `hardware_path` (empty: every device in-process in `world_path`, or

@@ -11,6 +11,7 @@
 #include "app/calibration/interrupt_guard.h"
 #include "core/collision.h"
 #include "hardware/scs/scs_arms_driver.h"
+#include "telemetry/telemetry.h"
 
 namespace aerograsp {
 namespace fs = std::filesystem;
@@ -155,6 +156,21 @@ WizardSample TakeSample(HandEyeHardware& hw, Side side, TagDetector* detector,
     s.reject_reason = fmt::format("reprojection error {:.2f} px", pose.reprojection_rms_px);
   }
   s.accepted = s.reject_reason.empty();
+  if (TelemetrySink* sink = hw.telemetry()) {
+    TelemetryImage image;
+    image.t_s = hw.now_s();
+    image.K = camera.intrinsics();
+    image.color = &frame->color;
+    if (!frame->depth.empty()) image.depth = &frame->depth;
+    image.depth_scale_m = camera.depth_scale_m();
+    sink->Image(image);
+    if (pose.valid)
+      sink->Transforms(image.t_s,
+                       {{telemetry_frame::kCamera, telemetry_frame::kTagBoard, pose.cMt}});
+    sink->Log(image.t_s, s.accepted ? TelemetryLevel::kInfo : TelemetryLevel::kWarn, "calibrate",
+              fmt::format("sample {}: {}", index,
+                          s.accepted ? "accepted" : "rejected: " + s.reject_reason));
+  }
   if (s.accepted) {  // the same sample in ViSP's convention (eye-to-hand: rPe = bMe, cPo = cMt)
     WriteVispSample((fs::path(out_dir) / "visp").string(), static_cast<int>(index) + 1, s.data.bMe,
                     s.data.cMt, (fs::path(out_dir) / s.image).string());

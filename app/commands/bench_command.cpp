@@ -16,6 +16,7 @@
 #include "app/runtime/mission_arms.h"
 #include "app/runtime/mission_config.h"
 #include "app/runtime/mission_record.h"
+#include "app/runtime/telemetry_frames.h"
 #include "calib/tag_board.h"
 #include "core/collision.h"
 #include "core/config.h"
@@ -133,6 +134,11 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
   }
 
   fs::create_directories(options.out_dir);
+  CommandTelemetry telemetry =
+      OpenTelemetry(LoadTelemetryConfig(options.telemetry), options.out_dir, "bench",
+                    [&out](const std::string& line) { out << "telemetry: " << line << "\n"; });
+  TelemetrySink* sink = telemetry.sink();
+  if (sink) sink->StaticTransforms(0.0, PlatformStaticFrames(platform));
   const std::string csv_path = (fs::path(options.out_dir) / "frames.csv").string();
   std::ofstream csv(csv_path);
   if (!csv) throw std::runtime_error(csv_path + ": cannot be written");
@@ -198,6 +204,10 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
       // pose seeds the next frame, as the mission's held world pose does (the
       // camera stands still, the object moves slowly).
       if (!found && estimate) tracker.SetInitialPose(estimate->cMo);
+      if (sink) {  // the filter runs in the camera frame
+        PublishPerceivedFrame(sink, t - t_start, telemetry_frame::kCamera, r.estimate, found, rgbd,
+                              K, hw->camera().depth_scale_m());
+      }
       const Eigen::Isometry3d cMo_truth = world->wMc().inverse() * world->wMo();
       run.tag_frames += tags_ok;
       run.found_frames += found;
@@ -284,6 +294,7 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
           }
         }
         has_grasp = true;
+        if (sink && changed) sink->GraspPair({t - t_start, pair[0], pair[1], decision.reason});
       }
       choice = decision.next;
     }
@@ -352,10 +363,20 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
       run.servo_traces[a].to_target_m.push_back(to_target);
       run.servo_traces[a].to_truth_m.push_back(to_truth);
     }
+    if (sink) {
+      sink->Arms(ArmsState(t - t_start, platform, q, hw->arms()));
+      std::vector<TelemetryTransform> tf = ToolFrames(platform, q);
+      tf.push_back({telemetry_frame::kWorld, telemetry_frame::kBody, wMd});
+      if (estimate)
+        tf.push_back({telemetry_frame::kCamera, telemetry_frame::kObject, estimate->cMo});
+      sink->Transforms(t - t_start, tf);
+    }
     hw->StepSimulation(dt_s);
     place_object(world->now_s());
   }
   bar.Finish();
+  const std::string mcap = telemetry.Close();
+  if (!mcap.empty()) out << "Wrote " << mcap << "\n";
   run.frames = frame;
   csv.close();
 

@@ -12,6 +12,7 @@
 //                     in simulation the tags' and perception's error to the truth
 //   DIR/frames.csv    one row per camera frame
 //   DIR/index.html    with pose_vs_tags.png, servo_error.png, joints.png, camera.png
+//   DIR/bench.mcap    the telemetry (app/commands/telemetry_options.h), unless off
 #pragma once
 
 #include <Eigen/Geometry>
@@ -19,6 +20,8 @@
 #include <optional>
 #include <ostream>
 #include <string>
+
+#include "app/commands/telemetry_options.h"
 
 namespace aerograsp {
 
@@ -46,6 +49,7 @@ struct BenchCommandOptions {
   /// The mission YAML whose planner, servo, grasp-sequence and policy settings
   /// the bench uses (app/runtime/mission_config.h); empty: data/config/mission_default.yaml.
   std::string mission_config;
+  TelemetryOptions telemetry;
 };
 
 /// @throws ConfigError for bad options, a bad perception YAML or a hardware config the bench cannot

@@ -18,6 +18,7 @@
 #include "app/report/progress.h"
 #include "app/report/replay_report.h"
 #include "app/report/statistics.h"
+#include "app/runtime/telemetry_frames.h"
 #include "core/data_dir.h"
 #include "core/object_model.h"
 #include "core/platform.h"
@@ -236,6 +237,14 @@ int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
     peer = std::make_unique<VispPeerTracker>(object, info.intrinsics, options.out_dir);
 
   fs::create_directories(options.out_dir);
+  CommandTelemetry telemetry =
+      OpenTelemetry(LoadTelemetryConfig(options.telemetry), options.out_dir, "replay",
+                    [&out](const std::string& line) { out << "telemetry: " << line << "\n"; });
+  TelemetrySink* sink = telemetry.sink();
+  if (sink && dMc) {
+    sink->StaticTransforms(0.0, {{telemetry_frame::kMap, telemetry_frame::kWorld, MapMWorld()},
+                                 {telemetry_frame::kBody, telemetry_frame::kCamera, *dMc}});
+  }
   const std::string poses_path = (fs::path(options.out_dir) / "poses.csv").string();
   std::ofstream poses(poses_path);
   if (!poses) throw std::runtime_error(poses_path + ": cannot be written");
@@ -316,6 +325,17 @@ int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
     }
 
     const std::optional<Eigen::Isometry3d>& truth = camera.extras(i).cMo;
+    if (sink) {  // the recording's clock; the filter in the world when it has wMc
+      PublishPerceivedFrame(sink, frame.stamp_s,
+                            wMc ? telemetry_frame::kWorld : telemetry_frame::kCamera, e, found,
+                            frame, info.intrinsics, info.depth_scale_m);
+      std::vector<TelemetryTransform> tf;
+      if (wMc)
+        tf.push_back({telemetry_frame::kWorld, telemetry_frame::kBody, *wMc * dMc->inverse()});
+      if (e.valid) tf.push_back({telemetry_frame::kCamera, telemetry_frame::kObject, e.cMo});
+      if (truth) tf.push_back({telemetry_frame::kCamera, telemetry_frame::kObjectTruth, *truth});
+      if (!tf.empty()) sink->Transforms(frame.stamp_s, tf);
+    }
     bool visible = false;
     if (truth) {
       // Visibility of the truth: depth only (no colour image, no colour check).
@@ -378,6 +398,7 @@ int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
   }
   bar.Finish();
   const int frames = static_cast<int>(i);
+  const std::string mcap = telemetry.Close();
 
   nlohmann::json summary;
   summary["sequence"] = options.sequence;
@@ -502,6 +523,7 @@ int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
   }
   out << "  wrote " << summary_path << " and "
       << (fs::path(options.out_dir) / "index.html").string() << "\n";
+  if (!mcap.empty()) out << "  wrote " << mcap << "\n";
   return stop_reason.empty() ? kExitOk : kExitStoppedEarly;
 }
 

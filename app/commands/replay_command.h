@@ -7,6 +7,8 @@
 //   DIR/pose_vs_truth.png  estimate vs truth per axis over time (paper Fig. 12)
 //   DIR/index.html     the headline figures and the estimates over time as
 //                      interactive charts (app/report/replay_report.h)
+//   DIR/replay.mcap    the telemetry (app/commands/telemetry_options.h), unless
+//                      off: the frames, the estimate and the truth as transforms
 // Beside ours it runs ViSP's model-based tracker with dense depth features
 // (vpMbGenericTracker), initialised the same way, and reports it the same way.
 #pragma once
@@ -17,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "app/commands/telemetry_options.h"
 #include "hardware/bag/recording.h"
 
 namespace aerograsp {
@@ -42,6 +45,7 @@ struct ReplayCommandOptions {
   /// TUM folders: intrinsics file, the object in groundtruth.txt's world (gives
   /// the ground truth); .bag and TUM: the colour-depth pairing gap (0: one depth period).
   RecordingOptions recording;
+  TelemetryOptions telemetry;
 };
 
 /// Reads "x y z qw qx qy qz" (metres, unit quaternion w first) as cMo.

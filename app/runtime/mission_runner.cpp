@@ -338,8 +338,9 @@ void Mission::HandlePerceived(Perceived p) {
   }
   s.vehicle_w_m = hw_->autopilot().State().wMd.translation();
   if (links_.telemetry) {  // the tracker's filter runs in w: it is given wMc
-    PublishPerceivedFrame(links_.telemetry, telemetry_frame::kWorld, estimate, found, *p.frame,
-                          hw_->camera().intrinsics(), hw_->camera().depth_scale_m());
+    PublishPerceivedFrame(links_.telemetry, p.frame->stamp_s, telemetry_frame::kWorld, estimate,
+                          found, *p.frame, hw_->camera().intrinsics(),
+                          hw_->camera().depth_scale_m());
   }
   if (!record_) return;
   record_->samples.push_back(s);

@@ -37,11 +37,11 @@ std::vector<TelemetryTransform> ToolFrames(const Platform& platform, const Eigen
            platform.arm(Side::kRight).ForwardKinematics(q[1])}};
 }
 
-void PublishPerceivedFrame(TelemetrySink* sink, const std::string& frame_id,
+void PublishPerceivedFrame(TelemetrySink* sink, double t_s, const std::string& frame_id,
                            const ObjectEstimate& estimate, bool found, const RgbdFrame& frame,
                            const CameraIntrinsics& K, double depth_scale_m) {
   TelemetryObjectPose pose;
-  pose.t_s = frame.stamp_s;
+  pose.t_s = t_s;
   pose.frame_id = frame_id;
   pose.valid = estimate.valid;
   pose.found = found;
@@ -50,7 +50,7 @@ void PublishPerceivedFrame(TelemetrySink* sink, const std::string& frame_id,
   if (estimate.valid) pose.covariance = estimate.covariance;
   sink->ObjectPose(pose);
   TelemetryImage image;
-  image.t_s = frame.stamp_s;
+  image.t_s = t_s;
   image.K = K;
   image.color = &frame.color;
   if (!frame.depth.empty()) image.depth = &frame.depth;

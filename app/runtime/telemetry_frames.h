@@ -28,9 +28,10 @@ TelemetryArms ArmsState(double t_s, const Platform& platform, const Eigen::Vecto
 /// Each arm mount->tool at the joints `q` (forward kinematics).
 std::vector<TelemetryTransform> ToolFrames(const Platform& platform, const Eigen::VectorXd q[2]);
 
-/// One processed camera frame: the object's estimate in `frame_id` (the frame
-/// the tracker's filter ran in) with its covariance, then the frame's images.
-void PublishPerceivedFrame(TelemetrySink* sink, const std::string& frame_id,
+/// One processed camera frame taken at `t_s`: the object's estimate in
+/// `frame_id` (the frame the tracker's filter ran in) with its covariance, then
+/// the frame's images.
+void PublishPerceivedFrame(TelemetrySink* sink, double t_s, const std::string& frame_id,
                            const ObjectEstimate& estimate, bool found, const RgbdFrame& frame,
                            const CameraIntrinsics& K, double depth_scale_m);
 
