@@ -41,6 +41,7 @@ int TextWidth(const std::string& text, double scale) {
 constexpr int kJointColumnWidthPx = 700, kJointPanelHeightPx = 120, kJointGapPx = 46,
               kJointTopPx = 56;
 const PlotColor kTargetColor{30, 140, 230}, kActualColor{200, 60, 30};
+const PlotColor kVehicleColor{60, 130, 40};
 
 int ArmDof(const MissionRecord& record, int arm) {
   std::size_t dof = record.joint_names[arm].size();
@@ -282,6 +283,27 @@ std::vector<TimeChart> MissionJointCharts(const MissionRecord& record, int arm) 
                    {"actual", JointSeriesDeg(record, arm, j, false), kActualColor, 2}};
     chart.markers = SwitchMarkers(record);
     chart.height_px = 180;
+    charts.push_back(std::move(chart));
+  }
+  return charts;
+}
+
+std::vector<TimeChart> MissionVehicleCharts(const MissionRecord& record) {
+  if (record.samples.empty()) return {};
+  const char* const axes[] = {"north, x", "east, y", "down, z"};
+  std::vector<TimeChart> charts;
+  for (int a = 0; a < 3; ++a) {
+    TimeChart chart;
+    chart.title = fmt::format("vehicle position in the world frame w, {} (m)", axes[a]);
+    chart.unit = "m";
+    ChartLine body{"body", {}, kVehicleColor, 2};
+    for (const MissionSample& s : record.samples) {
+      chart.t_s.push_back(s.t_s);
+      body.v.push_back(s.vehicle_w_m[a]);
+    }
+    chart.lines = {std::move(body)};
+    chart.markers = SwitchMarkers(record);
+    chart.height_px = 150;
     charts.push_back(std::move(chart));
   }
   return charts;

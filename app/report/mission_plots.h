@@ -33,6 +33,10 @@ std::vector<TimeChart> MissionPoseCharts(const MissionRecord& record);
 /// with the grasp switches marked; none when the arm has no joint values.
 std::vector<TimeChart> MissionJointCharts(const MissionRecord& record, int arm);
 
+/// The vehicle's body position in the world frame w (NED, m), one chart per axis, with the grasp
+/// switches marked; none without samples. No PNG draws it.
+std::vector<TimeChart> MissionVehicleCharts(const MissionRecord& record);
+
 /// MissionJointCharts of both arms side by side, the left arm's on the left (narrow pages: above).
 void WriteHtmlJointCharts(const MissionRecord& record, std::ostream& html);
 

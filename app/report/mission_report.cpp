@@ -97,6 +97,15 @@ void WriteMissionReport(const MissionRecord& record, const TriangleMesh& object_
   } else {
     html << "<p class=\"missing\">No joint samples were recorded.</p>\n";
   }
+  if (has_samples) {
+    html << "<h2>Vehicle</h2>\n";
+    std::ostringstream charts;
+    for (const TimeChart& chart : MissionVehicleCharts(record)) WriteHtmlTimeChart(chart, charts);
+    WriteHtmlChartFigure(charts.str(), "",
+                         "The body's position in the world frame w (north, east, down, m) as the "
+                         "autopilot reported it; red lines mark the grasp switches.",
+                         html);
+  }
   html << "<h2>State machines</h2>\n";
   if (const std::optional<TimelineChart> timeline = MissionTimelineChart(record)) {
     std::ostringstream chart;

@@ -25,11 +25,11 @@ using ReportRow = std::vector<std::pair<std::string, std::string>>;
 /// - timeline.png: one row per state machine, its states as coloured bars; needs transitions.
 /// - camera.png: the snapshot with the detector box and `object_mesh_o` (object frame o,
 ///   metres) drawn at the estimated cMo; needs a snapshot.
-/// The page draws pose, joints and timeline as interactive charts with the same data (decimated
-/// for long missions) and links each PNG. A plot without its data is not written and the page
-/// says so. `headline` rows (name, value)
-/// form the table at the top; `runs` (may be empty) holds one row per seeded run, every row
-/// with the same columns in the same order. Every text is HTML-escaped.
+/// The page draws pose, joints, the vehicle's position and the timeline as interactive charts with
+/// the same data (decimated for long missions) and links each PNG. A plot without its data is not
+/// written and the page says so. `headline` rows (name, value) form the table at the top; `runs`
+/// (may be empty) holds one row per seeded run, every row with the same columns in the same order.
+/// Every text is HTML-escaped.
 /// @throws std::runtime_error naming the folder or file that could not be written.
 void WriteMissionReport(const MissionRecord& record, const TriangleMesh& object_mesh_o,
                         const ReportRow& headline, const std::vector<ReportRow>& runs,

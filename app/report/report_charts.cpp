@@ -162,7 +162,8 @@ void WriteHtmlTimeline(const TimelineChart& chart, std::ostream& html) {
 
 void WriteHtmlChartFigure(const std::string& charts_html, const std::string& image,
                           const std::string& caption, std::ostream& html) {
-  html << "<figure class=\"charts\"><figcaption>" << EscapeHtml(caption);
+  html << "<figure class=\"charts" << (image.empty() ? "" : " has-png") << "\"><figcaption>"
+       << EscapeHtml(caption);
   if (!image.empty()) html << " <a href=\"" << EscapeHtml(image) << "\">PNG</a>";
   html << "</figcaption>\n" << charts_html;
   if (!image.empty()) {

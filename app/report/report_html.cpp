@@ -18,7 +18,7 @@ constexpr const char* kStyle =
     "grid-template-columns:repeat(auto-fit,minmax(420px,1fr));gap:0 1.5em}"
     ".zoombar{position:sticky;top:0;z-index:1;background:#f4f6fa;border:1px solid #ccd;"
     "padding:0.3em 0.6em;margin:0 0 1em;font-size:0.85em}img.print{display:none}"
-    "@media print{.chart,.zoombar{display:none}img.print{display:block}}";
+    "@media print{.has-png .chart,.zoombar{display:none}img.print{display:block}}";
 
 }  // namespace
 

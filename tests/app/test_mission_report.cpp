@@ -127,8 +127,8 @@ TEST_F(MissionReportTest, HtmlReferencesEveryImageAndListsTransitionsSwitchesAnd
 TEST_F(MissionReportTest, HtmlHoldsAChartPerPanelWithItsDataAndLinksThePngs) {
   Write(SyntheticRecord());
   const std::string html = ReadHtml();
-  // Pose: x, y, z, rotation error, found; joints: 4 per arm; the timeline.
-  EXPECT_EQ(CountCharts(html), 5 + 8 + 1);
+  // Pose: x, y, z, rotation error, found; joints: 4 per arm; the vehicle: x, y, z; the timeline.
+  EXPECT_EQ(CountCharts(html), 5 + 8 + 3 + 1);
   for (const char* image : {"pose.png", "joints.png", "timeline.png"})
     EXPECT_THAT(html, HasSubstr(std::string("<a href=\"") + image + "\">PNG</a>")) << image;
   EXPECT_THAT(html, HasSubstr("\"title\":\"right arm right_j4 (deg)\""));
