@@ -284,7 +284,10 @@ int main(int argc, char** argv) {
                    "Recording: sequence folder, RealSense .bag or TUM RGB-D folder")
       ->required()
       ->check(CLI::ExistingPath);
-  replay_cmd->add_option("--out", replay.out_dir, "Output folder")->required();
+  replay_cmd
+      ->add_option("--out", replay.out_dir,
+                   "Output folder (index.html, summary.json, poses.csv, pose_vs_truth.png)")
+      ->required();
   replay_cmd->add_option("--object", replay.object,
                          "Object (shipped name or model path) [from sequence.yaml]");
   replay_cmd->add_option("--detector", replay.detector,
