@@ -106,15 +106,14 @@ void McapSink::ObjectPose(const TelemetryObjectPose& pose) {
 
 void McapSink::Arms(const TelemetryArms& arms) {
   if (!Due(arms.t_s, config_.state_rate_hz, &last_arms_s_)) return;
-  for (const TelemetryArmState& arm : arms.arms) {
-    const char* topic = arm.arm == "right" ? ros_topic::kRightJoints : ros_topic::kLeftJoints;
-    Put(topic, ros_type::kJointState, arms.t_s,
-        EncodeJointState(arms.t_s, arm.joint_names, arm.position_rad, arm.velocity_radps,
-                         arm.gripper_aperture_m));
-  }
+  Put(ros_topic::kJointStates, ros_type::kJointState, arms.t_s, EncodeJointState(arms, false));
+  if (arms.arms[0].target_rad.size() > 0 || arms.arms[1].target_rad.size() > 0)
+    Put(ros_topic::kJointTargets, ros_type::kJointState, arms.t_s, EncodeJointState(arms, true));
 }
 
 void McapSink::Transition(const TelemetryTransition& t) {
+  Put(ros_topic::kTransitions, ros_type::kString, t.t_s,
+      EncodeString(t.machine + ": " + t.from + " -> " + t.to + ": " + t.cause));
   Put(ros_topic::kLog, ros_type::kLog, t.t_s,
       EncodeLog(t.t_s, TelemetryLevel::kInfo, "aerograsp." + t.machine,
                 t.from + " -> " + t.to + ": " + t.cause));

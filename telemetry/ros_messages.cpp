@@ -128,23 +128,34 @@ std::vector<std::uint8_t> EncodePoseWithCovarianceStamped(const TelemetryObjectP
   return w.Take();
 }
 
-std::vector<std::uint8_t> EncodeJointState(double t_s, const std::vector<std::string>& names,
-                                           const Eigen::VectorXd& positions,
-                                           const Eigen::VectorXd& velocities,
-                                           double gripper_aperture_m) {
-  CdrWriter w;
-  Header(&w, t_s, "");
-  std::vector<std::string> all = names;
-  all.push_back("gripper");
-  w.StringSequence(all);
-  std::vector<double> q(positions.data(), positions.data() + positions.size());
-  q.push_back(gripper_aperture_m);
-  w.Float64Sequence(q);
-  std::vector<double> v;
-  if (velocities.size() > 0) {
-    v.assign(velocities.data(), velocities.data() + velocities.size());
-    v.push_back(NAN);
+std::vector<std::uint8_t> EncodeJointState(const TelemetryArms& arms, bool targets) {
+  std::vector<std::string> names;
+  std::vector<double> q, v;
+  bool velocities = !targets;
+  for (const TelemetryArmState& arm : arms.arms) {
+    velocities = velocities && arm.velocity_radps.size() == arm.position_rad.size() &&
+                 arm.position_rad.size() > 0;
   }
+  for (const TelemetryArmState& arm : arms.arms) {
+    const Eigen::VectorXd& values = targets ? arm.target_rad : arm.position_rad;
+    if (values.size() == 0) continue;
+    const std::string prefix = "arm_" + arm.arm + "_";
+    for (Eigen::Index j = 0; j < values.size(); ++j) {
+      names.push_back(prefix + (j < static_cast<Eigen::Index>(arm.joint_names.size())
+                                    ? arm.joint_names[j]
+                                    : "j" + std::to_string(j)));
+      q.push_back(values[j]);
+      if (velocities) v.push_back(arm.velocity_radps[j]);
+    }
+    if (targets) continue;
+    names.push_back(prefix + "gripper");
+    q.push_back(arm.gripper_aperture_m);
+    if (velocities) v.push_back(NAN);
+  }
+  CdrWriter w;
+  Header(&w, arms.t_s, "");
+  w.StringSequence(names);
+  w.Float64Sequence(q);
   w.Float64Sequence(v);
   w.Float64Sequence({});
   return w.Take();

@@ -29,18 +29,21 @@ inline constexpr const char* kString = "std_msgs/msg/String";
 
 /// The topics (ROS 2 names) the telemetry is written or published on.
 namespace ros_topic {
-inline constexpr const char* kTf = "/tf";                             ///< TFMessage, moving frames
-inline constexpr const char* kTfStatic = "/tf_static";                ///< TFMessage, fixed frames
-inline constexpr const char* kObjectPose = "/aerograsp/object/pose";  ///< PoseWithCovarianceStamped
-inline constexpr const char* kObjectFound = "/aerograsp/object/found";  ///< Bool, each frame
-inline constexpr const char* kLeftJoints = "/aerograsp/arm_left/joint_states";    ///< JointState
-inline constexpr const char* kRightJoints = "/aerograsp/arm_right/joint_states";  ///< JointState
+inline constexpr const char* kTf = "/tf";               ///< TFMessage, moving frames
+inline constexpr const char* kTfStatic = "/tf_static";  ///< TFMessage, fixed frames
+inline constexpr const char* kObjectPose =
+    "/aerograsp/object_pose_covariance";  ///< PoseWithCovarianceStamped
+inline constexpr const char* kObjectFound = "/aerograsp/object_found";    ///< Bool, each frame
+inline constexpr const char* kJointStates = "/aerograsp/joint_states";    ///< JointState, both arms
+inline constexpr const char* kJointTargets = "/aerograsp/joint_targets";  ///< JointState, commanded
+inline constexpr const char* kTransitions =
+    "/aerograsp/transitions";  ///< String "machine: a -> b: why"
 inline constexpr const char* kGraspPair =
     "/aerograsp/grasp_pair";  ///< String "left L right R: why"
 inline constexpr const char* kColorImage =
-    "/camera/color/image_raw/compressed";                                ///< CompressedImage
-inline constexpr const char* kCameraInfo = "/camera/color/camera_info";  ///< CameraInfo
-inline constexpr const char* kDepthImage = "/camera/depth/image_raw";    ///< Image, 16UC1
+    "/aerograsp/camera/color/image_raw/compressed";  ///< CompressedImage (JPEG)
+inline constexpr const char* kCameraInfo = "/aerograsp/camera/color/camera_info";  ///< CameraInfo
+inline constexpr const char* kDepthImage = "/aerograsp/camera/depth/image_raw";    ///< Image, 16UC1
 inline constexpr const char* kLog = "/rosout";  ///< Log: log lines and state transitions
 }  // namespace ros_topic
 
@@ -54,13 +57,13 @@ void RosTime(double t_s, std::int32_t* sec, std::uint32_t* nanosec);
 /// geometry_msgs/PoseWithCovarianceStamped: the pose in pose.frame_id; the
 /// covariance row-major, zeros when absent.
 std::vector<std::uint8_t> EncodePoseWithCovarianceStamped(const TelemetryObjectPose& pose);
-/// sensor_msgs/JointState of one arm: its joints, then "gripper" with the
-/// aperture (m) as position; velocities when known (NaN for the gripper),
-/// else empty; efforts empty. `positions` chooses the measured or the target joints.
-std::vector<std::uint8_t> EncodeJointState(double t_s, const std::vector<std::string>& names,
-                                           const Eigen::VectorXd& positions,
-                                           const Eigen::VectorXd& velocities,
-                                           double gripper_aperture_m);
+/// sensor_msgs/JointState of both arms, the joints named arm_left_j0 ...
+/// arm_right_j3 (the arm's URDF names after "arm_<side>_"). Measured
+/// (`targets` false): each arm's positions then its gripper as
+/// arm_<side>_gripper (the aperture, m); velocities when every arm has them
+/// (NaN for the grippers), else empty. Targets: the commanded joints only
+/// (an arm without targets is left out). Efforts empty.
+std::vector<std::uint8_t> EncodeJointState(const TelemetryArms& arms, bool targets);
 /// tf2_msgs/TFMessage: one TransformStamped per transform, all stamped t_s.
 std::vector<std::uint8_t> EncodeTfMessage(double t_s,
                                           const std::vector<TelemetryTransform>& transforms);

@@ -102,7 +102,9 @@ int Write(const std::filesystem::path& dir, const std::string& compression) {
         arm.arm = a == 0 ? "left" : "right";
         arm.joint_names = {"j0", "j1", "j2", "j3"};
         arm.position_rad = Eigen::Vector4d(0.1 * a, -0.5 + t, 0.25, std::sin(t));
-        if (a == 1) arm.velocity_radps = Eigen::Vector4d(0.0, 1.0, 0.0, std::cos(t));
+        // Velocities on every other cycle (both arms), targets on the right arm.
+        if (k % 2 == 0) arm.velocity_radps = Eigen::Vector4d(0.0, 1.0 + a, 0.0, std::cos(t));
+        if (a == 1) arm.target_rad = Eigen::Vector4d(0.2, -0.4, 0.3, 0.5 * t);
         arm.gripper_aperture_m = 0.04 - 0.001 * k / 10;
       }
       sink.Arms(arms);
@@ -113,17 +115,36 @@ int Write(const std::filesystem::path& dir, const std::string& compression) {
       sink.Transforms(t, moving);
       if (k == 37) {
         expect("/tf", 37, TfMessage(t, moving));
-        expect("/aerograsp/arm_left/joint_states", 37,
+        const json names = {"arm_left_j0",      "arm_left_j1",      "arm_left_j2",  "arm_left_j3",
+                            "arm_left_gripper", "arm_right_j0",     "arm_right_j1", "arm_right_j2",
+                            "arm_right_j3",     "arm_right_gripper"};
+        const json positions = {0.0, -0.5 + t, 0.25, std::sin(t), arms.arms[0].gripper_aperture_m,
+                                0.1, -0.5 + t, 0.25, std::sin(t), arms.arms[1].gripper_aperture_m};
+        expect("/aerograsp/joint_states", 37,
                {{"header", Header(t, "")},
-                {"name", {"j0", "j1", "j2", "j3", "gripper"}},
-                {"position", {0.0, -0.5 + t, 0.25, std::sin(t), arms.arms[0].gripper_aperture_m}},
+                {"name", names},
+                {"position", positions},
+                {"velocity", json::array()},  // odd cycle: no velocities
+                {"effort", json::array()}});
+        expect("/aerograsp/joint_targets", 37,
+               {{"header", Header(t, "")},
+                {"name", {"arm_right_j0", "arm_right_j1", "arm_right_j2", "arm_right_j3"}},
+                {"position", {0.2, -0.4, 0.3, 0.5 * t}},
                 {"velocity", json::array()},
                 {"effort", json::array()}});
-        expect("/aerograsp/arm_right/joint_states", 37,
+      }
+      if (k == 38) {
+        expect("/aerograsp/joint_states", 38,
                {{"header", Header(t, "")},
-                {"name", {"j0", "j1", "j2", "j3", "gripper"}},
-                {"position", {0.1, -0.5 + t, 0.25, std::sin(t), arms.arms[1].gripper_aperture_m}},
-                {"velocity", {0.0, 1.0, 0.0, std::cos(t), nullptr}},
+                {"name",
+                 {"arm_left_j0", "arm_left_j1", "arm_left_j2", "arm_left_j3", "arm_left_gripper",
+                  "arm_right_j0", "arm_right_j1", "arm_right_j2", "arm_right_j3",
+                  "arm_right_gripper"}},
+                {"position",
+                 {0.0, -0.5 + t, 0.25, std::sin(t), arms.arms[0].gripper_aperture_m, 0.1, -0.5 + t,
+                  0.25, std::sin(t), arms.arms[1].gripper_aperture_m}},
+                {"velocity",
+                 {0.0, 1.0, 0.0, std::cos(t), nullptr, 0.0, 2.0, 0.0, std::cos(t), nullptr}},
                 {"effort", json::array()}});
       }
     }
@@ -142,19 +163,21 @@ int Write(const std::filesystem::path& dir, const std::string& compression) {
     json row_major = json::array();
     for (int r = 0; r < 6; ++r)
       for (int c = 0; c < 6; ++c) row_major.push_back(covariance(r, c));
-    expect("/aerograsp/object/pose", 0,
+    expect("/aerograsp/object_pose_covariance", 0,
            {{"header", Header(1.25, "world")},
             {"pose",
              {{"pose", Pose(pose.fMo, "position", "orientation")}, {"covariance", row_major}}}});
-    expect("/aerograsp/object/found", 0, {{"data", true}});
+    expect("/aerograsp/object_found", 0, {{"data", true}});
     pose.t_s = 1.2834;
     pose.valid = pose.found = false;  // no pose: only "not found"
     sink.ObjectPose(pose);
-    expect("/aerograsp/object/found", 1, {{"data", false}});
+    expect("/aerograsp/object_found", 1, {{"data", false}});
 
     aerograsp::TelemetryTransition transition{1.5, "vision", "found", "lost",
                                               "pose lost (confidence 0.12)"};
     sink.Transition(transition);
+    expect("/aerograsp/transitions", 0,
+           {{"data", "vision: found -> lost: pose lost (confidence 0.12)"}});
     expect("/rosout", 0,
            Log(1.5, 20, "aerograsp.vision", "found -> lost: pose lost (confidence 0.12)"));
     sink.Log(1.6, aerograsp::TelemetryLevel::kError, "mission", "emergency stop requested by test");
@@ -184,12 +207,12 @@ int Write(const std::filesystem::path& dir, const std::string& compression) {
     std::vector<std::uint8_t> depth_bytes;
     for (std::uint16_t d : depth.data)
       depth_bytes.push_back(d & 0xff), depth_bytes.push_back(d >> 8);
-    expect("/camera/color/image_raw/compressed", 0,
+    expect("/aerograsp/camera/color/image_raw/compressed", 0,
            {{"header", Header(1.8, "camera_optical")},
             {"format", "jpeg"},
             {"data", {{"$jpeg", true}}}});
     expect(
-        "/camera/color/camera_info", 0,
+        "/aerograsp/camera/color/camera_info", 0,
         {{"header", Header(1.8, "camera_optical")},
          {"height", 48},
          {"width", 64},
@@ -202,7 +225,7 @@ int Write(const std::filesystem::path& dir, const std::string& compression) {
          {"binning_y", 0},
          {"roi",
           {{"x_offset", 0}, {"y_offset", 0}, {"height", 0}, {"width", 0}, {"do_rectify", false}}}});
-    expect("/camera/depth/image_raw", 0,
+    expect("/aerograsp/camera/depth/image_raw", 0,
            {{"header", Header(1.8, "camera_optical")},
             {"height", 48},
             {"width", 64},
@@ -222,17 +245,19 @@ int Write(const std::filesystem::path& dir, const std::string& compression) {
     std::cerr << "mcap_check_tool: unexpected notes: " << notes;
     return 1;
   }
-  const json counts = {{"/tf_static", 1},
-                       {"/tf", 200},
-                       {"/aerograsp/arm_left/joint_states", 200},
-                       {"/aerograsp/arm_right/joint_states", 200},
-                       {"/aerograsp/object/pose", 1},
-                       {"/aerograsp/object/found", 2},
-                       {"/rosout", 2},
-                       {"/aerograsp/grasp_pair", 1},
-                       {"/camera/color/image_raw/compressed", 1},  // the second within 0.1 s
-                       {"/camera/color/camera_info", 1},
-                       {"/camera/depth/image_raw", 1}};
+  const json counts = {
+      {"/tf_static", 1},
+      {"/tf", 200},
+      {"/aerograsp/joint_states", 200},
+      {"/aerograsp/joint_targets", 200},
+      {"/aerograsp/object_pose_covariance", 1},
+      {"/aerograsp/object_found", 2},
+      {"/rosout", 2},
+      {"/aerograsp/transitions", 1},
+      {"/aerograsp/grasp_pair", 1},
+      {"/aerograsp/camera/color/image_raw/compressed", 1},  // the second within 0.1 s
+      {"/aerograsp/camera/color/camera_info", 1},
+      {"/aerograsp/camera/depth/image_raw", 1}};
   std::ofstream(dir / "expected.json") << json{{"messages", expected}, {"counts", counts}}.dump(1);
   return 0;
 }
