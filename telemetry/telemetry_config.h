@@ -13,7 +13,7 @@ struct McapConfig {
   /// skipped (the images are most of the file).
   double image_rate_hz = 5.0;
   int jpeg_quality = 75;  ///< [10, 100], OpenCV's IMWRITE_JPEG_QUALITY
-  bool depth = false;     ///< also the depth images (16-bit PNG), about 4x a JPEG each
+  bool depth = false;     ///< also the depth images (raw 16UC1), about 600 kB each uncompressed
   /// Arms and moving transforms kept per second of mission time, (0, 1000];
   /// at or above the servo rate every cycle is kept.
   double state_rate_hz = 50.0;
