@@ -199,12 +199,23 @@ int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, s
     MissionOptions m = options.mission;
     m.seed = options.mission.seed + static_cast<std::uint64_t>(k);
     std::ostringstream log;
+    CommandTelemetry telemetry;  // the first run's, as its plots
+    if (k == 0) {
+      telemetry =
+          OpenTelemetry(telemetry_config, dir.string(), "mission",
+                        [&log](const std::string& line) { log << "telemetry: " << line << "\n"; });
+    }
+    MissionLinks links;
+    links.telemetry = telemetry.sink();
+    links.emergency_stop = telemetry.emergency_stop.get();
     MissionResult result;
     try {
-      result = RunMission(m, k == 0 ? &record : nullptr, &log);
+      result = RunMission(m, k == 0 ? &record : nullptr, &log, links);
     } catch (const std::exception& e) {
       result.failure = std::string("error: ") + e.what();
     }
+    const std::string mcap = telemetry.Close();
+    if (!mcap.empty()) log << "Wrote " << mcap << "\n";
     WriteText(dir / "logs" / fmt::format("seed_{}.log", m.seed), log.str());
     runs.push_back(MissionRunJson(m.seed, result));
     rows.push_back(RunRow(m.seed, result));
