@@ -11,9 +11,11 @@
 #include "app/calibration/intrinsics_views.h"
 #include "app/calibration/tag_board_mesh.h"
 #include "app/report/progress.h"
+#include "core/data_dir.h"
 #include "core/random.h"
 #include "hardware/hardware_factory.h"
 #include "hardware/sim/world.h"
+#include "hardware/sim/world_config.h"
 
 namespace aerograsp {
 namespace fs = std::filesystem;
@@ -93,15 +95,19 @@ void RunCalibrateIntrinsics(const CalibrateCommandOptions& options, std::ostream
   }
   if (options.out_dir.empty()) throw ConfigError("--out: an output folder is required");
   CheckRange("command line", "--poses", options.poses, kMinIntrinsicsViews, 100, "");
-  const CalibrationHardware hw =
-      OpenCalibrationHardware(options.hardware_path, options.world_config, options.seed);
-  World& world = *hw.devices->world();
-  RgbdCamera& camera = hw.devices->camera();
+  // Without a hardware file every device is simulated in-process.
+  const std::string world_path =
+      options.world_config.empty() ? DataPath("config/world_default.yaml") : options.world_config;
+  const HardwareConfig config =
+      HardwareConfig::InProcessSimulation(WorldConfig::Load(world_path).platform, world_path);
+  const std::unique_ptr<Hardware> devices = Hardware::Open(config, options.seed);
+  World& world = *devices->world();
+  RgbdCamera& camera = devices->camera();
   ViewsFile file;
   file.board = IntrinsicsBoard();
   file.factory = camera.intrinsics();
-  file.simulated = true;  // without a hardware file every device is simulated
-  file.camera_name = hw.devices->platform().config().camera_name;
+  file.simulated = true;
+  file.camera_name = devices->platform().config().camera_name;
   const std::vector<Eigen::Isometry3d> views =
       PlanBoardViews(file.factory, file.board, options.poses, options.seed);
   if (views.empty())
@@ -109,7 +115,7 @@ void RunCalibrateIntrinsics(const CalibrateCommandOptions& options, std::ostream
   out << fmt::format(
       "planned {} views of a {} x {} board of {:.0f} mm tags (of {} requested); devices: {}\n",
       views.size(), file.board.rows, file.board.cols, 1e3 * file.board.tag_size_m, options.poses,
-      hw.config.source);
+      config.source);
   const std::size_t board_index =
       world.AttachToCamera(MakeBoardRenderMesh(file.board, 4000.0), views.front());
   fs::create_directories(fs::path(options.out_dir) / "views");
@@ -118,7 +124,7 @@ void RunCalibrateIntrinsics(const CalibrateCommandOptions& options, std::ostream
   Progress bar(progress, "intrinsics", static_cast<std::int64_t>(views.size()), "views");
   for (const Eigen::Isometry3d& cMt : views) {
     world.MoveAttachment(board_index, cMt);
-    hw.devices->StepSimulation(kViewStep_s);
+    devices->StepSimulation(kViewStep_s);
     RgbdFrame frame;
     camera.Grab(&frame);
     SavedView v;

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "app/calibration/calibrate_command.h"
+#include "app/calibration/calibration_hardware.h"
 #include "calib/coverage.h"
 #include "calib/tag_board.h"
 #include "hardware/hardware_config.h"
@@ -41,6 +42,8 @@ class IntrinsicsHardware {
   /// The board held: the hardware file's `calibration.board` when its
   /// `calibration.mount` is 'hand', else IntrinsicsBoard().
   const TagBoardConfig& board() const { return board_; }
+  /// The hardware file's `calibration` section (the hand-held run's limits).
+  const CalibrationRig& rig() const { return rig_; }
   const std::string& camera_name() const { return camera_name_; }
   RgbdCamera& camera() { return *camera_; }
   World* world() { return world_.get(); }
@@ -62,6 +65,7 @@ class IntrinsicsHardware {
   IntrinsicsHardware() = default;
   HardwareConfig config_;
   TagBoardConfig board_;
+  CalibrationRig rig_;
   std::string camera_name_;
   std::unique_ptr<World> world_;
   std::unique_ptr<RgbdCamera> camera_;
@@ -82,8 +86,8 @@ std::unique_ptr<IntrinsicsHardware> OpenIntrinsicsHardware(const std::string& ha
 /// size), prints what coverage is needed, writes the board to print
 /// (DIR/board.svg, when `options.out_dir` is given), stops there with `dry_run`; else
 /// grabs frames, detects the board in each and takes a frame as a sample when
-/// the whole board is seen, still (no corner moved more than a pixel since the
-/// previous frame) and adds to the coverage (calib/coverage.h: a 3 x 3 grid of
+/// the whole board is seen, still (no corner moved more than `calibration.still_px`
+/// since the previous frame) and adds to the coverage (calib/coverage.h: a 3 x 3 grid of
 /// the image, tilts about x and y beyond 20 deg), printing after each sample
 /// what is still missing. Stops when the coverage is complete with at least
 /// `options.poses` samples, on a line read from `in` (Enter or q) or on

@@ -71,7 +71,7 @@ CalibrationRig CalibrationRig::Load(const std::string& hardware_path) {
   n.RequireOnlyKeys({"mount", "board", "board_in_tool_xyz_m", "board_in_tool_rpy_deg",
                      "joint_speed_deg_s", "settle_timeout_s", "settle_tolerance_deg",
                      "settle_window_s", "min_voltage_v", "max_voltage_v", "max_temperature_c",
-                     "max_failed_reads"});
+                     "max_failed_reads", "still_px", "max_missed_frames"});
   r.mount = n.GetString("mount", r.mount);
   if (n.Has("board")) r.board = TagBoardConfig::FromNode(n.Child("board"));
   const Eigen::Vector3d xyz =
@@ -88,6 +88,8 @@ CalibrationRig CalibrationRig::Load(const std::string& hardware_path) {
   r.max_voltage_v = n.GetDouble("max_voltage_v", r.max_voltage_v);
   r.max_temperature_c = n.GetDouble("max_temperature_c", r.max_temperature_c);
   r.max_failed_reads = n.GetInt("max_failed_reads", r.max_failed_reads);
+  r.still_px = n.GetDouble("still_px", r.still_px);
+  r.max_missed_frames = n.GetInt("max_missed_frames", r.max_missed_frames);
   r.Validate();
   return r;
 }
@@ -106,6 +108,8 @@ void CalibrationRig::Validate() const {
   CheckRange(f, "calibration.max_voltage_v", max_voltage_v, min_voltage_v, 30.0, "V");
   CheckRange(f, "calibration.max_temperature_c", max_temperature_c, 0.0, 120.0, "C");
   CheckRange(f, "calibration.max_failed_reads", max_failed_reads, 1, 100, "");
+  CheckRange(f, "calibration.still_px", still_px, 0.01, 20.0, "px");
+  CheckRange(f, "calibration.max_missed_frames", max_missed_frames, 1, 1000, "");
 }
 
 HandEyeHardware::~HandEyeHardware() {
@@ -290,51 +294,6 @@ std::vector<std::string> PreflightDevices(HandEyeHardware& hw, RgbdFrame* frame,
                           frame->color.width, frame->color.height, K.width, K.height, K.fx, K.fy)
             : std::string("no frame: the stream is not running"));
   return failures;
-}
-
-// ---- the intrinsics wizard ----
-
-void CheckCalibrationHardware(const HardwareConfig& config) {
-  const std::string& f = config.source;
-  if (config.camera.backend != "sim") {
-    throw ConfigError(
-        fmt::format("{}: camera.backend: '{}': the intrinsics wizard shows its board to the "
-                    "simulated camera ('sim'); "
-                    "{} is not supported yet",
-                    f, config.camera.backend,
-                    config.camera.backend == "replay"
-                        ? "a recorded sequence cannot follow the poses the wizard plans, and "
-                          "calibrating from a recording"
-                        : "calibrating a real camera's intrinsics (a printed board held by hand)"));
-  }
-  if (config.arms.backend == "scs") {
-    throw ConfigError(
-        fmt::format("{}: arms.backend: 'scs' drives the real arms, but the camera and the board "
-                    "are simulated; use 'sim-bus' (the real driver, simulated servos) or 'sim'",
-                    f));
-  }
-  if (config.autopilot.backend == "px4") {
-    throw ConfigError(fmt::format(
-        "{}: autopilot.backend: 'px4' is a real vehicle, but the camera and the arms are "
-        "simulated on the simulated vehicle; use 'sim-px4' or 'sim'",
-        f));
-  }
-}
-
-CalibrationHardware OpenCalibrationHardware(const std::string& hardware_path,
-                                            const std::string& world_path, std::uint64_t seed) {
-  CalibrationHardware hw;
-  if (hardware_path.empty()) {
-    const std::string world =
-        world_path.empty() ? DataPath("config/world_default.yaml") : world_path;
-    hw.config = HardwareConfig::InProcessSimulation(WorldConfig::Load(world).platform, world);
-  } else {
-    hw.config = HardwareConfig::Load(hardware_path);
-    if (!world_path.empty()) hw.config.world = world_path;
-  }
-  CheckCalibrationHardware(hw.config);
-  hw.devices = Hardware::Open(hw.config, seed);
-  return hw;
 }
 
 }  // namespace aerograsp

@@ -9,8 +9,8 @@
 // (CalibrationRig); a simulated world is built carrying the board where that
 // section says, so the wizard's code is the same on the robot and in tests.
 //
-// The intrinsics wizard (OpenCalibrationHardware) shows its board in the
-// simulated world and needs the simulated camera.
+// The intrinsics wizard opens only the camera (app/calibration/calibrate_intrinsics.h:
+// OpenIntrinsicsHardware) and reads its limits from the same section.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -48,6 +48,11 @@ struct CalibrationRig {
   double max_voltage_v{8.4};
   double max_temperature_c{60.0};  ///< hottest servo allowed, deg C
   int max_failed_reads{3};         ///< consecutive failed reads of a servo that stop the run
+  /// Hand-held intrinsics: the board is still when no corner moved more than this
+  /// since the previous frame, [0.01, 20] px.
+  double still_px{1.0};
+  /// Hand-held intrinsics: frames in a row the camera may fail to deliver, [1, 1000].
+  int max_missed_frames{30};
 
   /// The defaults when the file has no `calibration` section.
   /// @throws ConfigError "<file>: calibration.<key>: ..." for unknown keys and bounds.
@@ -124,25 +129,5 @@ std::unique_ptr<HandEyeHardware> OpenHandEyeHardware(const std::string& hardware
 /// a frame of its intrinsics' size. Prints one line per check on `out`.
 /// Returns the failures (empty: all passed) and the frame grabbed.
 std::vector<std::string> PreflightDevices(HandEyeHardware& hw, RgbdFrame* frame, std::ostream& out);
-
-// ---- the intrinsics wizard ----
-
-struct CalibrationHardware {
-  HardwareConfig config;  ///< what was opened (source: the file or "built-in simulation")
-  std::unique_ptr<Hardware> devices;  ///< its world() is never null
-};
-
-/// Checks that the intrinsics wizard can drive `config`: the simulated camera
-/// ('sim'), simulated arms ('sim' or 'sim-bus') and a simulated autopilot
-/// ('sim' or 'sim-px4').
-/// @throws ConfigError "<file>: <key>: '<backend>': <why>, <what to use>".
-void CheckCalibrationHardware(const HardwareConfig& config);
-
-/// Loads `hardware_path` (empty: every device in-process in `world_path`, or
-/// data/config/world_default.yaml when that is empty too; a `world_path` given
-/// with a hardware file replaces the file's world), checks it and opens it.
-/// @throws ConfigError / HardwareError naming the file, the key or the device.
-CalibrationHardware OpenCalibrationHardware(const std::string& hardware_path,
-                                            const std::string& world_path, std::uint64_t seed);
 
 }  // namespace aerograsp

@@ -23,8 +23,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
-constexpr double kStillPx = 1.0;          // a hand-held board is still: no corner moved more (px)
-constexpr int kMaxMissedFrames = 30;      // frames in a row the camera may fail to deliver
 constexpr double kHeldDistance_m = 0.45;  // simulated: the board's rest pose in front of the camera
 
 /// A line waiting on `in` (Enter or q), read without blocking: std::cin
@@ -87,7 +85,8 @@ std::unique_ptr<IntrinsicsHardware> OpenIntrinsicsHardware(const std::string& ha
         "re-solve saved views with `calibrate --resolve DIR`",
         config.source));
   }
-  const CalibrationRig rig = CalibrationRig::Load(hardware_path);
+  hw->rig_ = CalibrationRig::Load(hardware_path);
+  const CalibrationRig& rig = hw->rig_;
   hw->board_ = rig.mount == "hand" ? rig.board : IntrinsicsBoard();
   if (config.camera.backend == "sim") {
     WorldConfig world_config = WorldConfig::Load(config.world);
@@ -181,7 +180,7 @@ void RunHandHeldIntrinsics(const CalibrateCommandOptions& options, IntrinsicsHar
     }
     hw.WaitForFrame();
     if (!camera.Grab(&frame)) {
-      if (++missed < kMaxMissedFrames) continue;
+      if (++missed < hw.rig().max_missed_frames) continue;
       WriteViewsYaml(options.out_dir, file);
       throw HardwareError(fmt::format(
           "{}: camera ({}): no frame {} times in a row: the camera stopped; the {} samples "
@@ -200,7 +199,7 @@ void RunHandHeldIntrinsics(const CalibrateCommandOptions& options, IntrinsicsHar
     std::vector<Eigen::Vector2d> pixels;
     for (const BoardCorner& c : corners) pixels.push_back(c.second);
     const bool whole = tags_used == board_tags;
-    const bool still = whole && BoardStill(previous_px, pixels, kStillPx);
+    const bool still = whole && BoardStill(previous_px, pixels, hw.rig().still_px);
     previous_px = whole ? pixels : std::vector<Eigen::Vector2d>{};
     if (!still) continue;
     const BoardPose pose = EstimateBoardPose(detections, file.board, K);

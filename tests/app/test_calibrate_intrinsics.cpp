@@ -271,6 +271,23 @@ TEST_F(CalibrateIntrinsicsTest, AHandRigsBoardIsTheOneLookedForAndPrinted) {
   EXPECT_FALSE(fs::exists(fs::path(options.out_dir) / "views"));
 }
 
+TEST_F(CalibrateIntrinsicsTest, AStillnessThresholdOutOfRangeNamesTheKeyAndTheBound) {
+  fs::create_directories(folder_);
+  const std::string path = (fs::path(folder_) / "still.yaml").string();
+  std::ofstream(path) << "platform: " << DataPath("config/platform_4dof.yaml") << "\n"
+                      << "world: " << DataPath("config/world_default.yaml") << "\n"
+                      << "arms: {backend: sim}\nautopilot: {backend: sim}\ncamera: {backend: sim}\n"
+                      << "calibration:\n  still_px: 0\n";
+  CalibrateCommandOptions options;
+  options.intrinsics = true;
+  options.dry_run = true;
+  options.hardware_path = path;
+  std::ostringstream out, progress;
+  EXPECT_THAT([&] { RunCalibrateCommand(options, out, progress); },
+              ::testing::ThrowsMessage<ConfigError>(HasSubstr(
+                  path + ": calibration.still_px: 0 px is below the lower bound 0.01 px")));
+}
+
 TEST_F(CalibrateIntrinsicsTest, ADryRunWithoutTheRealCameraNamesIt) {
   CalibrateCommandOptions options;
   options.intrinsics = true;
