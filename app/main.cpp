@@ -421,17 +421,19 @@ int main(int argc, char** argv) {
   std::vector<double> bench_board_pose;
   CLI::App* bench_cmd =
       app.add_subcommand("bench",
-                         "Vehicle on a test stand, the object with a tag board moved by script: "
-                         "perception against the tags, "
+                         "Vehicle on a test stand, the object with a tag board moved by script "
+                         "(simulator) or by hand (--hardware): perception against the tags, "
                          "servo error to the grasp or a hover point off it; report in DIR");
   bench_cmd
       ->add_option("--out", bench.out_dir, "Report folder (index.html, summary.json, frames.csv)")
       ->required();
-  bench_cmd
-      ->add_option("--hardware", bench.hardware_path,
-                   "Hardware YAML (e.g. data/config/hardware_sim.yaml: the real drivers against "
-                   "simulated devices)")
-      ->check(CLI::ExistingFile);
+  CLI::Option* bench_hardware =
+      bench_cmd
+          ->add_option("--hardware", bench.hardware_path,
+                       "Hardware YAML: the real camera and arms (the object moved by hand, the "
+                       "board where its bench section says), or data/config/hardware_sim.yaml "
+                       "(the real drivers against simulated devices)")
+          ->check(CLI::ExistingFile);
   bench_cmd
       ->add_option("--world", bench.world_config, "World YAML [data/config/world_default.yaml]")
       ->check(CLI::ExistingFile);
@@ -453,18 +455,21 @@ int main(int argc, char** argv) {
   bench_cmd
       ->add_option("--path-period", bench.path_period_s, "Period of the object's scripted path, s")
       ->capture_default_str()
+      ->excludes(bench_hardware)
       ->check(aerograsp::cli::Range(1.0, 1000.0));
   bench_cmd
       ->add_option("--path-scale", bench.path_scale,
                    "Scale of the scripted path (1: +-6 cm fore and aft; 0: the object held still "
                    "at the grasp point)")
       ->capture_default_str()
+      ->excludes(bench_hardware)
       ->check(aerograsp::cli::Finite());
   bench_cmd
       ->add_option(
           "--board-pose", bench_board_pose,
           "The tag board on the object, oMt: x y z (m) qw qx qy qz [centred on its top, face up]")
       ->expected(7)
+      ->excludes(bench_hardware)
       ->check(aerograsp::cli::Finite());
   bench_cmd
       ->add_option(

@@ -53,8 +53,10 @@ bool HardwareConfig::NeedsWorld() const {
 HardwareConfig HardwareConfig::Load(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   // `calibration` (the calibration rig: which board, where it is fixed, the
-  // wizard's speed and checks) is read by app/calibration/calibration_hardware.h.
-  root.RequireOnlyKeys({"platform", "world", "arms", "autopilot", "camera", "calibration"});
+  // wizard's speed and checks) is read by app/calibration/calibration_hardware.h;
+  // `bench` (the bench's tag board on the object) by app/commands/bench_stand.h.
+  root.RequireOnlyKeys(
+      {"platform", "world", "arms", "autopilot", "camera", "calibration", "bench"});
   HardwareConfig c;
   c.source = path;
   c.platform = root.Has("platform") ? root.GetPath("platform") : Beside(path, c.platform);

@@ -3,12 +3,15 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <thread>
 
+#include "app/calibration/interrupt_guard.h"
 #include "app/calibration/tag_board_mesh.h"
 #include "app/commands/bench_report.h"
 #include "app/commands/bench_stand.h"
@@ -21,6 +24,7 @@
 #include "core/collision.h"
 #include "core/config.h"
 #include "core/data_dir.h"
+#include "core/object_model.h"
 #include "core/transforms.h"
 #include "detection/object_tracker.h"
 #include "detection/perception_config.h"
@@ -44,6 +48,30 @@ constexpr double kMaxTagReprojectionPx = 1.0;  // a board pose above this is not
 constexpr int kMinBoardTags = 2;
 constexpr double kTrackingWithinM =
     0.01;  // an arm tracks its target from the first cycle this close
+
+/// The bench's time: the simulated world's when the camera sees it (each step
+/// advances the world, deterministic), else the steady clock (each step
+/// sleeps to the next period; a simulated world behind other devices
+/// advances with it; real drivers run their own threads).
+class BenchClock {
+ public:
+  BenchClock(Hardware* hw, bool simulated_camera) : hw_(hw), simulated_(simulated_camera) {
+    if (!hw_->world()) hw_->StartDriverThreads();
+    t0_s_ = SteadySeconds();
+  }
+  double now_s() const { return simulated_ ? hw_->world()->now_s() : SteadySeconds() - t0_s_; }
+  void Step(double dt_s) {
+    if (hw_->world()) hw_->StepSimulation(dt_s);
+    if (simulated_) return;
+    const double next_s = (std::floor(now_s() / dt_s) + 1.0) * dt_s;
+    std::this_thread::sleep_for(std::chrono::duration<double>(std::max(0.0, next_s - now_s())));
+  }
+
+ private:
+  Hardware* hw_;
+  bool simulated_;
+  double t0_s_ = 0.0;
+};
 
 }  // namespace
 
@@ -79,10 +107,22 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
     if (!options.world_config.empty()) hw_config.world = options.world_config;
   }
   CheckBenchHardware(hw_config);
+  // Without a hardware file the bench moves the object by script in the
+  // in-process simulator; with one, the object is moved by hand (in a
+  // simulated world, as that world's file moves it) and never placed here.
+  const bool scripted = options.hardware_path.empty();
+  if (!scripted && options.oMt) {
+    throw ConfigError(
+        fmt::format("--board-pose: with --hardware the board's place is the hardware file's "
+                    "bench.board_on_object_xyz_m / _rpy_deg ({})",
+                    options.hardware_path));
+  }
+  BenchRig rig;  // read before any device opens
+  if (!scripted) rig = BenchRig::Load(options.hardware_path);
   // The test stand: the vehicle hovers in place with no sway, tilt, gusts or drift.
   const auto on_stand = [&](WorldConfig* w) {
     if (!options.object.empty()) w->object.name = options.object;
-    w->object.motion = "static";
+    if (scripted) w->object.motion = "static";
     w->vehicle.start = "hover";
     w->vehicle.sway_amplitude_m.setZero();
     w->vehicle.tilt_amplitude_rad = 0.0;
@@ -91,15 +131,19 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
   };
   std::unique_ptr<Hardware> hw = Hardware::Open(hw_config, options.seed, on_stand);
   World* world = hw->world();
-  if (!world)
-    throw ConfigError(hw_config.source +
-                      ": the bench needs a simulated world (no device is simulated)");
+  // The world the camera sees (its clock, its truth), when the camera is simulated.
+  World* seen = hw_config.camera.backend == "sim" ? world : nullptr;
   const Platform& platform = hw->platform();
-  const ObjectModel& object = world->object();
+  const ObjectModel object =
+      world ? world->object()
+            : ObjectModel::Load(options.object.empty() ? "crawler" : options.object);
 
-  const TagBoardConfig board = BenchBoard();
-  const Eigen::Isometry3d oMt = options.oMt ? *options.oMt : DefaultBoardOnObject(object.mesh_o);
-  world->AttachToObject(MakeBoardRenderMesh(board), oMt);
+  const TagBoardConfig& board = rig.board;
+  const Eigen::Isometry3d oMt = options.oMt ? *options.oMt
+                                : rig.oMt   ? *rig.oMt
+                                            : DefaultBoardOnObject(object.mesh_o);
+  // The simulated rig: the board on the object where the file (or the option) says.
+  if (seen) seen->AttachToObject(MakeBoardRenderMesh(board), oMt);
   TagDetector tag_detector(board.family);
 
   std::unique_ptr<BoxDetector> box_detector;
@@ -148,13 +192,19 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
          "deg,"
          "left_servo_error_m,right_servo_error_m\n";
 
-  const Eigen::Isometry3d wMd = world->wMd();  // fixed on the stand
+  // Fixed on the stand; a real stand stands level.
+  const Eigen::Isometry3d wMd = seen ? seen->wMd() : Eigen::Isometry3d::Identity();
   const Eigen::Isometry3d& dMc = platform.dMc();
   const double dt_s = 1.0 / mission.servo_rate_hz;
-  const double frame_period_s = 1.0 / world->config().camera.frame_rate_hz;
-  const double t_start = world->now_s();
+  const double frame_period_s =
+      1.0 / (seen ? seen->config().camera.frame_rate_hz : hw_config.camera.fps);
+  BenchClock clock(hw.get(), seen != nullptr);
+  const double t_start = clock.now_s();
+  const Eigen::Vector3d centre_o = PlacementCentre(object.mesh_o);
   auto place_object = [&](double t_s) {
-    world->PlaceObject(wMd * ScriptedDmo(t_s - t_start, options.path_period_s, options.path_scale));
+    if (!scripted) return;
+    world->PlaceObject(wMd * ScriptedDmo(t_s - t_start, options.path_period_s, options.path_scale,
+                                         mission.grasp_dto_m, centre_o));
   };
 
   BenchResults run;
@@ -180,13 +230,21 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
   Progress bar(progress, "bench", options.frames, "frames");
   RgbdFrame rgbd;
   place_object(t_start);
+  const InterruptGuard interrupt;
+  std::string stopped;
   while (frame < options.frames) {
-    const double t = world->now_s();
+    if (InterruptGuard::Interrupted()) {
+      hw->arms().Stop();
+      stopped =
+          fmt::format("stopped (Ctrl-C) after {} frames; the arms hold where they are", frame);
+      break;
+    }
+    const double t = clock.now_s();
     for (int a = 0; a < 2; ++a) q[a] = hw->arms().JointPositions(kSides[a]);
 
     if (t + 1e-9 >= next_frame_s) {
       next_frame_s += frame_period_s;
-      hw->camera().Grab(&rgbd);
+      if (!hw->camera().Grab(&rgbd)) throw HardwareError("camera: the stream ended");
       const CameraIntrinsics& K = hw->camera().intrinsics();
       // The tags' independent pose of the object.
       const BoardPose board_pose = EstimateBoardPose(tag_detector.Detect(rgbd.color), board, K);
@@ -208,7 +266,8 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
         PublishPerceivedFrame(sink, t - t_start, telemetry_frame::kCamera, r.estimate, found, rgbd,
                               K, hw->camera().depth_scale_m());
       }
-      const Eigen::Isometry3d cMo_truth = world->wMc().inverse() * world->wMo();
+      const Eigen::Isometry3d cMo_truth =
+          seen ? seen->wMc().inverse() * seen->wMo() : Eigen::Isometry3d::Identity();
       run.tag_frames += tags_ok;
       run.found_frames += found;
       double err_t = kNaN, err_r = kNaN, tags_truth_t = kNaN, tags_truth_r = kNaN;
@@ -219,13 +278,13 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
         run.perception_vs_tags.Add(e);
         err_t = e.translation_m, err_r = kRadToDeg * e.rotation_rad;
       }
-      if (tags_ok) {
+      if (tags_ok && seen) {
         const PoseError e =
             ComparePoses(cMo_truth, cMo_tags);  // the board breaks the object's symmetry
         run.tags_vs_truth.Add(e);
         tags_truth_t = e.translation_m, tags_truth_r = kRadToDeg * e.rotation_rad;
       }
-      if (found) {
+      if (found && seen) {
         run.perception_vs_truth.Add(
             {ComparePoses(cMo_truth, r.estimate.cMo).translation_m,
              SymmetricRotationError(r.estimate.cMo.linear(), cMo_truth.linear(), symmetry)});
@@ -344,16 +403,18 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
           to_target = (p_b - bMh.translation()).norm();
           // The same target relative to the object, on the true object turned
           // by the symmetry nearest the estimate (the crawler's half turns look alike).
-          Eigen::Isometry3d cMo_truth = world->wMc().inverse() * world->wMo();
-          cMo_truth.linear() =
-              ClosestSymmetricRotation(cMo_truth.linear(), estimate->cMo.linear(), symmetry);
-          const Eigen::Isometry3d bMh_truth = bMd * dMc * cMo_truth * bMo.inverse() * bMh;
-          to_truth = (p_b - bMh_truth.translation()).norm();
+          if (seen) {
+            Eigen::Isometry3d cMo_truth = seen->wMc().inverse() * seen->wMo();
+            cMo_truth.linear() =
+                ClosestSymmetricRotation(cMo_truth.linear(), estimate->cMo.linear(), symmetry);
+            const Eigen::Isometry3d bMh_truth = bMd * dMc * cMo_truth * bMo.inverse() * bMh;
+            to_truth = (p_b - bMh_truth.translation()).norm();
+          }
           tracking[a] = tracking[a] || to_target < kTrackingWithinM;
           run.servo_error_all_m.push_back(to_target);
           if (tracking[a]) {
             run.servo_error_tracking_m.push_back(to_target);
-            run.servo_error_to_truth_m.push_back(to_truth);
+            if (seen) run.servo_error_to_truth_m.push_back(to_truth);
           }
         } else {
           tracking[a] = false;
@@ -371,8 +432,8 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
         tf.push_back({telemetry_frame::kCamera, telemetry_frame::kObject, estimate->cMo});
       sink->Transforms(t - t_start, tf);
     }
-    hw->StepSimulation(dt_s);
-    place_object(world->now_s());
+    clock.Step(dt_s);
+    place_object(clock.now_s());
   }
   bar.Finish();
   const std::string mcap = telemetry.Close();
@@ -391,16 +452,20 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
   info.board = board;
   info.oMt = oMt;
   WriteBenchReport(info, run, out);
+  if (!stopped.empty()) throw HardwareError("bench: " + stopped + "; the report covers them");
 
   if (run.tag_frames == 0) {
     throw std::runtime_error(fmt::format(
         "bench: the tag board was never detected in {} frames (board {}x{} tags of {:.0f} mm, ids "
         "from {}, on the "
         "object at oMt translation {:.3f} {:.3f} {:.3f} m): is its printed face towards the camera "
-        "(--board-pose)? "
+        "({})? "
         "See {}/frames.csv",
         frame, board.rows, board.cols, 1e3 * board.tag_size_m, board.first_id,
-        oMt.translation().x(), oMt.translation().y(), oMt.translation().z(), options.out_dir));
+        oMt.translation().x(), oMt.translation().y(), oMt.translation().z(),
+        scripted ? "--board-pose"
+                 : "bench.board and bench.board_on_object_* in " + options.hardware_path,
+        options.out_dir));
   }
   if (run.found_frames == 0) {
     throw std::runtime_error(
