@@ -517,7 +517,7 @@ int main(int argc, char** argv) {
       aerograsp::RunConvertCommand(convert, std::cout, std::cerr);
     }
     if (*dataset_cmd) aerograsp::RunDatasetCommand(dataset, std::cout, std::cerr);
-    if (*mission_cmd) aerograsp::RunMissionCommand(mission, std::cout, std::cerr);
+    if (*mission_cmd) code = aerograsp::RunMissionCommand(mission, std::cout, std::cerr);
     if (*import_cmd) aerograsp::RunObjectImport(object_import, std::cout);
     if (*show_cmd) aerograsp::RunObjectShow(object_show, object_show_folder, std::cout);
     if (*bench_cmd) {

@@ -56,7 +56,7 @@ HardwareConfig HardwareConfig::Load(const std::string& path) {
   // wizard's speed and checks) is read by app/calibration/calibration_hardware.h;
   // `bench` (the bench's tag board on the object) by app/commands/bench_stand.h.
   root.RequireOnlyKeys(
-      {"platform", "world", "arms", "autopilot", "camera", "calibration", "bench"});
+      {"platform", "world", "arms", "autopilot", "camera", "health", "calibration", "bench"});
   HardwareConfig c;
   c.source = path;
   c.platform = root.Has("platform") ? root.GetPath("platform") : Beside(path, c.platform);
@@ -89,7 +89,8 @@ HardwareConfig HardwareConfig::Load(const std::string& path) {
     if (n.Has("sim_bus")) {
       const ConfigNode b = n.Child("sim_bus");
       b.RequireOnlyKeys({"byte_time_s", "return_delay_s", "corrupt_probability", "slow_extra_s",
-                         "seed", "silent_ids", "slow_ids", "faults_from_s"});
+                         "seed", "silent_ids", "slow_ids", "hot_ids", "low_voltage_ids",
+                         "hot_temperature_c", "low_voltage_v", "faults_from_s"});
       a.sim_bus.byte_time_s = b.GetDouble("byte_time_s", a.sim_bus.byte_time_s);
       a.sim_bus.return_delay_s = b.GetDouble("return_delay_s", a.sim_bus.return_delay_s);
       a.sim_bus.corrupt_probability =
@@ -97,10 +98,14 @@ HardwareConfig HardwareConfig::Load(const std::string& path) {
       a.sim_bus.slow_extra_s = b.GetDouble("slow_extra_s", a.sim_bus.slow_extra_s);
       a.sim_bus.seed =
           static_cast<std::uint64_t>(b.GetInt("seed", static_cast<int>(a.sim_bus.seed)));
-      for (const char* key : {"silent_ids", "slow_ids"}) {
+      const std::pair<const char*, std::vector<int>*> id_lists[] = {
+          {"silent_ids", &a.sim_bus.silent_ids},
+          {"slow_ids", &a.sim_bus.slow_ids},
+          {"hot_ids", &a.sim_bus.hot_ids},
+          {"low_voltage_ids", &a.sim_bus.low_voltage_ids}};
+      for (const auto& [key, list] : id_lists) {
         if (!b.Has(key)) continue;
-        std::vector<int>& ids =
-            std::string(key) == "silent_ids" ? a.sim_bus.silent_ids : a.sim_bus.slow_ids;
+        std::vector<int>& ids = *list;
         ids.clear();
         for (double id : b.GetDoubles(key)) {
           if (id != std::floor(id) || id < 0 || id > 253)
@@ -109,21 +114,35 @@ HardwareConfig HardwareConfig::Load(const std::string& path) {
         }
       }
       a.sim_bus.faults_from_s = b.GetDouble("faults_from_s", a.sim_bus.faults_from_s);
+      a.sim_bus.hot_temperature_c = b.GetInt("hot_temperature_c", a.sim_bus.hot_temperature_c);
+      a.sim_bus.low_voltage_v = b.GetDouble("low_voltage_v", a.sim_bus.low_voltage_v);
     }
   }
   if (root.Has("autopilot")) {
     const ConfigNode n = root.Child("autopilot");
-    n.RequireOnlyKeys({"backend",           "link",
-                       "udp_local_host",    "udp_local_port",
-                       "udp_remote_host",   "udp_remote_port",
-                       "serial_port",       "baud",
-                       "system_id",         "component_id",
-                       "target_system",     "target_component",
-                       "heartbeat_hz",      "setpoint_hz",
-                       "prestream_s",       "command_timeout_s",
-                       "command_attempts",  "link_timeout_s",
-                       "connect_timeout_s", "home_amsl_m",
-                       "signing_key_hex",   "signing_link_id"});
+    n.RequireOnlyKeys({"backend",
+                       "link",
+                       "udp_local_host",
+                       "udp_local_port",
+                       "udp_remote_host",
+                       "udp_remote_port",
+                       "serial_port",
+                       "baud",
+                       "system_id",
+                       "component_id",
+                       "target_system",
+                       "target_component",
+                       "heartbeat_hz",
+                       "setpoint_hz",
+                       "prestream_s",
+                       "command_timeout_s",
+                       "command_attempts",
+                       "link_timeout_s",
+                       "connect_timeout_s",
+                       "home_amsl_m",
+                       "signing_key_hex",
+                       "signing_link_id",
+                       "sim_px4"});
     AutopilotHardwareConfig& a = c.autopilot;
     Px4Config& p = a.px4;
     a.backend = n.GetString("backend", a.backend);
@@ -148,10 +167,17 @@ HardwareConfig HardwareConfig::Load(const std::string& path) {
     p.home_amsl_m = n.GetDouble("home_amsl_m", p.home_amsl_m);
     p.signing_key_hex = n.GetString("signing_key_hex", p.signing_key_hex);
     p.signing_link_id = n.GetInt("signing_link_id", p.signing_link_id);
+    if (n.Has("sim_px4")) {
+      const ConfigNode f = n.Child("sim_px4");
+      f.RequireOnlyKeys({"faults_from_s", "silent", "reject_commands"});
+      a.sim_px4.faults_from_s = f.GetDouble("faults_from_s", a.sim_px4.faults_from_s);
+      a.sim_px4.silent = f.GetBool("silent", a.sim_px4.silent);
+      a.sim_px4.reject_commands = f.GetBool("reject_commands", a.sim_px4.reject_commands);
+    }
   }
   if (root.Has("camera")) {
     const ConfigNode n = root.Child("camera");
-    n.RequireOnlyKeys({"backend", "path", "serial", "width", "height", "fps"});
+    n.RequireOnlyKeys({"backend", "path", "serial", "width", "height", "fps", "sim"});
     CameraHardwareConfig& k = c.camera;
     k.backend = n.GetString("backend", k.backend);
     if (n.Has("path")) k.path = n.GetPath("path");
@@ -159,6 +185,34 @@ HardwareConfig HardwareConfig::Load(const std::string& path) {
     k.width = n.GetInt("width", k.width);
     k.height = n.GetInt("height", k.height);
     k.fps = n.GetInt("fps", k.fps);
+    if (n.Has("sim")) {
+      const ConfigNode f = n.Child("sim");
+      f.RequireOnlyKeys({"faults_from_s", "frozen", "no_depth"});
+      k.sim.faults_from_s = f.GetDouble("faults_from_s", k.sim.faults_from_s);
+      k.sim.frozen = f.GetBool("frozen", k.sim.frozen);
+      k.sim.no_depth = f.GetBool("no_depth", k.sim.no_depth);
+    }
+  }
+  if (root.Has("health")) {
+    const ConfigNode n = root.Child("health");
+    DeviceHealthLimits& h = c.health;
+    n.RequireOnlyKeys({"servo_max_failed_reads", "servo_max_reading_age_s", "bus_max_error_rate",
+                       "bus_error_window_s", "bus_min_exchanges", "servo_min_voltage_v",
+                       "servo_max_voltage_v", "servo_max_temperature_c",
+                       "autopilot_max_state_age_s", "camera_max_frame_age_s",
+                       "camera_max_bad_depth_s"});
+    h.servo_max_failed_reads = n.GetInt("servo_max_failed_reads", h.servo_max_failed_reads);
+    h.servo_max_reading_age_s = n.GetDouble("servo_max_reading_age_s", h.servo_max_reading_age_s);
+    h.bus_max_error_rate = n.GetDouble("bus_max_error_rate", h.bus_max_error_rate);
+    h.bus_error_window_s = n.GetDouble("bus_error_window_s", h.bus_error_window_s);
+    h.bus_min_exchanges = n.GetInt("bus_min_exchanges", h.bus_min_exchanges);
+    h.servo_min_voltage_v = n.GetDouble("servo_min_voltage_v", h.servo_min_voltage_v);
+    h.servo_max_voltage_v = n.GetDouble("servo_max_voltage_v", h.servo_max_voltage_v);
+    h.servo_max_temperature_c = n.GetDouble("servo_max_temperature_c", h.servo_max_temperature_c);
+    h.autopilot_max_state_age_s =
+        n.GetDouble("autopilot_max_state_age_s", h.autopilot_max_state_age_s);
+    h.camera_max_frame_age_s = n.GetDouble("camera_max_frame_age_s", h.camera_max_frame_age_s);
+    h.camera_max_bad_depth_s = n.GetDouble("camera_max_bad_depth_s", h.camera_max_bad_depth_s);
   }
   c.Validate();
   return c;
@@ -212,6 +266,11 @@ void HardwareConfig::Validate() const {
   CheckRange(f, "arms.sim_bus.corrupt_probability", arms.sim_bus.corrupt_probability, 0.0, 1.0, "");
   CheckRange(f, "arms.sim_bus.slow_extra_s", arms.sim_bus.slow_extra_s, 0.0, 1.0, "s");
   CheckRange(f, "arms.sim_bus.faults_from_s", arms.sim_bus.faults_from_s, 0.0, 1e6, "s");
+  CheckRange(f, "arms.sim_bus.hot_temperature_c", arms.sim_bus.hot_temperature_c, 0, 255, "C");
+  CheckRange(f, "arms.sim_bus.low_voltage_v", arms.sim_bus.low_voltage_v, 0.0, 25.0, "V");
+  CheckRange(f, "autopilot.sim_px4.faults_from_s", autopilot.sim_px4.faults_from_s, 0.0, 1e6, "s");
+  CheckRange(f, "camera.sim.faults_from_s", camera.sim.faults_from_s, 0.0, 1e6, "s");
+  health.Validate(f);
 
   CheckOneOf(f, "autopilot.backend", autopilot.backend, {"px4", "sim-px4", "sim"});
   const Px4Config& p = autopilot.px4;

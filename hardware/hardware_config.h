@@ -7,8 +7,11 @@
 
 #include <string>
 
+#include "hardware/device_health.h"
 #include "hardware/mavlink/px4_autopilot.h"
 #include "hardware/scs/scs_arms_driver.h"
+#include "hardware/sim/sim_devices.h"
+#include "hardware/sim/sim_px4.h"
 #include "hardware/sim/sim_servo_bus.h"
 
 namespace aerograsp {
@@ -27,6 +30,7 @@ struct AutopilotHardwareConfig {
   /// (the real client, the simulated vehicle); "sim": in-process.
   std::string backend{"sim-px4"};
   Px4Config px4;
+  SimPx4Faults sim_px4;  ///< faults of "sim-px4"
 };
 
 struct CameraHardwareConfig {
@@ -38,6 +42,7 @@ struct CameraHardwareConfig {
   int width{640};      ///< realsense colour and aligned depth, pixels
   int height{480};
   int fps{30};
+  SimCameraFaults sim;  ///< faults of "sim"
 };
 
 struct HardwareConfig {
@@ -47,6 +52,7 @@ struct HardwareConfig {
   ArmsHardwareConfig arms;
   AutopilotHardwareConfig autopilot;
   CameraHardwareConfig camera;
+  DeviceHealthLimits health;  ///< what the mission treats as a device fault
 
   /// Every device simulated in-process (no pseudo-terminal, no UDP): what the
   /// mission and the bench run without --hardware.

@@ -41,7 +41,7 @@ bool HaveRealSense() {
 std::unique_ptr<RgbdCamera> OpenCamera(const CameraHardwareConfig& config, World* world) {
   if (config.backend == "sim") {
     RequireWorld(world, "camera");
-    return std::make_unique<SimCamera>(world);
+    return std::make_unique<SimCamera>(world, config.sim);
   }
   const bool bag = config.backend == "replay" && EndsWith(config.path, ".bag");
   if (config.backend == "replay" && !bag) return std::make_unique<ReplayCamera>(config.path);
@@ -76,6 +76,7 @@ std::unique_ptr<Autopilot> OpenAutopilot(const AutopilotHardwareConfig& config, 
     peer_config.component_id = px4.target_component;
     peer_config.home_amsl_m = px4.home_amsl_m;
     peer_config.signing_key_hex = px4.signing_key_hex;
+    peer_config.faults = config.sim_px4;
     *peer = std::make_unique<SimPx4>(world, peer_config);
     link = std::make_unique<UdpLink>("127.0.0.1", 0, "127.0.0.1", (*peer)->port(), "autopilot");
     clock = [world] { return world->now_s(); };
@@ -163,6 +164,18 @@ void Hardware::StepSimulation(double dt_s) {
     if (sim_px4_)
       sim_px4_->WaitForSetpoints(px4_->setpoints_sent(), 0.2);  // each counts at its own time
   }
+}
+
+double Hardware::FirstSimulatedFaultS() const {
+  double first = -1.0;
+  const auto earliest = [&first](double t) {
+    if (t >= 0.0 && (first < 0.0 || t < first)) first = t;
+  };
+  if (sim_bus_) earliest(sim_bus_->faults_on_since_s());
+  if (sim_px4_) earliest(sim_px4_->first_fault_s());
+  if (const auto* camera = dynamic_cast<const SimCamera*>(camera_.get()))
+    earliest(camera->first_fault_s());
+  return first;
 }
 
 void Hardware::StartDriverThreads() {

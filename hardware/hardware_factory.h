@@ -64,6 +64,10 @@ class Hardware {
   void StepSimulation(double dt_s);
   /// Real runs: the arm driver's bus loop and the MAVLink client on their threads.
   void StartDriverThreads();
+  /// Simulated runs: when a fault the hardware file sets on a simulated device
+  /// first showed (simulated time: a servo bus fault switched on, the PX4 fell
+  /// silent or refused a command, a camera frame frozen or without depth); < 0: none.
+  double FirstSimulatedFaultS() const;
 
  private:
   Hardware() = default;

@@ -123,6 +123,7 @@ nlohmann::json MissionRunJson(std::uint64_t seed, const MissionResult& r) {
   j["safe_volume_entries"] = r.safe_volume_entries;
   j["arm_contacts"] = r.arm_contacts;
   j["emergency_stops"] = r.emergency_stops;
+  j["device_faults"] = r.device_faults;
   j["servo_step_ms_max"] = r.servo_step_ms_max;
   j["servo_step_cpu_ms_max"] = r.servo_step_cpu_ms_max;
   j["realtime_factor"] = r.realtime_factor;

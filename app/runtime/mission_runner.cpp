@@ -14,6 +14,7 @@
 #include "app/runtime/mission_config.h"
 #include "app/runtime/mission_evaluator.h"
 #include "app/runtime/mission_grasp.h"
+#include "app/runtime/mission_health.h"
 #include "app/runtime/mission_object.h"
 #include "app/runtime/mission_vehicle.h"
 #include "app/runtime/telemetry_frames.h"
@@ -67,6 +68,8 @@ class Mission {
   void PollEmergencyStop();
   /// The arms, the moving transforms and a new followed grasp pair to the telemetry.
   void PublishCycle();
+  /// A device fault: logged, counted, and the arms stop and the vehicle holds.
+  void DeviceFaults(const std::vector<DeviceFault>& faults);
   /// The object in the body frame now, as the robot knows it.
   Eigen::Isometry3d dMoNow() const;
   /// Arm a's tool in the body frame, at its measured joints.
@@ -79,6 +82,7 @@ class Mission {
   MissionResult result_;
 
   std::unique_ptr<Hardware> hw_;
+  std::unique_ptr<MissionHealth> health_;
   const World* sim_clock_ = nullptr;  // the simulated world, for its clock only
   std::unique_ptr<ObjectModel> object_;
   std::unique_ptr<ObjectTracker> tracker_;
@@ -105,6 +109,7 @@ class Mission {
   std::future<Perceived> perceiving_;
   std::vector<double> perception_ms_, render_ms_;
   int snapshot_priority_ = 0;
+  bool hold_commanded_ = false;  // Emergency() has told the vehicle to hold
 
   // Safety, on the measured joints.
   bool in_safe_volume_[2] = {false, false};
@@ -153,13 +158,16 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
     if (options.sway_frequency_hz >= 0)
       w->vehicle.sway_frequency_hz.setConstant(options.sway_frequency_hz);
   };
+  if (options.adjust_hardware) options.adjust_hardware(&hw_config);
   hw_ = Hardware::Open(hw_config, options.seed, adjust);
+  health_ = std::make_unique<MissionHealth>(hw_.get(), hw_config.health);
   for (int a = 0; a < 2; ++a) {  // camera-to-arm calibrations: dMb = dMc * cMb
     if (config_.calibrated_cMb[a])
       hw_->SetArmBase(kSides[a], hw_->platform().dMc() * *config_.calibrated_cMb[a]);
   }
   const World* world = hw_->world();
   sim_clock_ = world;
+  if (!world) hw_->StartDriverThreads();  // else Tick() steps the drivers with the world
   const Platform& platform = hw_->platform();
 
   object_ = std::make_unique<ObjectModel>(
@@ -194,7 +202,7 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
       config_, tracker_->model().symmetry, frame_period_s_, [this](int a) { return dMe(a); },
       log_now);
   legs_ = std::make_unique<VehicleLegs>(
-      config_, &hw_->autopilot(), &global_, &vehicle_,
+      config_, health_->autopilot(), &global_, &vehicle_,
       [this](const std::string& cause) { Emergency(cause); }, log_now);
   const auto emergency = [this](const std::string& cause) { Emergency(cause); };
   grasp_ = std::make_unique<GraspScheduler>(
@@ -247,6 +255,11 @@ void Mission::Emergency(const std::string& cause) {
   } catch (const std::exception& e) {
     Log(t, std::string("arms stop failed: ") + e.what());
   }
+  // The vehicle is told to hold once: a refused or unanswered hold is logged,
+  // not resent by every later cause (on a lost link each try blocks for the
+  // command's timeouts; the autopilot's own failsafe takes over).
+  if (hold_commanded_) return;
+  hold_commanded_ = true;
   try {
     const CommandAck ack = hw_->autopilot().Hold();
     if (!ack.accepted) Log(t, "autopilot refused hold: " + ack.reason);
@@ -289,9 +302,11 @@ void Mission::Perception() {
     if (!hw_->camera().Grab(frame.get())) throw HardwareError("camera: the stream ended");
     render_ms_.push_back(
         std::chrono::duration<double, std::milli>(WallClock::now() - render_start).count());
+    DeviceFaults(health_->Frame(t, *frame));
     wMd = hw_->autopilot().State().wMd;
     if (evaluator_) evaluator_->FrameTaken(frame->stamp_s);
   }
+  if (!frame) health_->CameraIdle();
   if (perceiving_.valid()) HandlePerceived(perceiving_.get());
   if (!frame || !wanted()) return;
   const CameraIntrinsics K = hw_->camera().intrinsics();
@@ -441,6 +456,13 @@ void Mission::PublishCycle() {
   }
 }
 
+void Mission::DeviceFaults(const std::vector<DeviceFault>& faults) {
+  for (const DeviceFault& f : faults) {
+    Log(Now(), "device fault: " + f.Text(), TelemetryLevel::kError);
+    Emergency(f.Text());
+  }
+}
+
 // ---- The loop ------------------------------------------------------------------------------
 
 MissionResult Mission::Run() {
@@ -455,6 +477,7 @@ MissionResult Mission::Run() {
       Tick();
       for (int a = 0; a < 2; ++a) q_[a] = hw_->arms().JointPositions(kSides[a]);
       if (links_.emergency_stop) PollEmergencyStop();
+      DeviceFaults(health_->Poll(Now()));
       if (evaluator_) evaluator_->Step();
       Safety();
       Perception();
@@ -489,6 +512,8 @@ MissionResult Mission::Run() {
   // robot's own readings are all there is.
   result_.safe_volume_entries =
       evaluator_ ? evaluator_->safe_volume_entries() : safe_volume_entries_;
+  result_.device_faults = health_->counts();
+  result_.simulated_fault_s = hw_->FirstSimulatedFaultS();
   if (evaluator_) {
     result_.pose_rmse_m = evaluator_->pose_rmse_m();
     result_.rotation_rmse_deg = evaluator_->rotation_rmse_deg();

@@ -21,6 +21,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -29,6 +30,8 @@
 #include "telemetry/telemetry.h"
 
 namespace aerograsp {
+
+struct HardwareConfig;
 
 struct MissionOptions {
   std::string config_path;    ///< mission YAML; empty: data/config/mission_default.yaml
@@ -42,6 +45,9 @@ struct MissionOptions {
   std::string motion;              ///< "static" | "crawl"; empty: the world's
   double object_speed_mps{-1.0};   ///< crawl speed; < 0: the world's
   double timeout_s{-1.0};          ///< < 0: the mission config's
+  /// When given: changes the hardware configuration after it is read (faults
+  /// on simulated devices, for the fault benchmark).
+  std::function<void(HardwareConfig*)> adjust_hardware;
 };
 
 /// One gripper close, measured against the simulated world's truth
@@ -75,7 +81,13 @@ struct MissionResult {
   /// Times the two arms touched each other, by the true joints (simulation only).
   int arm_contacts = 0;
   int emergency_stops = 0;  ///< 0 or 1: the stop is latched, later causes are only logged
-  double sim_time_s = 0;    ///< mission time
+  /// Device faults found (each device and kind once), by kind
+  /// (hardware/device_health.h: servo_silent, link_lost, camera_no_frame, ...).
+  std::map<std::string, int> device_faults;
+  /// Simulation: when a fault the hardware file sets on a simulated device first
+  /// showed (Hardware::FirstSimulatedFaultS); < 0: none.
+  double simulated_fault_s = -1;
+  double sim_time_s = 0;  ///< mission time
   double wall_time_s = 0;
   double realtime_factor = 0;  ///< sim_time_s / wall_time_s
   int frames = 0;              ///< camera frames processed

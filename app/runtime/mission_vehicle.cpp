@@ -40,11 +40,9 @@ void VehicleLegs::GoTo(double t_s, const Eigen::Vector3d& w, Leg leg, const std:
 }
 
 bool VehicleLegs::Step(double t, const VehicleView& view) {
+  // A lost link is a device fault (app/runtime/mission_health.h): the runner
+  // stops the mission before this step.
   const VehicleState vs = autopilot_->State();
-  if (!vs.link_ok) {
-    emergency_("autopilot: the link is lost (no state for too long)");
-    return false;
-  }
   const Eigen::Vector3d p_w = vs.wMd.translation();
   const GlobalState g = global_->state();
   if (g == GlobalState::kAborted || g == GlobalState::kDone) return false;

@@ -256,6 +256,7 @@ CycleReport ScsArmsDriver::Cycle() {
     servos_[k].raw_position = raw[k];
     servos_[k].error = errors[k];
     servos_[k].failed_reads = 0;
+    ++servos_[k].good_reads;
   }
   if (status_ok) {
     ScsServoStatus& servo = servos_[status_index];

@@ -58,8 +58,9 @@ struct ScsServoStatus {
   int load = 0;           ///< PRESENT_LOAD, signed (-1023 .. 1023)
   double voltage_v = 0.0;
   int temperature_c = 0;
-  std::uint8_t error = 0;  ///< last status error bits
-  int failed_reads = 0;    ///< consecutive failed reads (0 when healthy)
+  std::uint8_t error = 0;       ///< last status error bits
+  int failed_reads = 0;         ///< consecutive failed reads (0 when healthy)
+  std::int64_t good_reads = 0;  ///< position reads answered since the start
 };
 
 struct CycleReport {

@@ -1,5 +1,6 @@
 #include "hardware/sim/sim_devices.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -13,10 +14,11 @@ constexpr double kLightPeriod_s = 23.0;  // slow change of the light (clouds)
 
 }  // namespace
 
-SimCamera::SimCamera(World* world)
+SimCamera::SimCamera(World* world, const SimCameraFaults& faults)
     : world_(world),
       K_(world->platform().camera().Scaled(world->config().camera.image_scale)),
-      rng_(world->seed() * 0x9E3779B97F4A7C15ull + kCameraStream) {
+      rng_(world->seed() * 0x9E3779B97F4A7C15ull + kCameraStream),
+      faults_(faults) {
   for (const RenderMesh& mesh : world->static_scene())
     renderer_.AddMesh(mesh, RgbdRenderer::Motion::kStatic);
   object_id_ = renderer_.AddMesh(world->object_render_mesh());
@@ -36,6 +38,12 @@ const CameraIntrinsics& SimCamera::intrinsics() const { return K_; }
 double SimCamera::depth_scale_m() const { return world_->config().camera.d435.depth_scale_m; }
 
 bool SimCamera::Grab(RgbdFrame* frame) {
+  const bool faulty = world_->now_s() >= faults_.faults_from_s;
+  if (faulty && faults_.frozen && have_last_frame_) {
+    if (first_fault_s_ < 0.0) first_fault_s_ = world_->now_s();
+    *frame = last_frame_;
+    return true;
+  }
   const CameraSimConfig& config = world_->config().camera;
   renderer_.SetPose(object_id_, world_->wMo());
   if (occluder_id_ >= 0) renderer_.SetPose(occluder_id_, world_->wMh());
@@ -67,6 +75,14 @@ bool SimCamera::Grab(RgbdFrame* frame) {
   model_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   frame->index = next_index_++;
   frame->stamp_s = t;
+  if (faulty && faults_.no_depth) {
+    if (first_fault_s_ < 0.0) first_fault_s_ = t;
+    std::fill(frame->depth.data.begin(), frame->depth.data.end(), std::uint16_t{0});
+  }
+  if (faults_.frozen) {
+    last_frame_ = *frame;
+    have_last_frame_ = true;
+  }
   return true;
 }
 

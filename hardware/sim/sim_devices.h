@@ -13,11 +13,18 @@
 
 namespace aerograsp {
 
+/// Faults of the simulated camera, from faults_from_s of the simulated clock on.
+struct SimCameraFaults {
+  double faults_from_s{0.0};  ///< >= 0 s
+  bool frozen{false};         ///< Grab returns the last frame again (same index and stamp)
+  bool no_depth{false};       ///< every depth pixel 0 (no data)
+};
+
 /// Renders the world as the D435 on the vehicle sees it at the world's
 /// current time: colour and aligned depth with the D435 model applied.
 class SimCamera : public RgbdCamera {
  public:
-  explicit SimCamera(World* world);
+  explicit SimCamera(World* world, const SimCameraFaults& faults = {});
   ~SimCamera() override;
   const CameraIntrinsics& intrinsics() const override;
   double depth_scale_m() const override;
@@ -32,6 +39,8 @@ class SimCamera : public RgbdCamera {
   /// Wall time of the last Grab's ray casting and of its D435 model, seconds.
   double last_render_s() const { return render_s_; }
   double last_sensor_model_s() const { return model_s_; }
+  /// Simulated time of the first frame a fault changed; < 0: none (yet).
+  double first_fault_s() const { return first_fault_s_; }
 
  private:
   World* world_;
@@ -46,6 +55,10 @@ class SimCamera : public RgbdCamera {
   RenderBuffers truth_;
   Lighting lighting_;
   double render_s_ = 0.0, model_s_ = 0.0;
+  SimCameraFaults faults_;
+  RgbdFrame last_frame_;  // kept when a freeze is configured
+  bool have_last_frame_ = false;
+  double first_fault_s_ = -1.0;
 };
 
 class SimArmsDriver : public ArmsDriver {

@@ -121,7 +121,14 @@ void SimPx4::HandleCommand(const mavlink::CommandLong& command) {
   {
     std::lock_guard<std::mutex> lock(world_mutex_);
     SimVehicle& vehicle = world_->vehicle();
-    switch (command.command) {
+    const bool refuse = reject_commands_;
+    if (refuse) {
+      if (first_fault_s_ < 0.0) first_fault_s_ = world_->now_s();
+      result = {false, "command refused (simulated fault)"};
+    }
+    switch (refuse ? -1 : int{command.command}) {
+      case -1:
+        break;
       case mavlink::kCmdComponentArmDisarm:
         result = command.param1 > 0.5f ? vehicle.Arm() : vehicle.Disarm();
         break;
@@ -189,6 +196,13 @@ void SimPx4::StepWorld(double dt_s) {
     std::lock_guard<std::mutex> lock(world_mutex_);
     world_->Step(dt_s);
     const double now = world_->now_s();
+    if (now >= config_.faults.faults_from_s) {
+      if (config_.faults.silent && !silent_) {
+        silent_ = true;
+        if (first_fault_s_ < 0.0) first_fault_s_ = now;
+      }
+      if (config_.faults.reject_commands) reject_commands_ = true;
+    }
     if (now >= next_fast_s_ - 1e-9) {
       fast = true;
       next_fast_s_ = now + 1.0 / config_.telemetry_hz;

@@ -30,6 +30,13 @@
 
 namespace aerograsp {
 
+/// Faults of the simulated PX4, from faults_from_s of the simulated clock on.
+struct SimPx4Faults {
+  double faults_from_s{0.0};    ///< >= 0 s
+  bool silent{false};           ///< the link is lost: nothing sent, everything ignored
+  bool reject_commands{false};  ///< every COMMAND_LONG refused (TEMPORARILY_REJECTED)
+};
+
 struct SimPx4Config {
   int system_id{1};
   int component_id{1};
@@ -40,6 +47,7 @@ struct SimPx4Config {
   double default_takeoff_m{2.5};  ///< take-off altitude when param7 is NaN (MIS_TAKEOFF_ALT), m
   double offboard_signal_s{0.5};  ///< OFFBOARD needs a setpoint this recent, s
   std::string signing_key_hex;    ///< when set: sign what it sends and accept only signed frames
+  SimPx4Faults faults;
 };
 
 class SimPx4 {
@@ -67,6 +75,9 @@ class SimPx4 {
   /// machine is. Returns false on timeout.
   bool WaitForSetpoints(std::int64_t count, double timeout_s) const;
   std::int64_t frames_rejected() const;
+  /// When the configured faults first showed: the link fell silent, or the
+  /// first command was refused (simulated time); < 0: not (yet).
+  double first_fault_s() const { return first_fault_s_; }
 
  private:
   void Serve();
@@ -87,6 +98,8 @@ class SimPx4 {
   mavlink::SetPositionTargetLocalNed last_setpoint_;
   double next_fast_s_ = 0.0, next_slow_s_ = 0.0, next_heartbeat_s_ = 0.0;
   std::atomic<bool> silent_{false};
+  std::atomic<bool> reject_commands_{false};
+  std::atomic<double> first_fault_s_{-1.0};
   std::atomic<int> drop_commands_{0};
   std::atomic<std::int64_t> commands_received_{0}, setpoints_received_{0}, frames_rejected_{0};
   std::atomic<bool> running_{true};

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 
 namespace aerograsp {
 namespace {
@@ -22,6 +23,8 @@ bool Contains(const std::vector<int>& ids, int id) {
 
 constexpr int kHoldingLoad = 600;  // PRESENT_LOAD of a gripper squeezing an object
 constexpr int kIdleLoad = 40;
+constexpr int kVoltage_dv = 74;  // PRESENT_VOLTAGE of a healthy servo: 7.4 V
+constexpr int kTemperature_c = 35;
 
 }  // namespace
 
@@ -53,8 +56,8 @@ SimServoBus::SimServoBus(World* world, const ScsArmsConfig& servos, const SimSer
     scs::PutU16(0, &servo.regs[scs::reg::kMinAngle]);
     scs::PutU16(kScsMaxRaw, &servo.regs[scs::reg::kMaxAngle]);
     scs::PutU16(1000, &servo.regs[scs::reg::kMaxTorque]);
-    servo.regs[scs::reg::kVoltage] = 74;  // 7.4 V
-    servo.regs[scs::reg::kTemperature] = 35;
+    servo.regs[scs::reg::kVoltage] = kVoltage_dv;
+    servo.regs[scs::reg::kTemperature] = kTemperature_c;
   }
   SyncWithWorld();
   // Goals start where the servos are (a powered servo holds its position).
@@ -73,6 +76,11 @@ SimServoBus::~SimServoBus() {
 void SimServoBus::SetFaults(const SimServoBusConfig& config) {
   std::lock_guard<std::mutex> lock(mutex_);
   config_ = config;
+}
+
+double SimServoBus::faults_on_since_s() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return faults_on_since_s_;
 }
 
 SimServoBusCounters SimServoBus::counters() const {
@@ -98,6 +106,18 @@ SimServoBus::Servo* SimServoBus::Find(int id) {
 void SimServoBus::SyncWithWorld() {
   std::lock_guard<std::mutex> lock(mutex_);
   faults_on_ = world_->now_s() >= config_.faults_from_s;
+  const bool any_fault = !config_.silent_ids.empty() || !config_.slow_ids.empty() ||
+                         !config_.hot_ids.empty() || !config_.low_voltage_ids.empty() ||
+                         config_.corrupt_probability > 0.0;
+  if (faults_on_ && any_fault && faults_on_since_s_ < 0.0) faults_on_since_s_ = world_->now_s();
+  for (Servo& servo : servos_) {
+    const bool hot = faults_on_ && Contains(config_.hot_ids, servo.id);
+    const bool low = faults_on_ && Contains(config_.low_voltage_ids, servo.id);
+    servo.regs[scs::reg::kTemperature] =
+        static_cast<std::uint8_t>(hot ? config_.hot_temperature_c : kTemperature_c);
+    servo.regs[scs::reg::kVoltage] =
+        static_cast<std::uint8_t>(low ? std::lround(10.0 * config_.low_voltage_v) : kVoltage_dv);
+  }
   for (Side side : {Side::kLeft, Side::kRight}) {
     SimArm& arm = world_->arm(side);
     Eigen::VectorXd target = arm.target_rad();
@@ -226,7 +246,8 @@ void SimServoBus::Reply(const Servo& servo, std::uint8_t error,
   double delay = config_.return_delay_s + config_.byte_time_s * bytes.size();
   if (faults_on_ && Contains(config_.slow_ids, servo.id)) delay += config_.slow_extra_s;
   for (std::uint8_t& b : bytes) {
-    if (config_.corrupt_probability > 0.0 && rng_.Uniform() < config_.corrupt_probability) {
+    if (faults_on_ && config_.corrupt_probability > 0.0 &&
+        rng_.Uniform() < config_.corrupt_probability) {
       b ^= static_cast<std::uint8_t>(1u << (rng_.Next() % 8));
       ++counters_.corrupted_bytes;
     }

@@ -30,12 +30,16 @@ namespace aerograsp {
 struct SimServoBusConfig {
   double byte_time_s{
       10e-6};  ///< wire time of a byte (1 Mbaud, 8N1 = 10 bits), [0, 0.01] s; 0 = instant
-  double return_delay_s{20e-6};  ///< servo's delay before it replies, [0, 0.1] s
-  std::vector<int> silent_ids;   ///< servos that do not answer (nor obey)
-  std::vector<int> slow_ids;     ///< servos that answer late
-  double faults_from_s{0.0};  ///< simulated time from which silent_ids and slow_ids apply, >= 0 s
-  double slow_extra_s{0.02};  ///< how late, [0, 1] s
+  double return_delay_s{20e-6};      ///< servo's delay before it replies, [0, 0.1] s
+  std::vector<int> silent_ids;       ///< servos that do not answer (nor obey)
+  std::vector<int> slow_ids;         ///< servos that answer late
+  std::vector<int> hot_ids;          ///< servos that report hot_temperature_c
+  std::vector<int> low_voltage_ids;  ///< servos that report low_voltage_v
+  double faults_from_s{0.0};        ///< simulated time from which every fault below applies, >= 0 s
+  double slow_extra_s{0.02};        ///< how late, [0, 1] s
   double corrupt_probability{0.0};  ///< chance that a reply byte has a bit flipped, [0, 1]
+  int hot_temperature_c{85};        ///< [0, 255] C
+  double low_voltage_v{5.0};        ///< [0, 25] V
   std::uint64_t seed{1};            ///< of the corruption
 };
 
@@ -64,6 +68,8 @@ class SimServoBus {
   void SyncWithWorld();
   /// Replaces the faults (thread-safe).
   void SetFaults(const SimServoBusConfig& config);
+  /// The simulated time at which configured faults switched on; < 0: not (yet).
+  double faults_on_since_s() const;
   SimServoBusCounters counters() const;
   /// A copy of one servo's registers (tests).
   std::vector<std::uint8_t> Registers(int id) const;
@@ -93,7 +99,8 @@ class SimServoBus {
   std::chrono::steady_clock::time_point bus_free_;
   std::thread thread_;
   std::atomic<bool> running_{true};
-  bool faults_on_ = false;  // silent_ids / slow_ids apply (world time >= faults_from_s)
+  bool faults_on_ = false;  // the faults apply (world time >= faults_from_s)
+  double faults_on_since_s_ = -1.0;
 };
 
 }  // namespace aerograsp

@@ -271,6 +271,20 @@ void World::PhysicsStep(double dt_s) {
     wMo_ = wMe(Side::kLeft) * grippers_[0].eMo;
   } else if (grippers_[1].state.holding) {
     wMo_ = wMe(Side::kRight) * grippers_[1].eMo;
+  } else if (!knocked_off_ && config_.object.knocked_off_at_s >= 0.0 &&
+             now_s_ >= config_.object.knocked_off_at_s) {
+    // Knocked off: it lands upright on the ground, half a metre to the side of
+    // where it sat on the pipe, and stays there.
+    knocked_off_ = true;
+    object_free_ = true;
+    const Eigen::Vector3d side_w =
+        PipeFrame(config_.scene).linear() * Eigen::Vector3d(0.0, 0.5, 0.0);
+    const Eigen::Vector3d centre_w = wMo_ * PlacementCentre(object_.mesh_o) + side_w;
+    const double yaw = std::atan2(wMo_.linear()(1, 0), wMo_.linear()(0, 0));
+    wMo_ = PlaceByCentre(
+        MakeTransform(Eigen::Vector3d(centre_w.x(), centre_w.y(), -0.5 * object_.dimensions_m.z()),
+                      Eigen::Vector3d(M_PI, 0.0, yaw)),
+        object_.mesh_o);
   } else if (!object_free_ && config_.object.motion == "crawl" && config_.object.travel_m > 0.0) {
     // Back and forth between start and start + travel at constant speed.
     const double travel = config_.object.travel_m;

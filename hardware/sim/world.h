@@ -151,6 +151,7 @@ class World {
   double now_s_ = 0.0;
   Eigen::Isometry3d wMo_ = Eigen::Isometry3d::Identity();
   bool object_free_ = false;  // grasped once: no longer crawls
+  bool knocked_off_ = false;  // config_.object.knocked_off_at_s has come
   std::vector<RenderMesh> static_scene_;
   RenderMesh object_render_;
   RenderMesh occluder_render_;

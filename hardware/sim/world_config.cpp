@@ -38,8 +38,8 @@ WorldConfig WorldConfig::Load(const std::string& path) {
   }
   if (root.Has("object")) {
     const ConfigNode n = root.Child("object");
-    n.RequireOnlyKeys(
-        {"name", "motion", "start_along_pipe_m", "speed_mps", "travel_m", "yaw_on_pipe_rad"});
+    n.RequireOnlyKeys({"name", "motion", "start_along_pipe_m", "speed_mps", "travel_m",
+                       "yaw_on_pipe_rad", "knocked_off_at_s"});
     ObjectMotionConfig& o = c.object;
     o.name = n.GetString("name", o.name);
     o.motion = n.GetString("motion", o.motion);
@@ -47,6 +47,7 @@ WorldConfig WorldConfig::Load(const std::string& path) {
     o.speed_mps = n.GetDouble("speed_mps", o.speed_mps);
     o.travel_m = n.GetDouble("travel_m", o.travel_m);
     o.yaw_on_pipe_rad = n.GetDouble("yaw_on_pipe_rad", o.yaw_on_pipe_rad);
+    o.knocked_off_at_s = n.GetDouble("knocked_off_at_s", o.knocked_off_at_s);
   }
   if (root.Has("vehicle")) {
     const ConfigNode n = root.Child("vehicle");
@@ -133,6 +134,7 @@ void WorldConfig::Validate() const {
   CheckRange(src, "object.travel_m", object.travel_m, 0.0,
              0.5 * scene.pipe_length_m - object.start_along_pipe_m, "m");
   CheckRange(src, "object.yaw_on_pipe_rad", object.yaw_on_pipe_rad, -M_PI, M_PI, "rad");
+  CheckRange(src, "object.knocked_off_at_s", object.knocked_off_at_s, -1.0, 1e6, "s");
 
   CheckOneOf(src, "vehicle.start", vehicle.start, {"hover", "ground"});
   CheckRange(src, "vehicle.start_w_m", vehicle.start_w_m, -1000.0, 1000.0, "m");

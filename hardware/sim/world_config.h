@@ -32,6 +32,9 @@ struct ObjectMotionConfig {
   double speed_mps{0.03};          ///< crawl speed, [0, 1] m/s
   double travel_m{0.4};         ///< crawl from start to start + travel and back, [0, pipe length] m
   double yaw_on_pipe_rad{0.0};  ///< object x from the pipe axis, about the vertical, rad
+  /// At this simulated time the object, unless a gripper holds it, is knocked
+  /// off the pipe onto the ground beside it, [-1, 1e6] s; < 0: never.
+  double knocked_off_at_s{-1.0};
 };
 
 struct VehicleSimConfig {

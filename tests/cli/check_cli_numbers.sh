@@ -35,5 +35,12 @@ if [ -e "$out/p" ] || [ -e "$out/m" ] || [ -e "$out/r" ] || [ -e "$out/b" ]; the
   echo "FAILED: a refused command wrote its output folder"
   failures=$((failures + 1))
 fi
+# A mission that does not succeed exits 3 (app/exit_codes.h), not 0.
+"$aerograsp" mission --out "$out/t" --timeout 1 >/dev/null 2>&1
+code=$?
+if [ "$code" -ne 3 ]; then
+  echo "FAILED: a mission stopped by its time limit exited $code, expected 3"
+  failures=$((failures + 1))
+fi
 [ "$failures" -eq 0 ] && echo "every bad number refused with its option named"
 exit "$failures"
