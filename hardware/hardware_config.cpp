@@ -90,7 +90,8 @@ HardwareConfig HardwareConfig::Load(const std::string& path) {
       const ConfigNode b = n.Child("sim_bus");
       b.RequireOnlyKeys({"byte_time_s", "return_delay_s", "corrupt_probability", "slow_extra_s",
                          "seed", "silent_ids", "slow_ids", "hot_ids", "low_voltage_ids",
-                         "hot_temperature_c", "low_voltage_v", "faults_from_s"});
+                         "offset_ids", "hot_temperature_c", "low_voltage_v", "offset_deg",
+                         "faults_from_s"});
       a.sim_bus.byte_time_s = b.GetDouble("byte_time_s", a.sim_bus.byte_time_s);
       a.sim_bus.return_delay_s = b.GetDouble("return_delay_s", a.sim_bus.return_delay_s);
       a.sim_bus.corrupt_probability =
@@ -102,7 +103,8 @@ HardwareConfig HardwareConfig::Load(const std::string& path) {
           {"silent_ids", &a.sim_bus.silent_ids},
           {"slow_ids", &a.sim_bus.slow_ids},
           {"hot_ids", &a.sim_bus.hot_ids},
-          {"low_voltage_ids", &a.sim_bus.low_voltage_ids}};
+          {"low_voltage_ids", &a.sim_bus.low_voltage_ids},
+          {"offset_ids", &a.sim_bus.offset_ids}};
       for (const auto& [key, list] : id_lists) {
         if (!b.Has(key)) continue;
         std::vector<int>& ids = *list;
@@ -116,6 +118,7 @@ HardwareConfig HardwareConfig::Load(const std::string& path) {
       a.sim_bus.faults_from_s = b.GetDouble("faults_from_s", a.sim_bus.faults_from_s);
       a.sim_bus.hot_temperature_c = b.GetInt("hot_temperature_c", a.sim_bus.hot_temperature_c);
       a.sim_bus.low_voltage_v = b.GetDouble("low_voltage_v", a.sim_bus.low_voltage_v);
+      a.sim_bus.offset_deg = b.GetDouble("offset_deg", a.sim_bus.offset_deg);
     }
   }
   if (root.Has("autopilot")) {
@@ -268,6 +271,7 @@ void HardwareConfig::Validate() const {
   CheckRange(f, "arms.sim_bus.faults_from_s", arms.sim_bus.faults_from_s, 0.0, 1e6, "s");
   CheckRange(f, "arms.sim_bus.hot_temperature_c", arms.sim_bus.hot_temperature_c, 0, 255, "C");
   CheckRange(f, "arms.sim_bus.low_voltage_v", arms.sim_bus.low_voltage_v, 0.0, 25.0, "V");
+  CheckRange(f, "arms.sim_bus.offset_deg", arms.sim_bus.offset_deg, -220.0, 220.0, "deg");
   CheckRange(f, "autopilot.sim_px4.faults_from_s", autopilot.sim_px4.faults_from_s, 0.0, 1e6, "s");
   CheckRange(f, "camera.sim.faults_from_s", camera.sim.faults_from_s, 0.0, 1e6, "s");
   health.Validate(f);

@@ -54,7 +54,9 @@ bool VehicleLegs::Step(double t, const VehicleView& view) {
         CommandAck ack = autopilot_->Arm();
         if (ack.accepted) ack = autopilot_->Takeoff(config_.takeoff_altitude_m);
         if (!ack.accepted) {
+          // Still on the ground: there is nothing to fly home, the mission ends here.
           global_->GiveUp(t, "the autopilot refused to take off: " + ack.reason);
+          global_->Landed(t);
           return false;
         }
         vehicle_->TakeOff(t);

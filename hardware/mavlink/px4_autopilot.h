@@ -7,8 +7,9 @@
 //   setpoint_hz; before the first switch to OFFBOARD it streams for prestream_s
 //   (PX4 refuses offboard without a live stream), then sends DO_SET_MODE.
 // - Link loss: no heartbeat from the autopilot for link_timeout_s makes
-//   VehicleState::link_ok false; the mission then holds the arms
-//   (HoldArmsOnLinkLoss in hardware/link_safety.h).
+//   VehicleState::link_ok false; the mission then stops the arms and holds
+//   (a device fault, hardware/device_health.h, which also watches the age of
+//   the newest state).
 // Clocks: telemetry stamps, heartbeat / setpoint periods and the link timeout
 // use the injected clock (the simulated one in simulation); waits for a
 // COMMAND_ACK are I/O timeouts in real time.

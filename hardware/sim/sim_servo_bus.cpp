@@ -108,7 +108,7 @@ void SimServoBus::SyncWithWorld() {
   faults_on_ = world_->now_s() >= config_.faults_from_s;
   const bool any_fault = !config_.silent_ids.empty() || !config_.slow_ids.empty() ||
                          !config_.hot_ids.empty() || !config_.low_voltage_ids.empty() ||
-                         config_.corrupt_probability > 0.0;
+                         !config_.offset_ids.empty() || config_.corrupt_probability > 0.0;
   if (faults_on_ && any_fault && faults_on_since_s_ < 0.0) faults_on_since_s_ = world_->now_s();
   for (Servo& servo : servos_) {
     const bool hot = faults_on_ && Contains(config_.hot_ids, servo.id);
@@ -144,7 +144,10 @@ void SimServoBus::SyncWithWorld() {
       // A limp servo (torque off) stays where it is.
       target[i] = torque ? servo.calibration.AngleFromRaw(goal) : arm.q_true_rad()[i];
       any_torque = any_torque || torque;
-      const int present = servo.calibration.RawFromAngle(arm.q_true_rad()[i]);
+      const double offset_rad = faults_on_ && Contains(config_.offset_ids, servo.id)
+                                    ? config_.offset_deg * M_PI / 180.0
+                                    : 0.0;
+      const int present = servo.calibration.RawFromAngle(arm.q_true_rad()[i] + offset_rad);
       scs::PutU16(static_cast<std::uint16_t>(present), &servo.regs[scs::reg::kPresentPosition]);
       scs::PutU16(kIdleLoad, &servo.regs[scs::reg::kPresentLoad]);
       servo.regs[scs::reg::kMoving] = std::abs(present - goal) > 1 && torque ? 1 : 0;

@@ -35,11 +35,13 @@ struct SimServoBusConfig {
   std::vector<int> slow_ids;         ///< servos that answer late
   std::vector<int> hot_ids;          ///< servos that report hot_temperature_c
   std::vector<int> low_voltage_ids;  ///< servos that report low_voltage_v
+  std::vector<int> offset_ids;       ///< servos whose position reading is offset_deg off
   double faults_from_s{0.0};        ///< simulated time from which every fault below applies, >= 0 s
   double slow_extra_s{0.02};        ///< how late, [0, 1] s
   double corrupt_probability{0.0};  ///< chance that a reply byte has a bit flipped, [0, 1]
   int hot_temperature_c{85};        ///< [0, 255] C
   double low_voltage_v{5.0};        ///< [0, 25] V
+  double offset_deg{45.0};          ///< [-220, 220] deg
   std::uint64_t seed{1};            ///< of the corruption
 };
 
