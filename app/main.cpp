@@ -4,6 +4,7 @@
 #include <iostream>
 #include <vector>
 
+#include "app/benchmarks/fault_benchmark.h"
 #include "app/benchmarks/perception_benchmark.h"
 #include "app/benchmarks/render_benchmark.h"
 #include "app/benchmarks/servo_benchmark.h"
@@ -121,6 +122,15 @@ int main(int argc, char** argv) {
   servo_bus_bench_cmd->add_option("--world", servo_bus_bench.world_config, "World YAML")
       ->check(CLI::ExistingFile);
   // ---- end benchmark servo-bus ----
+  // ---- benchmark faults: seeded missions with one device fault each ----
+  aerograsp::FaultBenchmarkOptions fault_bench;
+  CLI::App* fault_bench_cmd = benchmark_cmd->add_subcommand(
+      "faults",
+      "Seeded missions with one fault each at a random time (servo silent or slow, corrupted "
+      "bus, lost link, refused commands, frozen camera, no depth, object knocked off): safe "
+      "state and its latency per kind");
+  aerograsp::AddFaultBenchmarkOptions(fault_bench_cmd, &fault_bench);
+  // ---- end benchmark faults ----
   // ---- benchmark perception: plain meshes against coloured ones ----
   aerograsp::PerceptionBenchmarkOptions perception_bench;
   CLI::App* perception_bench_cmd = benchmark_cmd->add_subcommand(
@@ -491,6 +501,7 @@ int main(int argc, char** argv) {
     if (*calibrate_cmd) aerograsp::RunCalibrateCommand(calibrate, std::cout, std::cerr);
     if (*render_bench_cmd) aerograsp::RunRenderBenchmark(render_bench, std::cout);
     if (*servo_bus_bench_cmd) aerograsp::RunServoBusBenchmark(servo_bus_bench, std::cout);
+    if (*fault_bench_cmd) aerograsp::RunFaultBenchmark(fault_bench, std::cout);
     if (*perception_bench_cmd)
       aerograsp::RunPerceptionBenchmark(perception_bench, std::cout, std::cerr);
     if (*hardware_check_cmd && aerograsp::RunHardwareCheck(hardware_check, std::cout) > 0)

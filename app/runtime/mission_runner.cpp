@@ -157,6 +157,7 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
     }
     if (options.sway_frequency_hz >= 0)
       w->vehicle.sway_frequency_hz.setConstant(options.sway_frequency_hz);
+    if (options.adjust_world) options.adjust_world(w);
   };
   if (options.adjust_hardware) options.adjust_hardware(&hw_config);
   hw_ = Hardware::Open(hw_config, options.seed, adjust);

@@ -32,6 +32,7 @@
 namespace aerograsp {
 
 struct HardwareConfig;
+struct WorldConfig;
 
 struct MissionOptions {
   std::string config_path;    ///< mission YAML; empty: data/config/mission_default.yaml
@@ -48,6 +49,8 @@ struct MissionOptions {
   /// When given: changes the hardware configuration after it is read (faults
   /// on simulated devices, for the fault benchmark).
   std::function<void(HardwareConfig*)> adjust_hardware;
+  /// When given: changes the simulated world's settings after the options above.
+  std::function<void(WorldConfig*)> adjust_world;
 };
 
 /// One gripper close, measured against the simulated world's truth

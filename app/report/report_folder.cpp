@@ -1,0 +1,68 @@
+#include "app/report/report_folder.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <stdexcept>
+#include <system_error>
+
+#include "core/config.h"
+
+namespace aerograsp {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path Beside(const fs::path& dir, const std::string& what) {
+  return dir.parent_path() /
+         ("." + dir.filename().string() + "." + what + "-" + std::to_string(::getpid()));
+}
+
+}  // namespace
+
+ReportFolder::ReportFolder(const std::string& dir, bool overwrite) {
+  fs::path d = fs::absolute(dir).lexically_normal();
+  if (!d.has_filename()) d = d.parent_path();  // "out/" -> "out"
+  dir_ = d.string();
+  std::error_code ec;
+  if (fs::exists(d, ec)) {
+    if (!fs::is_directory(d, ec)) throw ConfigError(dir + ": is a file, not a report folder");
+    if (!fs::is_empty(d, ec) && !overwrite)
+      throw ConfigError(dir + ": holds an earlier report; --overwrite replaces it");
+  }
+  const fs::path work = Beside(d, "partial");
+  fs::remove_all(work, ec);
+  fs::create_directories(work, ec);
+  if (ec) throw std::runtime_error(work.string() + ": cannot be made: " + ec.message());
+  work_ = work.string();
+}
+
+ReportFolder::~ReportFolder() {
+  if (committed_) return;
+  std::error_code ec;
+  fs::remove_all(work_, ec);
+}
+
+const std::string& ReportFolder::Commit() {
+  if (committed_) return dir_;
+  const fs::path d(dir_);
+  const fs::path old = Beside(d, "replaced");
+  std::error_code ec;
+  fs::remove_all(old, ec);
+  if (fs::exists(d, ec)) {
+    fs::rename(d, old, ec);
+    if (ec)
+      throw std::runtime_error(dir_ + ": the earlier report cannot be moved: " + ec.message());
+  }
+  fs::rename(work_, d, ec);
+  if (ec) {
+    std::error_code back;
+    if (fs::exists(old, back)) fs::rename(old, d, back);
+    throw std::runtime_error(dir_ + ": the report cannot be moved into place: " + ec.message());
+  }
+  committed_ = true;
+  fs::remove_all(old, ec);
+  return dir_;
+}
+
+}  // namespace aerograsp

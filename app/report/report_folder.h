@@ -1,0 +1,38 @@
+// A command's report folder as a transaction: every file is written into a
+// temporary folder beside it (`.NAME.partial-PID`), which replaces DIR in one
+// rename at Commit(). Until then an earlier report in DIR stays as it was; a
+// run that throws leaves nothing (the temporary folder is removed); a run that
+// stops early writes a report that says so, commits it and exits non-zero. So
+// DIR never holds files of two runs. An existing, non-empty DIR is refused
+// unless `overwrite`.
+#pragma once
+
+#include <string>
+
+namespace aerograsp {
+
+class ReportFolder {
+ public:
+  /// @throws ConfigError "DIR: holds an earlier report; --overwrite replaces it"
+  /// when DIR exists, is not empty and `overwrite` is false, or when DIR is a file;
+  /// std::runtime_error when the temporary folder cannot be made.
+  ReportFolder(const std::string& dir, bool overwrite);
+  /// Removes the temporary folder unless committed.
+  ~ReportFolder();
+  ReportFolder(const ReportFolder&) = delete;
+  ReportFolder& operator=(const ReportFolder&) = delete;
+
+  /// Where to write now (the temporary folder).
+  const std::string& path() const { return work_; }
+  /// Where the report will be.
+  const std::string& final_path() const { return dir_; }
+  /// Moves the report into place (replacing an earlier one); returns final_path().
+  /// @throws std::runtime_error naming DIR when it cannot.
+  const std::string& Commit();
+
+ private:
+  std::string dir_, work_;
+  bool committed_ = false;
+};
+
+}  // namespace aerograsp
