@@ -31,6 +31,7 @@ void ServoConfig::Validate(const std::string& source, const std::string& prefix)
   CheckRange(source, prefix + "unreachable_retry_s", unreachable_retry_s, 0.0, 60.0, "s");
   CheckRange(source, prefix + "path_check_step_rad", path_check_step_rad, 1e-6, 1.0, "rad");
   CheckRange(source, prefix + "random_vias", random_vias, 0, 1000, "");
+  CheckRange(source, prefix + "search_budget", search_budget, 1, 1000000, "");
   ik.Validate(source, prefix + "ik.");
 }
 
@@ -50,6 +51,8 @@ const char* ServoStatusName(ServoStatus status) {
       return "safe volume";
     case ServoStatus::kUnreachable:
       return "unreachable";
+    case ServoStatus::kSearching:
+      return "searching";
   }
   return "?";
 }
@@ -96,6 +99,7 @@ void ArmServo::SetTarget(const Eigen::Isometry3d& bMg, double stamp_s, bool is_s
     // The previous command fades out from the first step after the switch.
     switch_dq_ = last_dq_;
     switch_pending_ = true;
+    search_.active = false;  // another grasp: search again from where the arm is
   }
   bMg_ = bMg;
   target_stamp_s_ = stamp_s;
@@ -122,65 +126,168 @@ bool Moved(const Eigen::Isometry3d& aMb_1, const Eigen::Isometry3d& aMb_2, doubl
 
 }  // namespace
 
-bool ArmServo::UpdateJointGoal(const Eigen::VectorXd& q, double now_s) {
+ArmServo::PathCheck ArmServo::MakePathCheck(const Eigen::VectorXd& from,
+                                            const Eigen::VectorXd& to) const {
+  PathCheck path;
+  path.from = from;
+  path.to = to;
+  const double length = (to - from).cwiseAbs().maxCoeff();
+  path.samples = std::max(1, static_cast<int>(std::ceil(length / config_.path_check_step_rad)));
+  path.next = forbidden_ ? path.samples : 0;
+  return path;
+}
+
+bool ArmServo::StepPath(PathCheck* path, bool* allowed) const {
+  *allowed = true;
+  if (path->next <= 0) return true;
+  const double f = static_cast<double>(path->next) / path->samples;
+  if (forbidden_(path->from + (path->to - path->from) * f)) {
+    *allowed = false;
+    path->next = 0;
+    return true;
+  }
+  return --path->next <= 0;
+}
+
+void ArmServo::StartSearch(const Eigen::VectorXd& q) {
+  Search& s = search_;
+  s = Search{};
+  s.active = true;
+  s.q_start = q;
+  s.seeds = {q};
+  if (has_goal_) s.seeds.push_back(q_goal_);
+  for (const Eigen::VectorXd& hint : hints_) {
+    if (hint.size() == q.size()) s.seeds.push_back(hint);
+  }
+  s.rng.seed(1u);
+  s.to_via.assign(via_.size(), -1);
+}
+
+bool ArmServo::ContinueSearch(int* budget) {
+  Search& s = search_;
+  const int n = arm_.dof();
+  const std::size_t total = s.seeds.size() + static_cast<std::size_t>(config_.ik.random_seeds);
+  const auto end = [&](bool found) {
+    s.active = false;
+    s.found = found;
+    return true;
+  };
+  bool allowed = true;
+  while (*budget > 0) {
+    switch (s.stage) {
+      case Search::Stage::kIk: {
+        if (!s.iterating) {
+          if (s.next_seed >= total) return end(false);
+          const std::size_t k = s.next_seed++;
+          const Eigen::VectorXd seed =
+              k < s.seeds.size() ? s.seeds[k] : DrawJointsWithinLimits(arm_, &s.rng);
+          if (seed.size() != n || !seed.allFinite()) continue;
+          s.run = ik_.StartFrom(seed);
+          s.iterating = true;
+        }
+        ik_.Iterate(bMg_, config_.ik.iterations_per_seed, &s.run);
+        --*budget;
+        if (!s.run.done) break;
+        s.iterating = false;
+        if (!s.run.best.converged) break;
+        // A converged q*: refused already (found again from another seed)?
+        const Eigen::VectorXd& q_star = s.run.best.q;
+        bool seen = false;
+        for (const Eigen::VectorXd& r : s.refused) {
+          seen = seen || (r - q_star).cwiseAbs().maxCoeff() <= config_.path_check_step_rad;
+        }
+        if (seen) break;
+        s.refused.push_back(q_star);
+        s.candidate = q_star;
+        s.path = MakePathCheck(s.q_start, q_star);
+        s.stage = Search::Stage::kDirect;
+        break;
+      }
+      case Search::Stage::kDirect:
+        if (s.path.next > 0) --*budget;
+        if (!StepPath(&s.path, &allowed)) break;
+        if (allowed) {
+          has_via_ = false;
+          return end(true);
+        }
+        s.via = 0;
+        s.stage = Search::Stage::kToVia;
+        s.path.next = -1;  // not started
+        break;
+      case Search::Stage::kToVia:
+        if (s.via >= via_.size()) {
+          s.stage = Search::Stage::kIk;  // no way to this q*: the next seed
+          break;
+        }
+        if (s.to_via[s.via] < 0) {
+          if (s.path.next < 0) s.path = MakePathCheck(s.q_start, via_[s.via]);
+          if (s.path.next > 0) --*budget;
+          if (!StepPath(&s.path, &allowed)) break;
+          s.to_via[s.via] = allowed ? 1 : 0;
+        }
+        s.path.next = -1;
+        if (s.to_via[s.via]) {
+          s.stage = Search::Stage::kFromVia;
+        } else {
+          ++s.via;
+        }
+        break;
+      case Search::Stage::kFromVia:
+        if (s.path.next < 0) s.path = MakePathCheck(via_[s.via], s.candidate);
+        if (s.path.next > 0) --*budget;
+        if (!StepPath(&s.path, &allowed)) break;
+        if (allowed) {
+          has_via_ = true;
+          via_q_ = via_[s.via];
+          return end(true);
+        }
+        ++s.via;
+        s.path.next = -1;
+        s.stage = Search::Stage::kToVia;
+        break;
+    }
+  }
+  return false;
+}
+
+ArmServo::Goal ArmServo::UpdateJointGoal(const Eigen::VectorXd& q, double now_s) {
   // Reached via point: on to the next.
   if (has_via_ && (via_q_ - q).cwiseAbs().maxCoeff() <= config_.guide_near_rad) has_via_ = false;
-  if (has_goal_ && goal_bMg_.matrix() == bMg_.matrix()) return true;
-  // A target that moved a little: refine q* from itself (a few iterations).
-  if (has_goal_) {
-    const ApproachIkResult refined = ik_.SolveFrom(bMg_, q_goal_, config_.ik.iterations_per_seed);
-    if (refined.converged &&
-        ((refined.q - q_goal_).cwiseAbs().maxCoeff() <= config_.path_check_step_rad ||
-         PathAllowed(has_via_ ? via_q_ : q, refined.q))) {
-      q_goal_ = refined.q;
-      goal_bMg_ = bMg_;
-      return true;
-    }
-  }
-  if (!has_goal_ && has_failed_ && now_s - failed_at_s_ < config_.unreachable_retry_s &&
-      !Moved(failed_bMg_, bMg_, config_.retarget_m, config_.retarget_rad)) {
-    return false;  // searched already, in vain
-  }
-  // Search: a goal whose straight joint path is allowed, else one reached
-  // through a via configuration with both legs allowed.
-  std::vector<Eigen::VectorXd> seeds{q};
-  if (has_goal_) seeds.push_back(q_goal_);
-  for (const Eigen::VectorXd& hint : hints_) {
-    if (hint.size() == q.size()) seeds.push_back(hint);
-  }
-  int via = -1;
-  std::vector<signed char> to_via(via_.size(), -1);  // PathAllowed(q, via_[v]), once per search
-  std::vector<Eigen::VectorXd> refused;  // goals found again from other seeds are not checked again
-  const auto reachable = [&](const Eigen::VectorXd& q_star) {
-    via = -1;
-    for (const Eigen::VectorXd& r : refused) {
-      if ((r - q_star).cwiseAbs().maxCoeff() <= config_.path_check_step_rad) return false;
-    }
-    refused.push_back(q_star);
-    if (PathAllowed(q, q_star)) return true;
-    for (std::size_t v = 0; v < via_.size(); ++v) {
-      if (to_via[v] < 0) to_via[v] = PathAllowed(q, via_[v]);
-      if (to_via[v] && PathAllowed(via_[v], q_star)) {
-        via = static_cast<int>(v);
-        return true;
+  int budget = config_.search_budget;
+  if (!search_.active) {
+    if (has_goal_ && goal_bMg_.matrix() == bMg_.matrix()) return Goal::kReady;
+    // A target that moved a little: refine q* from itself (a few iterations).
+    if (has_goal_) {
+      const ApproachIkResult refined = ik_.SolveFrom(bMg_, q_goal_, config_.ik.iterations_per_seed);
+      budget -= refined.iterations;
+      if (refined.converged &&
+          ((refined.q - q_goal_).cwiseAbs().maxCoeff() <= config_.path_check_step_rad ||
+           PathAllowed(has_via_ ? via_q_ : q, refined.q))) {
+        q_goal_ = refined.q;
+        goal_bMg_ = bMg_;
+        return Goal::kReady;
       }
     }
-    return false;
-  };
-  const ApproachIkResult found = ik_.Search(bMg_, seeds, 1u, reachable);
-  has_goal_ = found.converged;
+    if (!has_goal_ && has_failed_ && now_s - failed_at_s_ < config_.unreachable_retry_s &&
+        !Moved(failed_bMg_, bMg_, config_.retarget_m, config_.retarget_rad)) {
+      return Goal::kUnreachable;  // searched already, in vain
+    }
+    // Search: a goal whose straight joint path is allowed, else one reached
+    // through a via configuration with both legs allowed.
+    StartSearch(q);
+  }
+  if (!ContinueSearch(&budget)) return has_goal_ ? Goal::kReady : Goal::kSearching;
+  has_goal_ = search_.found;
   if (has_goal_) {
-    q_goal_ = found.q;
+    q_goal_ = search_.candidate;
     goal_bMg_ = bMg_;
     has_failed_ = false;
-    has_via_ = via >= 0;
-    if (has_via_) via_q_ = via_[via];
-  } else {
-    has_failed_ = true;
-    failed_bMg_ = bMg_;
-    failed_at_s_ = now_s;
+    return Goal::kReady;
   }
-  return has_goal_;
+  has_failed_ = true;
+  failed_bMg_ = bMg_;
+  failed_at_s_ = now_s;
+  return Goal::kUnreachable;
 }
 
 Eigen::VectorXd ArmServo::Limit(const Eigen::VectorXd& q, Eigen::VectorXd dq, double dt_s,
@@ -271,8 +378,12 @@ ServoStatus ArmServo::Command(const Eigen::VectorXd& q, double now_s, double dt_
   if (making_way_ && (via_q_ - q).cwiseAbs().maxCoeff() <= config_.guide_near_rad) {
     making_way_ = has_via_ = has_failed_ = false;  // out of the way: search again from here
   }
-  if (!making_way_ && !UpdateJointGoal(q, now_s) && !MakeWay(q, now_s, error.translation_m)) {
-    return Hold(q, ServoStatus::kUnreachable, out);
+  if (!making_way_) {
+    const Goal goal = UpdateJointGoal(q, now_s);
+    if (goal == Goal::kSearching) return Hold(q, ServoStatus::kSearching, out);
+    if (goal == Goal::kUnreachable && !MakeWay(q, now_s, error.translation_m)) {
+      return Hold(q, ServoStatus::kUnreachable, out);
+    }
   }
   const Eigen::Matrix<double, 6, 1> twist = pbvs_.Twist(bMe, bMg_);
 

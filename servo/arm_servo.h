@@ -19,6 +19,7 @@
 
 #include <Eigen/Geometry>
 #include <functional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -65,7 +66,11 @@ struct ServoConfig {
   int random_vias{16};  ///< [0, 1000]
   /// Spacing of the forbidden-predicate checks along the straight path to q*.
   double path_check_step_rad{0.02};  ///< (0, 1] rad
-  ApproachIkOptions ik{};            ///< the joint-goal search
+  /// Work of the joint-goal search per Step, counted in IK iterations plus
+  /// forbidden-predicate checks (not in time: the same inputs give the same
+  /// commands on any machine); a longer search goes on in the next Steps.
+  int search_budget{60};   ///< [1, 1000000]
+  ApproachIkOptions ik{};  ///< the joint-goal search
 
   /// `prefix` is the key path of this section in its file, ending in "." ("" at
   /// the top). @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
@@ -80,6 +85,7 @@ enum class ServoStatus {
   kInvalidState,   ///< holding: q has NaN/Inf or the wrong size
   kSafeVolume,     ///< holding: every scaled step would enter the forbidden region
   kUnreachable,    ///< holding: no joint goal meets the target within limits and allowed
+  kSearching,      ///< holding: the search for a first joint goal goes on next Step
 };
 const char* ServoStatusName(ServoStatus status);
 
@@ -140,9 +146,18 @@ class ArmServo {
   /// first via configuration away from q with an allowed path; false when it
   /// need not or cannot.
   bool MakeWay(const Eigen::VectorXd& q, double now_s, double to_target_m);
-  /// Updates q* (and the via point) for the current target; false when there
-  /// is none (unreachable).
-  bool UpdateJointGoal(const Eigen::VectorXd& q, double now_s);
+  enum class Goal { kReady, kSearching, kUnreachable };
+  /// Updates q* (and the via point) for the current target within the Step's
+  /// search budget: kReady with a goal (while a search for the moved target
+  /// goes on, the last goal), kSearching while the first goal is searched,
+  /// kUnreachable when the search found none.
+  Goal UpdateJointGoal(const Eigen::VectorXd& q, double now_s);
+  /// The search from joints q: its seeds are q, the last goal and the hints,
+  /// then random ones.
+  void StartSearch(const Eigen::VectorXd& q);
+  /// Goes on with the search for at most *budget units (IK iterations and
+  /// predicate checks; each spent is taken off *budget). True once it ended.
+  bool ContinueSearch(int* budget);
   /// dq scaled to the speed limits (*scale: the factor), then moved at most
   /// max_accel * dt from the last command, then stopped at the joint limits.
   Eigen::VectorXd Limit(const Eigen::VectorXd& q, Eigen::VectorXd dq, double dt_s,
@@ -177,6 +192,36 @@ class ArmServo {
   bool has_failed_ = false;
   Eigen::Isometry3d failed_bMg_ = Eigen::Isometry3d::Identity();
   double failed_at_s_ = 0.0;
+
+  /// A straight joint path checked against the forbidden predicate one sample
+  /// at a time, the goal end first (as PathAllowed).
+  struct PathCheck {
+    Eigen::VectorXd from, to;
+    int samples = 0, next = 0;  // next: the sample to check, samples..1
+  };
+  /// The joint-goal search in progress (ApproachIk::Search with the via
+  /// points, spread over Steps). Stages: iterating a seed, then for a
+  /// converged q* its direct path, then each via point's two legs.
+  struct Search {
+    enum class Stage { kIk, kDirect, kToVia, kFromVia };
+    bool active = false;
+    bool found = false;  // once ended: a goal was found
+    Eigen::VectorXd q_start;
+    std::vector<Eigen::VectorXd> seeds;
+    std::size_t next_seed = 0;  // of seeds, then random_seeds drawn from rng
+    std::mt19937 rng;
+    bool iterating = false;
+    ApproachIkRun run;
+    Stage stage = Stage::kIk;
+    Eigen::VectorXd candidate;             // a converged q* being checked
+    std::vector<Eigen::VectorXd> refused;  // q* refused already (not checked again)
+    std::vector<signed char> to_via;       // PathAllowed(q_start, via_[v]), -1: not known
+    std::size_t via = 0;
+    PathCheck path;
+  } search_;
+  PathCheck MakePathCheck(const Eigen::VectorXd& from, const Eigen::VectorXd& to) const;
+  /// One sample of `path` (one unit of budget); true once it ended, with *allowed.
+  bool StepPath(PathCheck* path, bool* allowed) const;
 };
 
 }  // namespace aerograsp

@@ -76,77 +76,92 @@ double Badness(const ApproachError& e) {
 
 }  // namespace
 
-ApproachIkResult ApproachIk::SolveFrom(const Eigen::Isometry3d& bMg, const Eigen::VectorXd& q_seed,
-                                       int max_iterations) const {
+ApproachIkRun ApproachIk::StartFrom(const Eigen::VectorXd& q_seed) const {
+  ApproachIkRun run;
+  run.q = arm_.Clamp(q_seed);
+  run.best.q = run.q;
+  return run;
+}
+
+void ApproachIk::Iterate(const Eigen::Isometry3d& bMg, int max_iterations,
+                         ApproachIkRun* run) const {
+  if (run->done) return;
+  if (run->best.iterations >= max_iterations) {
+    run->done = true;
+    return;
+  }
   const int n = arm_.dof();
-  ApproachIkResult best;
-  best.q = arm_.Clamp(q_seed);
-  double best_badness = INFINITY;
-  Eigen::VectorXd q = best.q;
+  Eigen::VectorXd& q = run->q;
   Eigen::Isometry3d bMe;
   Eigen::Matrix<double, 6, Eigen::Dynamic> J(6, n);
-  int since_better = 0;
-  for (int it = 0; it < max_iterations; ++it) {
-    arm_.Kinematics(q, &bMe, &J);
-    const ApproachError error = ComputeApproachError(bMe, bMg);
-    best.iterations = it + 1;
-    const double badness = Badness(error);
-    if (badness < best_badness - 1e-12) {
-      best_badness = badness;
-      best.q = q;
-      best.error = error;
-      since_better = 0;
-    } else if (++since_better > 15) {
-      break;  // stalled: a local minimum of this seed
-    }
-    if (Converged(error)) {
-      best.converged = true;
-      return best;
-    }
-    // Position and weighted orientation in one least-squares system, the
-    // orientation rows scaled to metres: near the stretched and yaw-axis
-    // singularities of the 4-DoF arm only the approach axis tells the
-    // position's branches apart, so it must act on every joint.
-    const Eigen::Matrix3d bRe = bMe.linear();
-    const Eigen::Matrix3d W_b = kRotationScaleM * bRe * weights_.asDiagonal() * bRe.transpose();
-    Eigen::Matrix<double, 6, 1> e;
-    e.head<3>() = error.position_b;
-    e.tail<3>() = W_b * (error.swing_b + error.roll_rad * bRe.col(2));
-    Eigen::MatrixXd Js(6, n);
-    Js.topRows<3>() = J.topRows<3>();
-    Js.bottomRows<3>() = W_b * J.bottomRows<3>();
-    // Damping no larger than the error (Levenberg-Marquardt style): robust far
-    // away, and it fades near a solution that sits close to a singularity,
-    // where a fixed damping would slow the last iterations to a crawl.
-    DampingOptions damping = options_.damping;
-    damping.max_damping = std::clamp(e.norm(), 1e-9, damping.max_damping);
-    // Clamping loop: a joint the step would push past a limit is set onto the
-    // limit, its motion removed from the errors, and the rest solved again.
-    std::vector<bool> clamped(n, false);
-    Eigen::VectorXd dq = Eigen::VectorXd::Zero(n), clamped_dq = Eigen::VectorXd::Zero(n);
-    for (int pass = 0; pass <= n; ++pass) {
-      dq = SolveDampedLeastSquares(Js, e, damping).dq;
-      const double largest = dq.cwiseAbs().maxCoeff();
-      if (largest > options_.max_step_rad) dq *= options_.max_step_rad / largest;
-      bool clamped_any = false;
-      for (int i = 0; i < n; ++i) {
-        if (clamped[i]) continue;
-        const double next = q[i] + dq[i];
-        const double onto = std::clamp(next, arm_.lower_limits()[i], arm_.upper_limits()[i]);
-        if (onto == next) continue;
-        clamped[i] = clamped_any = true;
-        clamped_dq[i] = onto - q[i];
-        e -= Js.col(i) * clamped_dq[i];
-        Js.col(i).setZero();
-      }
-      if (!clamped_any) break;
-    }
-    for (int i = 0; i < n; ++i) {
-      if (clamped[i]) dq[i] = clamped_dq[i];
-    }
-    q = arm_.Clamp(q + dq);
+  arm_.Kinematics(q, &bMe, &J);
+  const ApproachError error = ComputeApproachError(bMe, bMg);
+  ++run->best.iterations;
+  const double badness = Badness(error);
+  if (badness < run->best_badness - 1e-12) {
+    run->best_badness = badness;
+    run->best.q = q;
+    run->best.error = error;
+    run->since_better = 0;
+  } else if (++run->since_better > 15) {
+    run->done = true;  // stalled: a local minimum of this seed
+    return;
   }
-  return best;
+  if (Converged(error)) {
+    run->best.converged = true;
+    run->done = true;
+    return;
+  }
+  // Position and weighted orientation in one least-squares system, the
+  // orientation rows scaled to metres: near the stretched and yaw-axis
+  // singularities of the 4-DoF arm only the approach axis tells the
+  // position's branches apart, so it must act on every joint.
+  const Eigen::Matrix3d bRe = bMe.linear();
+  const Eigen::Matrix3d W_b = kRotationScaleM * bRe * weights_.asDiagonal() * bRe.transpose();
+  Eigen::Matrix<double, 6, 1> e;
+  e.head<3>() = error.position_b;
+  e.tail<3>() = W_b * (error.swing_b + error.roll_rad * bRe.col(2));
+  Eigen::MatrixXd Js(6, n);
+  Js.topRows<3>() = J.topRows<3>();
+  Js.bottomRows<3>() = W_b * J.bottomRows<3>();
+  // Damping no larger than the error (Levenberg-Marquardt style): robust far
+  // away, and it fades near a solution that sits close to a singularity,
+  // where a fixed damping would slow the last iterations to a crawl.
+  DampingOptions damping = options_.damping;
+  damping.max_damping = std::clamp(e.norm(), 1e-9, damping.max_damping);
+  // Clamping loop: a joint the step would push past a limit is set onto the
+  // limit, its motion removed from the errors, and the rest solved again.
+  std::vector<bool> clamped(n, false);
+  Eigen::VectorXd dq = Eigen::VectorXd::Zero(n), clamped_dq = Eigen::VectorXd::Zero(n);
+  for (int pass = 0; pass <= n; ++pass) {
+    dq = SolveDampedLeastSquares(Js, e, damping).dq;
+    const double largest = dq.cwiseAbs().maxCoeff();
+    if (largest > options_.max_step_rad) dq *= options_.max_step_rad / largest;
+    bool clamped_any = false;
+    for (int i = 0; i < n; ++i) {
+      if (clamped[i]) continue;
+      const double next = q[i] + dq[i];
+      const double onto = std::clamp(next, arm_.lower_limits()[i], arm_.upper_limits()[i]);
+      if (onto == next) continue;
+      clamped[i] = clamped_any = true;
+      clamped_dq[i] = onto - q[i];
+      e -= Js.col(i) * clamped_dq[i];
+      Js.col(i).setZero();
+    }
+    if (!clamped_any) break;
+  }
+  for (int i = 0; i < n; ++i) {
+    if (clamped[i]) dq[i] = clamped_dq[i];
+  }
+  q = arm_.Clamp(q + dq);
+  if (run->best.iterations >= max_iterations) run->done = true;
+}
+
+ApproachIkResult ApproachIk::SolveFrom(const Eigen::Isometry3d& bMg, const Eigen::VectorXd& q_seed,
+                                       int max_iterations) const {
+  ApproachIkRun run = StartFrom(q_seed);
+  while (!run.done) Iterate(bMg, max_iterations, &run);
+  return run.best;
 }
 
 ApproachIkResult ApproachIk::Search(

@@ -67,6 +67,16 @@ struct ApproachIkResult {
   int iterations = 0;   ///< in all seeds
 };
 
+/// The iterations from one seed, one at a time (ApproachIk::Iterate): a search
+/// can spread them over cycles and stop anywhere.
+struct ApproachIkRun {
+  Eigen::VectorXd q;      ///< the next iterate (rad)
+  ApproachIkResult best;  ///< the best iterate so far; `converged` once done and solved
+  double best_badness = INFINITY;
+  int since_better = 0;  ///< iterations without a better iterate
+  bool done = false;     ///< converged, stalled or out of iterations
+};
+
 /// Damped least squares IK of one arm: each iteration solves position and the
 /// weighted approach/roll error (scaled 0.1 m/rad) as one least-squares system,
 /// clamps joints at their limits and solves again without the clamped joints
@@ -83,6 +93,13 @@ class ApproachIk {
   /// Iterates from one seed (clamped into the limits) toward bMg.
   ApproachIkResult SolveFrom(const Eigen::Isometry3d& bMg, const Eigen::VectorXd& q_seed,
                              int max_iterations) const;
+
+  /// A run from q_seed (clamped into the limits), before its first iteration.
+  ApproachIkRun StartFrom(const Eigen::VectorXd& q_seed) const;
+  /// One damped Newton iteration of `run` toward bMg (SolveFrom is these
+  /// iterations in a row): sets run->done when the iterate converged, stalled
+  /// or reached max_iterations. Does nothing on a run that is done.
+  void Iterate(const Eigen::Isometry3d& bMg, int max_iterations, ApproachIkRun* run) const;
 
   /// Tries the `seeds` in order, then options.random_seeds seeds drawn uniformly
   /// in the limits from a generator seeded with `rng_seed` (so the search is

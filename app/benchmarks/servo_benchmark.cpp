@@ -25,6 +25,7 @@
 #include "core/collision.h"
 #include "core/data_dir.h"
 #include "core/platform.h"
+#include "core/thread_clock.h"
 #include "core/transforms.h"
 #include "servo/arm_servo.h"
 #include "servo/collision_predicate.h"
@@ -227,7 +228,7 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
   DualServo dual;
   KdlArm kdl[2] = {KdlArm(platform.arm(Side::kLeft)), KdlArm(platform.arm(Side::kRight))};
   for (int a = 0; a < 2; ++a) CheckKdlChain(platform.arm(kSides[a]), &kdl[a], &rng);
-  std::vector<double> step_us, kdl_solve_us, kdl_step_us;
+  std::vector<double> step_us, step_cpu_us, kdl_solve_us, kdl_step_us;
   std::vector<double> iterations;
   std::map<std::string, int> failures, failure_classes;
   int converged[2] = {0, 0}, converged_with_roll = 0, kdl_converged = 0, targets = 0;
@@ -255,10 +256,12 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
       const double t = k * options.dt_s;
       ServoCommand cmd[2];
       const Clock::time_point t0 = Clock::now();
+      const double cpu0_ms = ThreadCpuMs();
       for (int a = 0; a < 2; ++a) {
         dual.servo[a]->SetTarget(bMg[a], t);
         last_status[a] = dual.servo[a]->Step(dual.q[a], t, options.dt_s, &cmd[a]);
       }
+      step_cpu_us.push_back(1e3 * (ThreadCpuMs() - cpu0_ms));
       step_us.push_back(MicrosecondsSince(t0));
       for (int a = 0; a < 2; ++a) {
         if (done_at[a] < 0 && last_status[a] == ServoStatus::kMoving &&
@@ -323,6 +326,10 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
   result["step_us_both_arms_p99"] = Percentile(step_us, 0.99);
   result["step_us_both_arms_max"] =
       step_us.empty() ? 0.0 : *std::max_element(step_us.begin(), step_us.end());
+  result["step_cpu_us_both_arms"] = Percentile(step_cpu_us, 0.5);
+  result["step_cpu_us_both_arms_p99"] = Percentile(step_cpu_us, 0.99);
+  result["step_cpu_us_both_arms_max"] =
+      step_cpu_us.empty() ? 0.0 : *std::max_element(step_cpu_us.begin(), step_cpu_us.end());
   result["safe_volume_entries"] = entries.safe_volume;
   result["arm_collision_entries"] = entries.arms;
   result["commands"] = entries.commands;
@@ -352,6 +359,11 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
              result["step_us_both_arms"].get<double>(),
              result["step_us_both_arms_p99"].get<double>(),
              result["step_us_both_arms_max"].get<double>());
+  fmt::print(out,
+             "[{}] step both arms, thread CPU: median {:.1f} us, p99 {:.1f} us, max {:.1f} us\n",
+             name, result["step_cpu_us_both_arms"].get<double>(),
+             result["step_cpu_us_both_arms_p99"].get<double>(),
+             result["step_cpu_us_both_arms_max"].get<double>());
   fmt::print(out, "[{}] safe-volume entries {} and arm contacts {} in {} commands\n", name,
              entries.safe_volume, entries.arms, entries.commands);
   fmt::print(out,

@@ -107,7 +107,8 @@ std::vector<Field> Fields(MissionConfig* c) {
                      {"servo", "retarget_rad", &s.retarget_rad},
                      {"servo", "unreachable_retry_s", &s.unreachable_retry_s},
                      {"servo", "random_vias", &s.random_vias},
-                     {"servo", "path_check_step_rad", &s.path_check_step_rad}});
+                     {"servo", "path_check_step_rad", &s.path_check_step_rad},
+                     {"servo", "search_budget", &s.search_budget}});
   AddTolerance(&f, "servo.ik_tolerance_4dof", &c->servo_ik_tolerance_4dof);
   GraspSequenceConfig& q = c->grasp_sequence;
   AddTolerance(&f, "grasp_sequence.precatch_tolerance", &q.precatch_tolerance);

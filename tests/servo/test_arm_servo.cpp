@@ -7,6 +7,7 @@
 #include "core/config.h"
 #include "core/transforms.h"
 #include "servo/arm_servo.h"
+#include "servo/ik.h"
 
 namespace aerograsp {
 namespace {
@@ -22,6 +23,20 @@ Eigen::VectorXd Home4() {
   return q;
 }
 
+// Steps the servo at joints q and time t while its goal search goes on (at most
+// 1000 Steps); the first other status, with the Steps taken in *steps.
+ServoStatus StepPastSearch(ArmServo* servo, const Eigen::VectorXd& q, double t, ServoCommand* cmd,
+                           int* steps = nullptr) {
+  ServoStatus status = ServoStatus::kSearching;
+  int k = 0;
+  while (status == ServoStatus::kSearching && k < 1000) {
+    status = servo->Step(q, t, 0.01, cmd);
+    ++k;
+  }
+  if (steps) *steps = k;
+  return status;
+}
+
 // Runs the servo on an ideal arm (q integrates the command) until the target is
 // reached or the step budget is spent; returns the number of steps, -1 if not reached.
 int RunToTarget(const ArmModel& arm, ArmServo* servo, Eigen::VectorXd* q,
@@ -32,7 +47,8 @@ int RunToTarget(const ArmModel& arm, ArmServo* servo, Eigen::VectorXd* q,
     servo->SetTarget(bMg, t);  // a fresh observation every cycle
     ServoCommand cmd;
     const ServoStatus status = servo->Step(*q, t, dt, &cmd);
-    EXPECT_EQ(status, ServoStatus::kMoving);
+    EXPECT_TRUE(status == ServoStatus::kMoving || status == ServoStatus::kSearching)
+        << ServoStatusName(status);
     EXPECT_TRUE(arm.WithinLimits(cmd.q_target_rad, 1e-9));
     *q = cmd.q_target_rad;
     if (cmd.position_error_m < 1e-3 && cmd.rotation_error_rad < 1e-2) return k;
@@ -103,9 +119,38 @@ TEST(ArmServoTest, BeyondReachHoldsAsUnreachable) {
   bMg.translation().z() += 0.2;  // straight past the stretched arm
   servo.SetTarget(bMg, 0.0);
   ServoCommand cmd;
-  EXPECT_EQ(servo.Step(Home4(), 0.0, 0.01, &cmd), ServoStatus::kUnreachable);
+  EXPECT_EQ(StepPastSearch(&servo, Home4(), 0.0, &cmd), ServoStatus::kUnreachable);
   EXPECT_TRUE(cmd.dq_rad_s.isZero());
   EXPECT_EQ(cmd.q_target_rad, Home4());
+}
+
+// The joint-goal search does at most search_budget units of work per Step and
+// goes on in the next ones (holding meanwhile); spread or not, it finds the
+// same goal, so a mission's log does not depend on the budget's spread.
+TEST(ArmServoTest, TheGoalSearchSpreadsOverStepsAndFindsTheSameGoal) {
+  const ArmModel arm = Arm("arm6.urdf");
+  std::mt19937 rng(5);
+  const Eigen::Isometry3d bMg = arm.ForwardKinematics(DrawJointsWithinLimits(arm, &rng));
+  const Eigen::VectorXd q = arm.Clamp(Eigen::VectorXd::Zero(arm.dof()));
+  // A wall in j0 makes the straight path from q refused for goals beyond it:
+  // the search also checks the via points' paths, sample by sample.
+  const auto forbidden = [](const Eigen::VectorXd& q_try) {
+    return q_try[0] > 0.3 && q_try[0] < 0.35;
+  };
+  Eigen::VectorXd goal[2];
+  int steps[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    ServoConfig config;
+    config.search_budget = k == 0 ? 5 : 1000000;
+    ArmServo servo(arm, config, forbidden);
+    servo.SetTarget(bMg, 0.0);
+    ServoCommand cmd;
+    ASSERT_EQ(StepPastSearch(&servo, q, 0.0, &cmd, &steps[k]), ServoStatus::kMoving);
+    goal[k] = cmd.q_goal_rad;
+  }
+  EXPECT_GT(steps[0], 3);
+  EXPECT_EQ(steps[1], 1);
+  EXPECT_EQ(goal[0], goal[1]);
 }
 
 TEST(ArmServoTest, NeverCommandsPastAJointLimit) {
@@ -204,7 +249,8 @@ TEST(ArmServoTest, ForbiddenRegionShortensOrRefusesTheStep) {
       EXPECT_LE(cmd.q_target_rad[0], k == 0 ? 10.0 : 0.1);
     } else {
       ++held;
-      EXPECT_TRUE(status == ServoStatus::kSafeVolume || status == ServoStatus::kUnreachable)
+      EXPECT_TRUE(status == ServoStatus::kSafeVolume || status == ServoStatus::kUnreachable ||
+                  status == ServoStatus::kSearching)
           << ServoStatusName(status);
       EXPECT_TRUE(cmd.dq_rad_s.isZero());
       EXPECT_EQ(cmd.q_target_rad, q);
@@ -218,7 +264,7 @@ TEST(ArmServoTest, ForbiddenRegionShortensOrRefusesTheStep) {
   ArmServo refused(arm, ServoConfig{}, [](const Eigen::VectorXd&) { return true; });
   refused.SetTarget(arm.ForwardKinematics(q_goal), 0.0);
   ServoCommand cmd;
-  EXPECT_EQ(refused.Step(Home4(), 0.0, 0.01, &cmd), ServoStatus::kUnreachable);
+  EXPECT_EQ(StepPastSearch(&refused, Home4(), 0.0, &cmd), ServoStatus::kUnreachable);
   EXPECT_TRUE(cmd.dq_rad_s.isZero());
   EXPECT_EQ(cmd.q_target_rad, Home4());
 }
@@ -236,6 +282,14 @@ TEST(ServoConfigTest, DefaultsAreValidAndBadValuesNamed) {
   c = ServoConfig{};
   c.orientation_weights.y() = 2.0;
   EXPECT_THROW(c.Validate("servo.yaml", "servo."), ConfigError);
+  c = ServoConfig{};
+  c.search_budget = 0;
+  try {
+    c.Validate("servo.yaml", "servo.");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("servo.yaml: servo.search_budget: 0"));
+  }
 }
 
 }  // namespace
