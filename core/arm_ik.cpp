@@ -37,44 +37,63 @@ ArmIk::ArmIk(const ArmModel& model, const IkOptions& options) : model_(model), o
 }
 
 void ArmIk::AnalyseChain() {
-  analytic_ = false;
-  if (model_.dof() != 4) return;
-  for (int i = 0; i < 4; ++i) {
+  kind_ = Kind::kNumeric;
+  const int n = model_.dof();
+  if (n != 4 && n != 6) return;
+  for (int i = 0; i < n; ++i) {
     if (model_.joint_type(i) != ArmModel::JointType::kRevolute) return;
   }
-  const Eigen::VectorXd q0 = Eigen::VectorXd::Zero(4);
+  const Eigen::VectorXd q0 = Eigen::VectorXd::Zero(n);
   std::vector<Eigen::Isometry3d> bMs;
   model_.SegmentPoses(q0, &bMs);
   const Eigen::Matrix<double, 6, Eigen::Dynamic> J = model_.Jacobian(q0);
-  Eigen::Vector3d o[4];
-  for (int i = 0; i < 4; ++i) {
+  Eigen::Vector3d o[6];
+  for (int i = 0; i < n; ++i) {
     w_[i] = J.block<3, 1>(3, i).normalized();
     o[i] = bMs[i + 1].translation();
   }
   const Eigen::Isometry3d& bMe0 = bMs.back();
   const Eigen::Vector3d tool = bMe0.translation();
+  // The forearm's end: the tool point (4 joints) or where the wrist axes meet.
+  Eigen::Vector3d end = tool;
+  if (n == 6) {
+    // Closest points of the lines (o3, w3) and (o4, w4).
+    const double b = w_[3].dot(w_[4]);
+    const Eigen::Vector3d r = o[3] - o[4];
+    const double d = w_[3].dot(r), e = w_[4].dot(r), den = 1.0 - b * b;
+    if (den < 1e-9) return;  // parallel wrist axes
+    const Eigen::Vector3d p3 = o[3] + ((b * e - d) / den) * w_[3];
+    const Eigen::Vector3d p4 = o[4] + ((e - b * d) / den) * w_[4];
+    if ((p3 - p4).norm() > kGeomTol || (p3 - o[5]).cross(w_[5]).norm() > kGeomTol) return;
+    if (w_[4].cross(w_[5]).norm() < 1e-6) return;
+    end = p3;
+  }
   o1_ = o[1];
   l1_ = (o[2] - o[1]).norm();
-  l2_ = (tool - o[2]).norm();
+  l2_ = (end - o[2]).norm();
   if (l1_ < 1e-6 || l2_ < 1e-6) return;
   u0_ = (o[2] - o[1]) / l1_;
-  f0_ = (tool - o[2]) / l2_;
+  f0_ = (end - o[2]) / l2_;
   xe0_ = bMe0.linear().col(0);
   const Eigen::Vector3d ze0 = bMe0.linear().col(2);
   const bool yaw_through_shoulder = (o[1] - o[0]).cross(w_[0]).norm() < kGeomTol;
   const bool pitches_parallel = w_[1].cross(w_[2]).norm() < kGeomTol;
   const bool pitch_perpendicular = std::abs(w_[0].dot(w_[1])) < kGeomTol;
   const bool planar = std::abs(u0_.dot(w_[1])) < kGeomTol && std::abs(f0_.dot(w_[1])) < kGeomTol;
+  if (!(yaw_through_shoulder && pitches_parallel && pitch_perpendicular && planar)) return;
+  h0_ = w_[1].cross(w_[0]).normalized();
+  if (n == 6) {
+    Re0_ = bMe0.linear();
+    d_e_ = Re0_.transpose() * (tool - end);
+    kind_ = Kind::kSphericalWrist;
+    return;
+  }
   const bool roll_on_forearm =
       w_[3].cross(f0_).norm() < kGeomTol && (o[3] - o[2]).cross(f0_).norm() < kGeomTol;
   const bool approach_on_forearm = ze0.cross(f0_).norm() < kGeomTol;
-  if (!(yaw_through_shoulder && pitches_parallel && pitch_perpendicular && planar &&
-        roll_on_forearm && approach_on_forearm)) {
-    return;
-  }
-  h0_ = w_[1].cross(w_[0]).normalized();
+  if (!(roll_on_forearm && approach_on_forearm)) return;
   approach_sign_ = ze0.dot(f0_) > 0.0 ? 1.0 : -1.0;
-  analytic_ = true;
+  kind_ = Kind::kYawPitchPitchRoll;
 }
 
 bool ArmIk::FitLimits(Eigen::VectorXd* q) const {
@@ -107,8 +126,8 @@ void ArmIk::SortBySeed(const Eigen::VectorXd& q_seed,
   solutions->erase(last, solutions->end());
 }
 
-void ArmIk::AnalyticPosition(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b,
-                             double seed_roll, std::vector<Eigen::VectorXd>* solutions) const {
+void ArmIk::PlaceForearm(const Eigen::Vector3d& p_b,
+                         std::vector<ForearmPlacement>* placements) const {
   const Eigen::Vector3d v = p_b - o1_;
   Eigen::Vector3d v_perp = v - v.dot(w_[0]) * w_[0];
   const Eigen::Vector3d h = v_perp.norm() > kGeomTol ? Eigen::Vector3d(v_perp.normalized()) : h0_;
@@ -131,25 +150,106 @@ void ArmIk::AnalyticPosition(const Eigen::Vector3d& p_b, const Eigen::Vector3d& 
       const Eigen::Vector3d f1 = (p1 - e1).normalized();
       const Eigen::Vector3d f2 = Eigen::AngleAxisd(-q1, w_[1]) * f1;
       const double q2 = SignedAngle(f0_, f2, w_[2]);
-      const Eigen::Matrix3d R012 =
+      ForearmPlacement placement;
+      placement.q[0] = q0;
+      placement.q[1] = q1;
+      placement.q[2] = q2;
+      placement.R012 =
           R0 * Eigen::AngleAxisd(q1, w_[1]).toRotationMatrix() * Eigen::AngleAxisd(q2, w_[2]);
-      const Eigen::Vector3d f = R012 * f0_;
-      const Eigen::Vector3d x_perp = x_b - x_b.dot(f) * f;
-      double rolls[2] = {seed_roll, seed_roll};
-      int n_rolls = 1;
-      if (x_perp.norm() > 1e-9) {
-        const Eigen::Vector3d x3 = R012.transpose() * x_perp.normalized();
-        rolls[0] = SignedAngle(xe0_, x3, w_[3]);
-        rolls[1] = WrapPi(rolls[0] + kPi);  // the fingers are symmetric: -x is as good
-        n_rolls = 2;
-      }
-      for (int k = 0; k < n_rolls; ++k) {
-        Eigen::VectorXd q(4);
-        q << WrapPi(q0), WrapPi(q1), WrapPi(q2), rolls[k];
-        if (FitLimits(&q) && CheckPosition(q, p_b)) solutions->push_back(q);
+      placements->push_back(placement);
+    }
+  }
+}
+
+void ArmIk::AnalyticPosition(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b,
+                             double seed_roll, std::vector<Eigen::VectorXd>* solutions) const {
+  std::vector<ForearmPlacement> placements;
+  PlaceForearm(p_b, &placements);
+  for (const ForearmPlacement& placement : placements) {
+    const Eigen::Matrix3d& R012 = placement.R012;
+    const Eigen::Vector3d f = R012 * f0_;
+    const Eigen::Vector3d x_perp = x_b - x_b.dot(f) * f;
+    double rolls[2] = {seed_roll, seed_roll};
+    int n_rolls = 1;
+    if (x_perp.norm() > 1e-9) {
+      const Eigen::Vector3d x3 = R012.transpose() * x_perp.normalized();
+      rolls[0] = SignedAngle(xe0_, x3, w_[3]);
+      rolls[1] = WrapPi(rolls[0] + kPi);  // the fingers are symmetric: -x is as good
+      n_rolls = 2;
+    }
+    for (int k = 0; k < n_rolls; ++k) {
+      Eigen::VectorXd q(4);
+      q << WrapPi(placement.q[0]), WrapPi(placement.q[1]), WrapPi(placement.q[2]), rolls[k];
+      if (FitLimits(&q) && CheckPosition(q, p_b)) solutions->push_back(q);
+    }
+  }
+}
+
+namespace {
+
+/// The angle turning u about the unit axis w onto v (their parts normal to w).
+double RotationAbout(const Eigen::Vector3d& w, const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+  const Eigen::Vector3d u_n = u - w.dot(u) * w, v_n = v - w.dot(v) * w;
+  return std::atan2(w.dot(u_n.cross(v_n)), u_n.dot(v_n));
+}
+
+}  // namespace
+
+void ArmIk::WristPose(const Eigen::Isometry3d& bMe, std::vector<Eigen::VectorXd>* solutions) const {
+  const Eigen::Matrix3d& Re = bMe.linear();
+  const Eigen::Vector3d centre = bMe.translation() - Re * d_e_;
+  std::vector<ForearmPlacement> placements;
+  PlaceForearm(centre, &placements);
+  const Eigen::Vector3d &w3 = w_[3], &w4 = w_[4], &w5 = w_[5];
+  const double c34 = w3.dot(w4);
+  const Eigen::Vector3d w34 = w3.cross(w4);
+  const Eigen::Vector3d x5 = AnyPerpendicular(w5);
+  for (const ForearmPlacement& placement : placements) {
+    // exp(w3 q3) exp(w4 q4) exp(w5 q5) = M: two rotations about intersecting
+    // axes take w5 onto M w5 (Paden-Kahan subproblem 2), the last turns about w5.
+    const Eigen::Matrix3d M = placement.R012.transpose() * Re * Re0_.transpose();
+    const Eigen::Vector3d v = M * w5;
+    const double den = c34 * c34 - 1.0;
+    const double alpha = (c34 * w4.dot(w5) - w3.dot(v)) / den;
+    const double beta = (c34 * w3.dot(v) - w4.dot(w5)) / den;
+    const double gamma_sq =
+        (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * c34) / w34.squaredNorm();
+    if (gamma_sq < -1e-9) continue;
+    const double gamma = std::sqrt(std::max(0.0, gamma_sq));
+    for (double sign : {1.0, -1.0}) {
+      if (sign < 0.0 && gamma == 0.0) break;
+      const Eigen::Vector3d z = alpha * w3 + beta * w4 + sign * gamma * w34;
+      const double q3 = RotationAbout(w3, z, v);
+      const double q4 = RotationAbout(w4, w5, z);
+      const Eigen::Matrix3d R34 =
+          Eigen::AngleAxisd(q3, w3).toRotationMatrix() * Eigen::AngleAxisd(q4, w4);
+      const double q5 = RotationAbout(w5, x5, R34.transpose() * M * x5);
+      Eigen::VectorXd q(6);
+      q << WrapPi(placement.q[0]), WrapPi(placement.q[1]), WrapPi(placement.q[2]), WrapPi(q3),
+          WrapPi(q4), WrapPi(q5);
+      if (!FitLimits(&q)) continue;
+      const PoseError error = ComparePoses(model_.ForwardKinematics(q), bMe);
+      if (error.translation_m <= options_.position_tolerance_m &&
+          error.rotation_rad <= options_.orientation_tolerance_rad) {
+        solutions->push_back(q);
       }
     }
   }
+}
+
+int ArmIk::SolvePose(const Eigen::Isometry3d& bMe_target, const Eigen::VectorXd& q_seed,
+                     std::vector<Eigen::VectorXd>* solutions) const {
+  assert(q_seed.size() == model_.dof());
+  solutions->clear();
+  if (!bMe_target.matrix().allFinite()) return 0;
+  if (kind_ == Kind::kSphericalWrist) {
+    WristPose(bMe_target, solutions);
+    SortBySeed(q_seed, solutions);
+    return static_cast<int>(solutions->size());
+  }
+  Eigen::VectorXd q;
+  if (SolvePoseNumeric(bMe_target, q_seed, &q)) solutions->push_back(q);
+  return static_cast<int>(solutions->size());
 }
 
 int ArmIk::SolvePosition(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b,
@@ -158,7 +258,7 @@ int ArmIk::SolvePosition(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b,
   assert(q_seed.size() == model_.dof());
   solutions->clear();
   if (!p_b.allFinite() || !x_b.allFinite()) return 0;
-  if (analytic_) {
+  if (kind_ == Kind::kYawPitchPitchRoll) {
     AnalyticPosition(p_b, x_b, q_seed[3], solutions);
     SortBySeed(q_seed, solutions);
     return static_cast<int>(solutions->size());
@@ -226,7 +326,7 @@ int ArmIk::SolveGraspAxis(const Eigen::Vector3d& c_b, const Eigen::Vector3d& x_b
     solutions->push_back(std::move(s));
   };
 
-  if (analytic_) {
+  if (kind_ == Kind::kYawPitchPitchRoll) {
     // Approach directions a ⊥ x whose line through c_b meets the yaw axis, and
     // depths that put the elbow at l1 from the shoulder: |v + k a| = l1 with
     // k = depth - approach_sign * l2 (the elbow is at c_b + k a).
@@ -282,21 +382,28 @@ int ArmIk::SolveGraspAxis(const Eigen::Vector3d& c_b, const Eigen::Vector3d& x_b
     const Eigen::Vector3d e1 = AnyPerpendicular(x), e2 = x.cross(e1);
     const double depth = 0.5 * (depth_min_m + depth_max_m);
     const int n = std::max(1, options_.approach_samples);
+    std::vector<Eigen::VectorXd> qs;
     for (int i = 0; i < n; ++i) {
       const double phi = 2.0 * kPi * i / n;
       const Eigen::Vector3d a = std::cos(phi) * e1 + std::sin(phi) * e2;
+      // The fingers are symmetric: closing along -x is as good; the solution
+      // nearest the seed of either.
+      const Eigen::VectorXd* nearest = nullptr;
+      Eigen::VectorXd best;
       for (double s : {1.0, -1.0}) {
         Eigen::Isometry3d bMe = Eigen::Isometry3d::Identity();
         bMe.linear().col(0) = s * x;
         bMe.linear().col(1) = a.cross(s * x);
         bMe.linear().col(2) = a;
         bMe.translation() = c_b + depth * a;
-        Eigen::VectorXd q;
-        if (SolvePoseNumeric(bMe, q_seed, &q)) {
-          add(q, depth);
-          break;
+        if (SolvePose(bMe, q_seed, &qs) == 0) continue;
+        if (!nearest || (qs.front() - q_seed).squaredNorm() < (best - q_seed).squaredNorm()) {
+          best = qs.front();
+          nearest = &best;
         }
+        if (kind_ == Kind::kNumeric) break;  // one numeric solve is costly enough
       }
+      if (nearest) add(best, depth);
     }
   }
   std::stable_sort(solutions->begin(), solutions->end(),

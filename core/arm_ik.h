@@ -1,5 +1,6 @@
 // Inverse kinematics of the arms: closed form for the yaw-pitch-pitch-roll
-// chain of the 4-DoF arms, damped Gauss-Newton for any other chain. Frames:
+// chain of the 4-DoF arms and for the yaw-pitch-pitch chain with a spherical
+// wrist of the 6-DoF arms, damped Gauss-Newton for any other chain. Frames:
 // everything is in the arm base b (bl or br); the tool frame e has z along the
 // approach and x along the fingers' closing direction (core/frames.h). Units
 // m and rad. The solver is a description (built once from an ArmModel); the
@@ -42,16 +43,21 @@ struct GraspAxisSolution {
 
 class ArmIk {
  public:
-  /// Copies the model and analyses its chain: a closed form is used when the
-  /// chain has four revolute joints with j0 a yaw whose axis passes through j1's
-  /// origin, j1 and j2 parallel and perpendicular to j0, j3 along the forearm
-  /// line through j2's origin, and the tool point on that line with its z axis
-  /// along it (the shipped 4-DoF arm). Otherwise the numeric solver is used.
+  /// Copies the model and analyses its chain. A closed form is used when the
+  /// chain starts with three revolute joints, j0 a yaw whose axis passes
+  /// through j1's origin, j1 and j2 parallel and perpendicular to j0, and the
+  /// forearm (from j2's origin) in the plane of j1's origin normal to j1, and
+  /// then either
+  /// - four joints: j3 along the forearm line, the tool point on that line with
+  ///   its z axis along it (the shipped 4-DoF arm), or
+  /// - six joints: j3, j4, j5 revolute with axes through one point, the wrist
+  ///   centre, at the forearm's end (the shipped 6-DoF arm).
+  /// Otherwise the numeric solver is used.
   explicit ArmIk(const ArmModel& model, const IkOptions& options = {});
 
   const ArmModel& model() const { return model_; }
-  /// True when the closed form applies (see the constructor).
-  bool is_analytic() const { return analytic_; }
+  /// True when a closed form applies (see the constructor).
+  bool is_analytic() const { return kind_ != Kind::kNumeric; }
 
   /// Position IK: every solution within the joint limits that puts the tool
   /// point at p_b, sorted by distance to q_seed (size dof()). The rotation about
@@ -69,23 +75,43 @@ class ArmIk {
   bool SolvePoseNumeric(const Eigen::Isometry3d& bMe_target, const Eigen::VectorXd& q_seed,
                         Eigen::VectorXd* q) const;
 
+  /// Full pose IK: every solution within the joint limits that reaches
+  /// bMe_target within the tolerances, sorted by distance to q_seed. Closed
+  /// form for the spherical-wrist chain (up to 8: yaw, elbow and wrist
+  /// branches); otherwise SolvePoseNumeric from q_seed (at most one).
+  /// Returns the number written to `solutions` (cleared first).
+  int SolvePose(const Eigen::Isometry3d& bMe_target, const Eigen::VectorXd& q_seed,
+                std::vector<Eigen::VectorXd>* solutions) const;
+
   /// Grasp-axis IK: the fingers close along +-x_b (unit) through the contact
   /// centre c_b, the approach z_e is any direction perpendicular to x_b, and the
   /// tool point is at c_b + depth * z_e with depth in [depth_min_m, depth_max_m]
   /// (where the contacts sit along the pads). Closed form for the 4-DoF chain
   /// (exact: the approach and depth that meet the yaw-plane condition);
-  /// otherwise the numeric solver at `approach_samples` approach angles and the
-  /// middle depth, seeded with q_seed. Solutions are sorted by distance to q_seed.
+  /// otherwise SolvePose at `approach_samples` approach angles, both closing
+  /// signs, and the middle depth, keeping per approach angle the solution
+  /// nearest q_seed. Solutions are sorted by distance to q_seed.
   /// Returns the number written to `solutions` (cleared first).
   int SolveGraspAxis(const Eigen::Vector3d& c_b, const Eigen::Vector3d& x_b, double depth_min_m,
                      double depth_max_m, const Eigen::VectorXd& q_seed,
                      std::vector<GraspAxisSolution>* solutions) const;
 
  private:
+  enum class Kind { kNumeric, kYawPitchPitchRoll, kSphericalWrist };
+  /// The yaw and the two pitches that put the forearm's end (the 4-DoF arm's
+  /// tool point, the 6-DoF arm's wrist centre) at p_b.
+  struct ForearmPlacement {
+    double q[3];
+    Eigen::Matrix3d R012;  ///< their rotation
+  };
   void AnalyseChain();
+  /// Yaw, then elbow branches; appends to `placements`.
+  void PlaceForearm(const Eigen::Vector3d& p_b, std::vector<ForearmPlacement>* placements) const;
   /// Closed-form position IK, no sorting, appends to `solutions`.
   void AnalyticPosition(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b, double seed_roll,
                         std::vector<Eigen::VectorXd>* solutions) const;
+  /// Closed-form pose IK of the spherical-wrist chain, no sorting, appends.
+  void WristPose(const Eigen::Isometry3d& bMe, std::vector<Eigen::VectorXd>* solutions) const;
   /// Wraps each joint angle into its limits (+-2 pi) when possible.
   bool FitLimits(Eigen::VectorXd* q) const;
   bool CheckPosition(const Eigen::VectorXd& q, const Eigen::Vector3d& p_b) const;
@@ -93,17 +119,20 @@ class ArmIk {
 
   ArmModel model_;
   IkOptions options_;
-  bool analytic_ = false;
-  // Closed-form chain description, base frame, at q = 0.
-  Eigen::Vector3d w_[4];        // joint axes (unit)
+  Kind kind_ = Kind::kNumeric;
+  // Closed-form chain description, base frame, at q = 0. The forearm's end is
+  // the tool point (4-DoF) or the wrist centre (6-DoF).
+  Eigen::Vector3d w_[6];        // joint axes (unit)
   Eigen::Vector3d o1_;          // shoulder pitch origin (on the yaw axis)
   Eigen::Vector3d h0_;          // in-plane horizontal direction at q = 0: unit(w1 x w0)
   Eigen::Vector3d u0_;          // upper arm direction at q = 0: unit(o2 - o1)
-  Eigen::Vector3d f0_;          // forearm direction at q = 0: unit(tool - o2)
+  Eigen::Vector3d f0_;          // forearm direction at q = 0: unit(end - o2)
   Eigen::Vector3d xe0_;         // tool x axis at q = 0
   double l1_ = 0.0;             // |o2 - o1|
-  double l2_ = 0.0;             // |tool - o2|
-  double approach_sign_ = 1.0;  // z_e = approach_sign_ * forearm direction
+  double l2_ = 0.0;             // |end - o2|
+  double approach_sign_ = 1.0;  // 4-DoF: z_e = approach_sign_ * forearm direction
+  Eigen::Matrix3d Re0_ = Eigen::Matrix3d::Identity();  // 6-DoF: tool rotation at q = 0
+  Eigen::Vector3d d_e_ = Eigen::Vector3d::Zero();  // 6-DoF: tool point from the wrist centre, in e
 };
 
 }  // namespace aerograsp

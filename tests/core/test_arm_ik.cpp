@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <random>
+#include <string>
 
 #include "core/arm_ik.h"
 #include "core/transforms.h"
@@ -26,9 +29,45 @@ Eigen::VectorXd RandomWithinLimits(const ArmModel& arm, std::mt19937* rng) {
   return q;
 }
 
-TEST(ArmIkTest, FourDofArmHasClosedFormSixDofHasNot) {
+TEST(ArmIkTest, BothShippedArmsHaveClosedForms) {
   EXPECT_TRUE(ArmIk(Arm("arm4.urdf")).is_analytic());
-  EXPECT_FALSE(ArmIk(Arm("arm6.urdf")).is_analytic());
+  EXPECT_TRUE(ArmIk(Arm("arm6.urdf")).is_analytic());
+}
+
+// A chain whose wrist axes do not meet in one point has no closed form: the
+// 6-DoF arm with its last joint moved off the wrist centre.
+TEST(ArmIkTest, AWristWhoseAxesMissEachOtherIsSolvedNumerically) {
+  std::ifstream in(Robot("arm6.urdf"));
+  std::string urdf((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = R"(<origin xyz="0.04 0 0" rpy="0 1.5707963267949 0"/>)";
+  const std::size_t at = urdf.find(from);
+  ASSERT_NE(at, std::string::npos);
+  urdf.replace(at, from.size(), R"(<origin xyz="0.04 0.01 0" rpy="0 1.5707963267949 0"/>)");
+  const ArmModel arm =
+      ArmModel::FromUrdfString(urdf, "arm6 with an offset wrist", "base_link", "tool");
+  EXPECT_FALSE(ArmIk(arm).is_analytic());
+}
+
+// The closed form of the 6-DoF arm finds the configuration a pose came from
+// (nearest the seed, which is that configuration) and every solution it
+// returns reaches the pose within the limits.
+TEST(ArmIkTest, SixDofPoseSolutionsReproduceForwardKinematics) {
+  const ArmModel arm = Arm("arm6.urdf");
+  const ArmIk ik(arm);
+  std::mt19937 rng(5);
+  std::vector<Eigen::VectorXd> sols;
+  for (int trial = 0; trial < 500; ++trial) {
+    const Eigen::VectorXd q = RandomWithinLimits(arm, &rng);
+    const Eigen::Isometry3d bMe = arm.ForwardKinematics(q);
+    ASSERT_GT(ik.SolvePose(bMe, q, &sols), 0) << q.transpose();
+    EXPECT_LT((sols[0] - q).norm(), 1e-6) << q.transpose() << " vs " << sols[0].transpose();
+    for (const Eigen::VectorXd& s : sols) {
+      EXPECT_TRUE(arm.WithinLimits(s));
+      const PoseError err = ComparePoses(arm.ForwardKinematics(s), bMe);
+      EXPECT_LT(err.translation_m, 1e-5);
+      EXPECT_LT(err.rotation_rad, 1e-4);
+    }
+  }
 }
 
 TEST(ArmIkTest, PositionSolutionsReproduceForwardKinematics) {
@@ -106,10 +145,10 @@ TEST(ArmIkTest, GraspAxisClosedFormFindsReachableGrasps) {
   CheckGraspAxis("arm4.urdf", 400, 1.0);
 }
 
-TEST(ArmIkTest, GraspAxisNumericForSixDofArm) {
-  // The numeric solver samples 8 approach angles at the middle depth; most
-  // sampled grasps are reachable with one of them.
-  CheckGraspAxis("arm6.urdf", 100, 0.5);
+TEST(ArmIkTest, GraspAxisForSixDofArm) {
+  // The closed form at 8 approach angles and the middle depth: most sampled
+  // grasps are reachable with one of them.
+  CheckGraspAxis("arm6.urdf", 400, 0.8);
 }
 
 TEST(ArmIkTest, NumericPoseReachesForwardKinematicsTarget) {
