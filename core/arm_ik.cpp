@@ -309,6 +309,20 @@ bool ArmIk::SolvePoseNumeric(const Eigen::Isometry3d& bMe_target, const Eigen::V
   return false;
 }
 
+int ArmIk::SolveClosedForm(const Eigen::Isometry3d& bMe, const Eigen::VectorXd& q_seed,
+                           std::vector<Eigen::VectorXd>* solutions) const {
+  solutions->clear();
+  switch (kind_) {
+    case Kind::kSphericalWrist:
+      return SolvePose(bMe, q_seed, solutions);
+    case Kind::kYawPitchPitchRoll:
+      return SolvePosition(bMe.translation(), bMe.linear().col(0), q_seed, solutions);
+    case Kind::kNumeric:
+      break;
+  }
+  return 0;
+}
+
 int ArmIk::SolveGraspAxis(const Eigen::Vector3d& c_b, const Eigen::Vector3d& x_b,
                           double depth_min_m, double depth_max_m, const Eigen::VectorXd& q_seed,
                           std::vector<GraspAxisSolution>* solutions) const {

@@ -83,6 +83,14 @@ class ArmIk {
   int SolvePose(const Eigen::Isometry3d& bMe_target, const Eigen::VectorXd& q_seed,
                 std::vector<Eigen::VectorXd>* solutions) const;
 
+  /// What the closed form gives for a tool pose bMe (none without one), sorted
+  /// by distance to q_seed: the spherical-wrist chain's full pose solutions
+  /// (SolvePose); the 4-DoF chain's solutions for the tool point with the
+  /// closing axis x_e (SolvePosition: its approach follows from the position).
+  /// Returns the number written to `solutions` (cleared first).
+  int SolveClosedForm(const Eigen::Isometry3d& bMe, const Eigen::VectorXd& q_seed,
+                      std::vector<Eigen::VectorXd>* solutions) const;
+
   /// Grasp-axis IK: the fingers close along +-x_b (unit) through the contact
   /// centre c_b, the approach z_e is any direction perpendicular to x_b, and the
   /// tool point is at c_b + depth * z_e with depth in [depth_min_m, depth_max_m]

@@ -154,7 +154,8 @@ void ArmServo::StartSearch(const Eigen::VectorXd& q) {
   s = Search{};
   s.active = true;
   s.q_start = q;
-  s.seeds = {q};
+  s.seeds = ik_.ClosedFormSeeds(bMg_, q);
+  s.seeds.push_back(q);
   if (has_goal_) s.seeds.push_back(q_goal_);
   for (const Eigen::VectorXd& hint : hints_) {
     if (hint.size() == q.size()) s.seeds.push_back(hint);

@@ -152,8 +152,9 @@ class ArmServo {
   /// goes on, the last goal), kSearching while the first goal is searched,
   /// kUnreachable when the search found none.
   Goal UpdateJointGoal(const Eigen::VectorXd& q, double now_s);
-  /// The search from joints q: its seeds are q, the last goal and the hints,
-  /// then random ones.
+  /// The search from joints q: its seeds are the closed-form solutions of
+  /// the target (ApproachIk::ClosedFormSeeds), q, the last goal and the
+  /// hints, then random ones.
   void StartSearch(const Eigen::VectorXd& q);
   /// Goes on with the search for at most *budget units (IK iterations and
   /// predicate checks; each spent is taken off *budget). True once it ended.

@@ -53,8 +53,15 @@ void ApproachIkOptions::Validate(const std::string& source, const std::string& p
 
 ApproachIk::ApproachIk(const ArmModel& arm, const ApproachIkOptions& options,
                        const Eigen::Vector3d& orientation_weights)
-    : arm_(arm), options_(options), weights_(orientation_weights) {
+    : arm_(arm), closed_form_(arm), options_(options), weights_(orientation_weights) {
   options_.Validate("ik options", "ik.");
+}
+
+std::vector<Eigen::VectorXd> ApproachIk::ClosedFormSeeds(const Eigen::Isometry3d& bMg,
+                                                         const Eigen::VectorXd& q) const {
+  std::vector<Eigen::VectorXd> seeds;
+  if (q.size() == arm_.dof() && q.allFinite()) closed_form_.SolveClosedForm(bMg, q, &seeds);
+  return seeds;
 }
 
 bool ApproachIk::Converged(const ApproachError& error) const {

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/arm_ik.h"
 #include "core/arm_model.h"
 #include "servo/dls.h"
 
@@ -112,8 +113,16 @@ class ApproachIk {
   /// The error the solver drives to zero, with weights applied (for tests).
   bool Converged(const ApproachError& error) const;
 
+  /// Seeds from the arm's closed form (core/arm_ik.h, SolveClosedForm), the
+  /// nearest q first: the 6-DoF arm's exact solutions of bMg (each converges
+  /// in one iteration), the 4-DoF arm's solutions of its position and closing
+  /// axis. Empty for an arm without a closed form.
+  std::vector<Eigen::VectorXd> ClosedFormSeeds(const Eigen::Isometry3d& bMg,
+                                               const Eigen::VectorXd& q) const;
+
  private:
   const ArmModel& arm_;
+  ArmIk closed_form_;
   ApproachIkOptions options_;
   Eigen::Vector3d weights_;
 };
