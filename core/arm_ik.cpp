@@ -263,6 +263,20 @@ int ArmIk::SolvePosition(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b,
     SortBySeed(q_seed, solutions);
     return static_cast<int>(solutions->size());
   }
+  if (kind_ == Kind::kSphericalWrist) {
+    // The seed's approach axis, the closing axis x_b turned normal to it.
+    const Eigen::Isometry3d bMs = model_.ForwardKinematics(q_seed);
+    const Eigen::Vector3d z = bMs.linear().col(2);
+    const Eigen::Vector3d x_perp = x_b - x_b.dot(z) * z;
+    const Eigen::Vector3d x =
+        x_perp.norm() > 1e-9 ? Eigen::Vector3d(x_perp.normalized()) : bMs.linear().col(0);
+    Eigen::Isometry3d bMe = Eigen::Isometry3d::Identity();
+    bMe.linear().col(0) = x;
+    bMe.linear().col(1) = z.cross(x);
+    bMe.linear().col(2) = z;
+    bMe.translation() = p_b;
+    return SolvePose(bMe, q_seed, solutions);
+  }
   // Numeric, position only.
   Eigen::VectorXd q = model_.Clamp(q_seed);
   Eigen::Isometry3d bMe;

@@ -64,7 +64,9 @@ class ArmIk {
   /// the approach is chosen so that the closing axis x_e is as close as possible
   /// to +-x_b (x_b need not be perpendicular to the approach; a zero x_b keeps
   /// the seed's roll). Closed form: up to 8 solutions (yaw, elbow and roll
-  /// branches). Numeric: at most one (from the seed, position only).
+  /// branches). Spherical wrist: the pose with the seed's approach axis and
+  /// the closing axis x_b turned normal to it (up to 8). Numeric: at most one
+  /// (from the seed, position only).
   /// Returns the number of solutions written to `solutions` (cleared first).
   int SolvePosition(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b,
                     const Eigen::VectorXd& q_seed, std::vector<Eigen::VectorXd>* solutions) const;

@@ -94,6 +94,28 @@ TEST(ArmIkTest, PositionSolutionsReproduceForwardKinematics) {
   }
 }
 
+// The 6-DoF arm's position IK (the planner's pre-catch pose: the tool point
+// moved back along the approach) keeps the seed's approach and closing axes.
+TEST(ArmIkTest, SixDofPositionKeepsTheSeedsApproach) {
+  const ArmModel arm = Arm("arm6.urdf");
+  const ArmIk ik(arm);
+  std::mt19937 rng(9);
+  std::vector<Eigen::VectorXd> sols;
+  int solved = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const Eigen::VectorXd q = RandomWithinLimits(arm, &rng);
+    const Eigen::Isometry3d bMe = arm.ForwardKinematics(q);
+    const Eigen::Vector3d p = bMe.translation() - 0.03 * bMe.linear().col(2);
+    if (ik.SolvePosition(p, bMe.linear().col(0), q, &sols) == 0) continue;
+    ++solved;
+    const Eigen::Isometry3d bMs = arm.ForwardKinematics(sols[0]);
+    EXPECT_LT((bMs.translation() - p).norm(), 1e-5);
+    EXPECT_GT(bMs.linear().col(2).dot(bMe.linear().col(2)), 1.0 - 1e-8);
+    EXPECT_GT(bMs.linear().col(0).dot(bMe.linear().col(0)), 1.0 - 1e-8);
+  }
+  EXPECT_GE(solved, 120);  // 3 cm back leaves the joint limits for some
+}
+
 TEST(ArmIkTest, OutOfReachHasNoSolution) {
   const ArmModel arm = Arm("arm4.urdf");
   const ArmIk ik(arm);
