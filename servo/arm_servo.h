@@ -13,6 +13,9 @@
 // q* the servo moves along that path (joint limits are a box, so a straight
 // joint path never leaves them), near it the PBVS law takes over and tracks the
 // target as vision updates it. q* follows a moving target by warm-started IK.
+// The search for a new q* starts from the arm's closed-form solutions of the
+// target and is spread over Steps: at most search_budget IK iterations and
+// collision checks each, so no Step takes much longer than the others.
 // Two arms that hold each other up share a RightOfWay (servo/right_of_way.h):
 // the one farther from its target backs off to a via configuration.
 #pragma once
