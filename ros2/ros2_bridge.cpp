@@ -754,6 +754,19 @@ class Ros2EmergencyStop final : public EmergencyStopSource {
 
   EmergencyStopPoll Poll(double t_s) override { return latch_.Poll(t_s); }
 
+  /// Waits at most `timeout_s` for a publisher to match; whether one did.
+  bool WaitForPublisher(double timeout_s) const {
+    const auto deadline =
+        std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    dds_subscription_matched_status_t status{};
+    while (dds_get_subscription_matched_status(reader_, &status) == DDS_RETCODE_OK &&
+           status.current_count == 0) {
+      if (std::chrono::steady_clock::now() > deadline) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return true;
+  }
+
  private:
   static void OnData(dds_entity_t reader, void* arg) {
     auto* self = static_cast<Ros2EmergencyStop*>(arg);
@@ -868,7 +881,12 @@ Ros2Bridge OpenRos2(const Ros2Config& config, std::function<void(const std::stri
     const std::string ns = config.topic_namespace.empty() ? "" : "/" + config.topic_namespace;
     bridge.participant = shared;
     bridge.sink = std::make_unique<Ros2Sink>(shared, config, note, start_wall_s);
-    bridge.emergency_stop = std::make_unique<Ros2EmergencyStop>(shared, ns + "/emergency_stop");
+    auto stop = std::make_unique<Ros2EmergencyStop>(shared, ns + "/emergency_stop");
+    if (config.emergency_stop_wait_s > 0 && !stop->WaitForPublisher(config.emergency_stop_wait_s)) {
+      note(fmt::format("ROS 2: no publisher on {}/emergency_stop within {:g} s; going on", ns,
+                       config.emergency_stop_wait_s));
+    }
+    bridge.emergency_stop = std::move(stop);
   } catch (const std::exception& e) {
     return fail(e.what());
   }

@@ -50,7 +50,9 @@ struct Ros2Bridge {
   explicit operator bool() const { return sink != nullptr; }
 };
 
-/// Joins DDS domain `config.domain_id` and creates the topics. When
+/// Joins DDS domain `config.domain_id` and creates the topics; with
+/// `config.emergency_stop_wait_s` > 0 waits that long at most for a publisher
+/// of the emergency stop (said through `note` when none came). When
 /// `config.enabled` is false, returns an empty bridge and opens nothing. When
 /// DDS cannot start (no usable interface, a bad DDS configuration), says so
 /// through `note` once and returns an empty bridge: the command goes on

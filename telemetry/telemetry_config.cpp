@@ -27,7 +27,8 @@ TelemetryConfig TelemetryConfig::Load(const std::string& path) {
   if (root.Has("ros2")) {
     const ConfigNode r = root.Child("ros2");
     r.RequireOnlyKeys({"enabled", "domain_id", "topic_namespace", "dds_config",
-                       "joint_states_rate_hz", "image_rate_hz", "publish_clock"});
+                       "joint_states_rate_hz", "image_rate_hz", "publish_clock",
+                       "emergency_stop_wait_s"});
     Ros2Config& o = c.ros2;
     o.enabled = r.GetBool("enabled", o.enabled);
     o.domain_id = r.GetInt("domain_id", o.domain_id);
@@ -39,6 +40,7 @@ TelemetryConfig TelemetryConfig::Load(const std::string& path) {
     o.joint_states_rate_hz = r.GetDouble("joint_states_rate_hz", o.joint_states_rate_hz);
     o.image_rate_hz = r.GetDouble("image_rate_hz", o.image_rate_hz);
     o.publish_clock = r.GetBool("publish_clock", o.publish_clock);
+    o.emergency_stop_wait_s = r.GetDouble("emergency_stop_wait_s", o.emergency_stop_wait_s);
   }
   c.Validate();
   return c;
@@ -67,6 +69,7 @@ void TelemetryConfig::Validate() const {
   }
   CheckRange(s, "ros2.joint_states_rate_hz", ros2.joint_states_rate_hz, 1e-3, 1000.0, "Hz");
   CheckRange(s, "ros2.image_rate_hz", ros2.image_rate_hz, 0.0, 60.0, "Hz");
+  CheckRange(s, "ros2.emergency_stop_wait_s", ros2.emergency_stop_wait_s, 0.0, 600.0, "s");
 }
 
 }  // namespace aerograsp

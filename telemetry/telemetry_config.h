@@ -42,6 +42,9 @@ struct Ros2Config {
   double image_rate_hz =
       5.0;  ///< colour, depth and camera_info, Hz of mission time, [0, 60]; 0: none
   bool publish_clock = true;  ///< /clock with the stamps (mission time in simulation)
+  /// At the start, wait up to this long for a publisher on /NS/emergency_stop
+  /// before anything moves (said when none came), s, [0, 600]; 0: no wait.
+  double emergency_stop_wait_s = 0.0;
 };
 
 struct TelemetryConfig {

@@ -219,14 +219,18 @@ void RunWizard(const CalibrateCommandOptions& options, std::istream& in, std::os
     sink->Transition({hw->now_s(), "calibrate", "idle", "preflight", "start"});
     hw->SetTelemetry(sink);
   }
+  hw->SetEmergencyStop(telemetry.emergency_stop.get(),
+                       [&out](const std::string& line) { out << "telemetry: " << line << "\n"; });
   try {
     RunHandEyeWizard(options, *hw, in, out, progress);
   } catch (...) {
     hw->SetTelemetry(nullptr);
+    hw->SetEmergencyStop(nullptr);
     telemetry.Close();
     throw;
   }
   hw->SetTelemetry(nullptr);
+  hw->SetEmergencyStop(nullptr);
   const std::string mcap = telemetry.Close();
   if (!mcap.empty()) out << "wrote " << mcap << "\n";
 }

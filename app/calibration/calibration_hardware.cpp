@@ -129,6 +129,16 @@ std::string HandEyeHardware::ArmsWhere() const {
 
 double HandEyeHardware::now_s() const { return world_ ? world_->now_s() : SteadySeconds(); }
 
+std::string HandEyeHardware::PollEmergencyStop() {
+  if (!emergency_stop_) return "";
+  const EmergencyStopPoll poll = emergency_stop_->Poll(now_s());
+  if (emergency_note_) {
+    for (const std::string& note : poll.notes) emergency_note_(note);
+  }
+  if (!poll.stop) return "";
+  return "emergency stop from " + poll.source + (poll.reason.empty() ? "" : ": " + poll.reason);
+}
+
 void HandEyeHardware::Wait(double dt_s) {
   if (!world_) {
     std::this_thread::sleep_for(std::chrono::duration<double>(dt_s));

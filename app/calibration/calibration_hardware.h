@@ -15,6 +15,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -93,6 +94,17 @@ class HandEyeHardware {
   /// hardware) both arms' joints and tools.
   void SetTelemetry(TelemetrySink* sink) { telemetry_ = sink; }
   TelemetrySink* telemetry() const { return telemetry_; }
+  /// From now on the wizard polls `source` (may be null; must outlive the
+  /// hardware) at each of its steps: a stop ends the run as Ctrl-C does (both
+  /// arms stop, the samples are kept); the source's notes go to `note`.
+  void SetEmergencyStop(EmergencyStopSource* source,
+                        std::function<void(const std::string&)> note = {}) {
+    emergency_stop_ = source;
+    emergency_note_ = std::move(note);
+  }
+  /// The stop requested through the source set by SetEmergencyStop, if any:
+  /// "emergency stop from <source>: <reason>"; "" when none (notes said).
+  std::string PollEmergencyStop();
 
  private:
   friend std::unique_ptr<HandEyeHardware> OpenHandEyeHardware(const std::string&,
@@ -108,6 +120,8 @@ class HandEyeHardware {
   std::unique_ptr<ArmsDriver> arms_;
   ScsArmsDriver* scs_ = nullptr;
   TelemetrySink* telemetry_ = nullptr;
+  EmergencyStopSource* emergency_stop_ = nullptr;
+  std::function<void(const std::string&)> emergency_note_;
 };
 
 /// Loads `hardware_path` (empty: every device in-process in `world_path`, or

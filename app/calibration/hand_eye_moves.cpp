@@ -26,6 +26,8 @@ constexpr double kPathCheckRad = 0.02;      // spacing of the configurations che
 
 void CheckFaults(HandEyeHardware& hw) {
   if (InterruptGuard::Interrupted()) throw StopRun{"interrupted (Ctrl-C)"};
+  const std::string stop = hw.PollEmergencyStop();
+  if (!stop.empty()) throw StopRun{stop};
   ScsArmsDriver* scs = hw.scs();
   if (!scs) return;
   const CalibrationRig& rig = hw.rig();

@@ -28,8 +28,9 @@ struct StopRun {
 /// Control period of the wizard's moves, s.
 constexpr double kStep_s = 0.05;
 
-/// Throws StopRun on Ctrl-C or when a servo stopped answering or left its
-/// voltage or temperature range.
+/// Throws StopRun on Ctrl-C, an outside emergency stop
+/// (HandEyeHardware::SetEmergencyStop: ROS 2's) or when a servo stopped
+/// answering or left its voltage or temperature range.
 void CheckFaults(HandEyeHardware& hw);
 /// Why the straight joint-space move from `from` to `to` is refused ("" when
 /// every configuration along it keeps clear of the safe volume and of the

@@ -92,6 +92,7 @@ TEST(Ros2ConfigTest, ShippedFileEqualsTheDefaults) {
   EXPECT_EQ(shipped.joint_states_rate_hz, defaults.joint_states_rate_hz);
   EXPECT_EQ(shipped.image_rate_hz, defaults.image_rate_hz);
   EXPECT_EQ(shipped.publish_clock, defaults.publish_clock);
+  EXPECT_EQ(shipped.emergency_stop_wait_s, defaults.emergency_stop_wait_s);
 }
 
 TEST(Ros2ConfigTest, BadValuesAreRefusedWithTheirKey) {

@@ -18,9 +18,10 @@
 //     --leave-after N        exit (without goodbye) after N messages in all
 //     --ready-file PATH      create PATH once every reader has matched a writer
 //     --lease-s S            the participant's lease (how soon others notice it died)
-//   ros2_peer estop DOMAIN NS [--malformed]
-//     Publishes one stop (or one malformed Bool) when aerograsp's reader is
-//     matched, waits for it to be acknowledged, and exits.
+//   ros2_peer estop DOMAIN NS [--malformed] [--count N]
+//     Once aerograsp's reader is matched, publishes the stop (or two malformed
+//     Bools) N times (20) 50 ms apart, waits for them to be acknowledged, and
+//     exits.
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastrtps/types/DynamicData.h>
 #include <fastrtps/types/DynamicDataFactory.h>
@@ -328,6 +329,7 @@ struct Args {
   long leave_after = -1;
   std::string ready_file;
   double lease_s = 10;  // Fast DDS's default participant lease
+  int count = 20;       // estop: times each message is sent (1 s in all)
 };
 
 class Peer {
@@ -450,6 +452,7 @@ class Peer {
           if (estop && !stopped && r.spec.ros_name == Ns() + "/transitions" &&
               f["data"].get<std::string>().find(args_.estop_on) != std::string::npos) {
             stopped = true;
+            args_.count = 1;  // the reader has long been matched: once is enough
             if (malformed) SendMalformed(malformed);
             SendStop(estop);
             std::cout << "ros2_peer: sent the emergency stop on: " << f["data"].get<std::string>()
@@ -524,7 +527,12 @@ class Peer {
 
   /// Waits for aerograsp's reader to be matched (so nothing is written into
   /// the void), writes, and waits for the acknowledgement.
-  static void WhenMatched(DataWriter* w, const std::function<void()>& write) {
+  /// A volatile reader accepts only what a writer sends after the reader has
+  /// discovered it, and the two discover each other in either order: a
+  /// message written the moment our writer sees the reader may be
+  /// acknowledged and dropped as history. So `write` goes out `count` times,
+  /// `kRepeatPeriodMs` apart (as an emergency-stop button repeats its state).
+  void WhenMatched(DataWriter* w, const std::function<void()>& write) {
     const auto start = std::chrono::steady_clock::now();
     PublicationMatchedStatus status;
     while (w->get_publication_matched_status(status) == ReturnCode_t::RETCODE_OK &&
@@ -533,9 +541,13 @@ class Peer {
         throw std::runtime_error("no emergency-stop reader matched within 30 s");
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
-    write();
+    for (int i = 0; i < args_.count; ++i) {
+      if (i > 0) std::this_thread::sleep_for(std::chrono::milliseconds(kRepeatPeriodMs));
+      write();
+    }
     w->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(10, 0));
   }
+  static constexpr int kRepeatPeriodMs = 50;
 
   void SendMalformed(DataWriter* w) {
     WhenMatched(w, [w] {
@@ -569,7 +581,7 @@ int Usage() {
                "                 [--estop-on TEXT] [--malformed-first] [--no-images]\n"
                "                 [--leave-after N] [--ready-file PATH]\n"
                "                 [--lease-s S]\n"
-               "       ros2_peer estop DOMAIN NS [--malformed]\n";
+               "       ros2_peer estop DOMAIN NS [--malformed] [--count N]\n";
   return 1;
 }
 
@@ -612,6 +624,8 @@ int main(int argc, char** argv) {
       args.ready_file = value();
     else if (a == "--lease-s")
       args.lease_s = std::stod(value());
+    else if (a == "--count")
+      args.count = std::stoi(value());
     else
       return Usage();
   }
