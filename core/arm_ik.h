@@ -30,8 +30,8 @@ struct IkOptions {
   double orientation_tolerance_rad{1e-4};  ///< FK check of each solution, (0, 0.1] rad
   int max_iterations{60};                  ///< numeric solver iterations per seed, [1, 1000]
   double damping{0.005};                   ///< numeric solver damping lambda, [0, 1]
-  int approach_samples{
-      8};  ///< numeric SolveGraspAxis: approach angles about the closing axis, [1, 64]
+  /// numeric SolveGraspAxis: approach angles about the closing axis, [1, 64]
+  int approach_samples{8};
 };
 
 /// One grasp-axis solution: joints, the tool pose, and where the contacts sit.

@@ -24,8 +24,8 @@ struct ArmMountConfig {
 /// The two-finger gripper (docs/hardware.md: aperture not published; 0.10-0.15 m).
 struct GripperConfig {
   double max_aperture_m{0.12};  ///< opening between the finger pads when open, (0, 0.3] m
-  double finger_clearance_m{
-      0.01};                     ///< free space each side of the object when closing, [0, 0.05] m
+  /// free space each side of the object when closing, [0, 0.05] m
+  double finger_clearance_m{0.01};
   double finger_width_m{0.03};   ///< pad width across the closing direction, (0, 0.1] m
   double finger_length_m{0.12};  ///< pad length along the approach axis, (0, 0.3] m
   double close_time_s{0.8};      ///< full open to closed, (0, 10] s

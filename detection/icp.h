@@ -69,10 +69,10 @@ struct IcpOptions {
   /// Weight of a point-to-point term beside point-to-plane: without it a box seen
   /// on two faces slides freely along their common edge. [0, 1]
   double point_to_point_weight = 0.1;
-  double damping =
-      1e-4;  ///< Levenberg damping on the 6x6 normal equations (pins unobservable spins)
-  double converged_step_m =
-      2e-5;              ///< stop when the step is below this (translation + rotation * 0.1 m)
+  /// Levenberg damping on the 6x6 normal equations (pins unobservable spins)
+  double damping = 1e-4;
+  /// stop when the step is below this (translation + rotation * 0.1 m)
+  double converged_step_m = 2e-5;
   int min_inliers = 30;  ///< fewer pairs than this: failure
 };
 

@@ -59,8 +59,8 @@ struct ModelCloud {
 struct ModelCloudOptions {
   double spacing_m = 0.004;  ///< mean distance between surface samples, [0.001, 0.05] m
   double cell_m = 0.003;     ///< nearest-point grid cell, [0.001, 0.05] m
-  double margin_m =
-      0.05;  ///< grid reaches this far from the surface (>= ICP's largest distance), m
+  /// grid reaches this far from the surface (>= ICP's largest distance), m
+  double margin_m = 0.05;
   std::uint64_t seed = 1;  ///< surface sampling seed
 };
 

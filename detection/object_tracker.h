@@ -34,12 +34,12 @@ struct PerceptionOptions {
   TrackMonitorOptions track;
   float min_detection_score = 0.3f;  ///< detector peaks below this are ignored, (0, 1)
   double box_margin = 0.15;          ///< the crop is the box grown by this fraction per side
-  double min_support_ratio =
-      0.9;                    ///< a pose must explain this fraction of the compared depth, (0, 1]
+  /// a pose must explain this fraction of the compared depth, (0, 1]
+  double min_support_ratio = 0.9;
   double min_coverage = 0.4;  ///< ... and this fraction of the visible model, (0, 1]
   int min_cloud_points = 60;  ///< fewer points in the crop: no measurement, >= 10
-  int whole_frame_points =
-      8000;  ///< cloud size when the crop is the whole frame (no detector, no prior), [50, 100000]
+  /// cloud size when the crop is the whole frame (no detector, no prior), [50, 100000]
+  int whole_frame_points = 8000;
   /// While the track is found and the last frame was measured, the detector
   /// runs on every this many frames, [1, 30]; on the frames between, the crop
   /// is the outline of the filter's prediction. 1: every frame (the paper's
@@ -63,8 +63,8 @@ struct PerceptionOptions {
   double measurement_position_std_m = 0.002;   ///< ICP position noise at 1 m (grows with z^2), m
   double measurement_rotation_std_rad = 0.02;  ///< ICP rotation noise, rad
   int gated_frames_to_reset = 3;  ///< consecutive gated but well-supported poses restart the filter
-  double weak_direction_ratio =
-      0.08;  ///< ICP's weak_ratio below this: slide along it to the best outline, [0, 1]
+  /// ICP's weak_ratio below this: slide along it to the best outline, [0, 1]
+  double weak_direction_ratio = 0.08;
   /// Position noise added along ICP's weak direction when weak_ratio is below
   /// weak_direction_ratio (an extrusion seen without its ends), m, [0, 1]. Worth
   /// setting only with the camera's pose given to Process (a filter in the
@@ -86,8 +86,8 @@ struct ObjectEstimate {
   /// given the camera's pose wMc, else the camera (then fMo = cMo).
   Eigen::Isometry3d fMo = Eigen::Isometry3d::Identity();
   Eigen::Vector3d v_f = Eigen::Vector3d::Zero();  ///< m/s, in f
-  Eigen::Matrix<double, 6, 6> covariance =
-      Eigen::Matrix<double, 6, 6>::Zero();        ///< position m^2, rotation rad^2, in f
+  /// position m^2, rotation rad^2, in f
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Vector3d v_c = Eigen::Vector3d::Zero();  ///< m/s in f, expressed in c
   Eigen::Vector3d w_c = Eigen::Vector3d::Zero();  ///< rad/s in f, expressed in c
   double confidence = 0.0;                        ///< [0, 1]

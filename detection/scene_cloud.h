@@ -28,8 +28,8 @@ double BoxIoU(const PixelBox& a, const PixelBox& b);
 
 struct SceneCloud {
   std::vector<Eigen::Vector3f> points_c;  ///< m, camera frame c
-  std::vector<Eigen::Vector3f>
-      normals_c;  ///< unit, towards the camera; zero when it could not be fitted
+  /// unit, towards the camera; zero when it could not be fitted
+  std::vector<Eigen::Vector3f> normals_c;
   std::vector<Eigen::Vector3f> colors;  ///< RGB 0..255
   int valid_pixels = 0;                 ///< pixels of the box with depth in range
   bool empty() const { return points_c.empty(); }
@@ -39,10 +39,10 @@ struct SceneCloudOptions {
   int target_points = 1000;   ///< subsample to about this many points, [50, 100000]
   double min_depth_m = 0.15;  ///< ignore nearer depth, m
   double max_depth_m = 3.0;   ///< ignore farther depth, m
-  double normal_radius_m =
-      0.03;  ///< neighbourhood of the normal fit, m (its pixel radius is capped at 12)
-  double max_normal_jump_m =
-      0.03;  ///< neighbours farther in depth than this are another surface, m
+  /// neighbourhood of the normal fit, m (its pixel radius is capped at 12)
+  double normal_radius_m = 0.03;
+  /// neighbours farther in depth than this are another surface, m
+  double max_normal_jump_m = 0.03;
 };
 
 /// Builds the cloud of the pixels of `box` (clipped to the image). Depth and

@@ -31,8 +31,9 @@ class PlatformCollision;
 struct GraspPlannerConfig {
   ContactOptions contacts;
   FrictionConfig friction;
-  double depth_min_m{0.0};  ///< contacts at least this far behind the tool point along the
-                            ///< approach, [-0.02, 0.2] m (the tool point is 0.02 m inside the tips)
+  /// contacts at least this far behind the tool point along the approach, [-0.02, 0.2] m (the tool
+  /// point is 0.02 m inside the tips)
+  double depth_min_m{0.0};
   double depth_max_m{0.08};  ///< and at most this far (on the pads), (depth_min_m, finger_length_m)
   double precatch_distance_m{0.08};  ///< pre-catch tool point back along the approach, [0, 0.3] m
   /// Arm clearance to the safe volume, [0, 0.1] m. Default 0 (touching counts):

@@ -43,12 +43,12 @@ namespace aerograsp {
 struct GraspPolicyConfig {
   /// Plan when the object is this near its grasp point under the body, (0, 1] m.
   double near_tolerance_m{0.03};
-  double settle_s{
-      0.2};  ///< both arms at their pre-catch poses this long before moving in, [0, 5] s
+  /// both arms at their pre-catch poses this long before moving in, [0, 5] s
+  double settle_s{0.2};
   int max_attempts{12};        ///< failed attempts (plans) before giving up, [1, 100]
   double lost_timeout_s{2.0};  ///< object lost this long while grasping: plan again, (0, 60] s
-  double planning_timeout_s{
-      10.0};  ///< without a feasible grasp (or the object in view), (0, 600] s
+  /// without a feasible grasp (or the object in view), (0, 600] s
+  double planning_timeout_s{10.0};
   /// A ranked followed pair is left only for one scoring this much more, [0, 10] (score units).
   double switch_margin{0.01};
   /// Re-evaluations in a row proposing a switch before it is taken, [1, 100].

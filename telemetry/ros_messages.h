@@ -31,17 +31,17 @@ inline constexpr const char* kString = "std_msgs/msg/String";
 namespace ros_topic {
 inline constexpr const char* kTf = "/tf";               ///< TFMessage, moving frames
 inline constexpr const char* kTfStatic = "/tf_static";  ///< TFMessage, fixed frames
-inline constexpr const char* kObjectPose =
-    "/aerograsp/object_pose_covariance";  ///< PoseWithCovarianceStamped
+/// PoseWithCovarianceStamped
+inline constexpr const char* kObjectPose = "/aerograsp/object_pose_covariance";
 inline constexpr const char* kObjectFound = "/aerograsp/object_found";    ///< Bool, each frame
 inline constexpr const char* kJointStates = "/aerograsp/joint_states";    ///< JointState, both arms
 inline constexpr const char* kJointTargets = "/aerograsp/joint_targets";  ///< JointState, commanded
-inline constexpr const char* kTransitions =
-    "/aerograsp/transitions";  ///< String "machine: a -> b: why"
-inline constexpr const char* kGraspPair =
-    "/aerograsp/grasp_pair";  ///< String "left L right R: why"
-inline constexpr const char* kColorImage =
-    "/aerograsp/camera/color/image_raw/compressed";  ///< CompressedImage (JPEG)
+/// String "machine: a -> b: why"
+inline constexpr const char* kTransitions = "/aerograsp/transitions";
+/// String "left L right R: why"
+inline constexpr const char* kGraspPair = "/aerograsp/grasp_pair";
+/// CompressedImage (JPEG)
+inline constexpr const char* kColorImage = "/aerograsp/camera/color/image_raw/compressed";
 inline constexpr const char* kCameraInfo = "/aerograsp/camera/color/camera_info";  ///< CameraInfo
 inline constexpr const char* kDepthImage = "/aerograsp/camera/depth/image_raw";    ///< Image, 16UC1
 inline constexpr const char* kLog = "/rosout";  ///< Log: log lines and state transitions

@@ -39,8 +39,8 @@ struct Ros2Config {
   std::string dds_config;
   /// Joints, targets, /tf and /clock at most this often, Hz of mission time, (0, 1000].
   double joint_states_rate_hz = 100.0;
-  double image_rate_hz =
-      5.0;  ///< colour, depth and camera_info, Hz of mission time, [0, 60]; 0: none
+  /// colour, depth and camera_info, Hz of mission time, [0, 60]; 0: none
+  double image_rate_hz = 5.0;
   bool publish_clock = true;  ///< /clock with the stamps (mission time in simulation)
   /// At the start, wait up to this long for a publisher on /NS/emergency_stop
   /// before anything moves (said when none came), s, [0, 600]; 0: no wait.

@@ -15,17 +15,18 @@ namespace aerograsp {
 
 struct CalibrateCommandOptions {
   std::string arm{"left"};  ///< "left" | "right"
-  bool intrinsics = false;  ///< the camera's intrinsics instead of an arm
-                            ///< (app/calibration/calibrate_intrinsics.h)
-  std::string out_dir;      ///< samples, calibration YAML, summary.json
-  std::string resolve_dir;  ///< when set: solve again from the samples (or views) saved there,
-                            ///< ours (samples.yaml) or in ViSP's convention (pose_rPe_N.yaml ...)
+  /// the camera's intrinsics instead of an arm (app/calibration/calibrate_intrinsics.h)
+  bool intrinsics = false;
+  std::string out_dir;  ///< samples, calibration YAML, summary.json
+  /// when set: solve again from the samples (or views) saved there, ours (samples.yaml) or in
+  /// ViSP's convention (pose_rPe_N.yaml ...)
+  std::string resolve_dir;
   std::string setup{"eye-to-hand"};  ///< of a ViSP data set: "eye-to-hand" | "eye-in-hand"
   double tag_size_m = 0.0;   ///< of a ViSP data set without pose_cPo files: the tag's edge, m
   std::string world_config;  ///< default data/config/world_default.yaml
-  std::string
-      hardware_path;  ///< empty: the built-in simulation (app/calibration/calibration_hardware.h)
-  int poses = 15;     ///< arm poses (or board views) to visit, [4, 100]
+  /// empty: the built-in simulation (app/calibration/calibration_hardware.h)
+  std::string hardware_path;
+  int poses = 15;              ///< arm poses (or board views) to visit, [4, 100]
   std::uint64_t seed = 1;      ///< world and pose-planning seed
   bool dry_run = false;        ///< pre-flight check and plan only: nothing moves
   bool yes = false;            ///< no confirmation asked before the arm moves (scripts)

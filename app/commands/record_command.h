@@ -16,8 +16,8 @@ struct RecordCommandOptions {
   std::string object;        ///< overrides the world's object when not empty
   std::string motion;        ///< overrides the world's object motion when not empty
   bool overwrite = false;    ///< replace a sequence already in out_dir
-  double occlude_at_s =
-      -1.0;  ///< >= 0: a panel hides the object from this time on (WorldConfig::occluder)
+  /// >= 0: a panel hides the object from this time on (WorldConfig::occluder)
+  double occlude_at_s = -1.0;
   double occlude_for_s = 1.0;    ///< how long it hides it, s
   double occlude_every_s = 0.0;  ///< hides it again every this many seconds (0: once)
 };

@@ -47,14 +47,14 @@ struct MissionConfig {
   double servo_rate_hz{100.0};     ///< arm servo loop, [10, 1000] Hz
   double setpoint_rate_hz{10.0};   ///< autopilot position setpoints, [2, 100] Hz
   double reevaluate_rate_hz{5.0};  ///< background grasp re-evaluation, (0, 100] Hz
-  double object_filter_s{
-      0.5};  ///< low-pass time constant of the tracked object position, (0, 10] s
+  /// low-pass time constant of the tracked object position, (0, 10] s
+  double object_filter_s{0.5};
   /// The estimate is moved on with its velocity to the present, at most this
   /// far ahead of its frame, [0, 1] s.
   double predict_max_s{0.2};
-  double search_timeout_s{
-      20.0};                ///< at the waypoint without finding the object: give up, (0, 600] s
-  double timeout_s{180.0};  ///< the whole mission, (0, 3600] s
+  /// at the waypoint without finding the object: give up, (0, 600] s
+  double search_timeout_s{20.0};
+  double timeout_s{180.0};       ///< the whole mission, (0, 3600] s
   double servo_margin_m{0.005};  ///< arms' clearance to the safe volume and each other, [0, 0.05] m
 
   GraspPolicyConfig policy;                               ///< `policy`

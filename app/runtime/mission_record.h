@@ -24,8 +24,8 @@ struct MissionSample {
   /// (NaN on hardware, where there is none).
   Eigen::Vector3d dto_estimate_m = Eigen::Vector3d::Constant(NAN);
   Eigen::Vector3d dto_truth_m = Eigen::Vector3d::Constant(NAN);
-  double rotation_error_deg =
-      NAN;             ///< estimate vs truth (symmetry-aware), NaN when either is missing
+  /// estimate vs truth (symmetry-aware), NaN when either is missing
+  double rotation_error_deg = NAN;
   bool found = false;  ///< vision state found
   /// Per arm (0 left, 1 right): the joint targets sent and the joints measured, rad.
   Eigen::VectorXd q_target_rad[2];

@@ -40,8 +40,8 @@ struct MissionOptions {
   std::uint64_t seed{1};
   std::string object;            ///< shipped object name or model path; empty: the world's
   std::string arm_type{"4dof"};  ///< "4dof" | "6dof" (the platform config)
-  double sway_amplitude_m{
-      -1.0};  ///< hover sway per horizontal axis (vertical 2/3 of it); < 0: the world's
+  /// hover sway per horizontal axis (vertical 2/3 of it); < 0: the world's
+  double sway_amplitude_m{-1.0};
   double sway_frequency_hz{-1.0};  ///< < 0: the world's
   std::string motion;              ///< "static" | "crawl"; empty: the world's
   double object_speed_mps{-1.0};   ///< crawl speed; < 0: the world's
@@ -69,8 +69,9 @@ struct MissionResult {
   bool success = false;         ///< landed with the object held by both grippers, no emergency
   std::string failure;          ///< why not, one line (empty on success)
   double time_to_grasp_s = -1;  ///< from the start to both grippers holding; < 0: never
-  double pose_rmse_m = -1;      ///< object position estimate vs truth over the frames found while
-                                ///< grasping; < 0: none (or no truth: hardware)
+  /// object position estimate vs truth over the frames found while grasping; < 0: none (or no
+  /// truth: hardware)
+  double pose_rmse_m = -1;
   double rotation_rmse_deg = -1;
   int grasp_frames = 0;    ///< frames the pose RMSE is taken over
   int grasp_switches = 0;  ///< re-evaluation switched the followed dual grasp

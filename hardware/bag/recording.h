@@ -16,8 +16,8 @@ namespace aerograsp {
 struct RecordingOptions {
   std::string intrinsics_file;           ///< TUM folders: ViSP camera XML or YAML (required)
   std::optional<Eigen::Isometry3d> wMo;  ///< TUM folders: the object in groundtruth.txt's world
-  double max_pair_gap_s = 0.0;           ///< .bag and TUM: colour-depth pairing gap, 0 = one
-                                         ///< depth frame period
+  /// .bag and TUM: colour-depth pairing gap, 0 = one depth frame period
+  double max_pair_gap_s = 0.0;
 };
 
 /// @throws HardwareError / ConfigError naming the path and what is wrong

@@ -54,10 +54,10 @@ struct Px4Config {
   int command_attempts{3};        ///< sends of a command before giving up, [1, 10]
   double link_timeout_s{1.0};     ///< no heartbeat for this long: link lost, (0, 60] s
   double connect_timeout_s{3.0};  ///< wait for the first heartbeat, (0, 120] s
-  double home_amsl_m{
-      0.0};  ///< altitude of the take-off point above sea level (NAV_TAKEOFF wants AMSL), m
-  std::string
-      signing_key_hex;  ///< 64 hex digits: sign what we send and require signed frames; empty = off
+  /// altitude of the take-off point above sea level (NAV_TAKEOFF wants AMSL), m
+  double home_amsl_m{0.0};
+  /// 64 hex digits: sign what we send and require signed frames; empty = off
+  std::string signing_key_hex;
   int signing_link_id{0};  ///< [0, 255]
 };
 

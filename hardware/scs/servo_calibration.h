@@ -14,8 +14,8 @@ constexpr int kScsMaxRaw = 1023;  ///< 10-bit positions
 struct ServoCalibration {
   int id = 0;                     ///< bus id, [0, 253]
   double angle_at_min_rad = 0.0;  ///< joint angle measured with the servo at raw 0, rad
-  double angle_at_max_rad =
-      0.0;  ///< joint angle measured at raw 1023, rad (differs from the other)
+  /// joint angle measured at raw 1023, rad (differs from the other)
+  double angle_at_max_rad = 0.0;
 
   /// Nearest raw position of `q_rad`, clamped to [0, 1023].
   int RawFromAngle(double q_rad) const {

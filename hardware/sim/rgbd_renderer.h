@@ -25,8 +25,8 @@ struct RenderMaterial {
 /// A mesh to render, in its own frame; posed in the world with SetPose().
 struct RenderMesh {
   TriangleMesh mesh;
-  std::vector<Eigen::Vector2f>
-      uv;  ///< per vertex, in [0, 1] (u right, v down); needed with a texture
+  /// per vertex, in [0, 1] (u right, v down); needed with a texture
+  std::vector<Eigen::Vector2f> uv;
   RenderMaterial material;
 };
 

@@ -28,8 +28,8 @@
 namespace aerograsp {
 
 struct SimServoBusConfig {
-  double byte_time_s{
-      10e-6};  ///< wire time of a byte (1 Mbaud, 8N1 = 10 bits), [0, 0.01] s; 0 = instant
+  /// wire time of a byte (1 Mbaud, 8N1 = 10 bits), [0, 0.01] s; 0 = instant
+  double byte_time_s{10e-6};
   double return_delay_s{20e-6};      ///< servo's delay before it replies, [0, 0.1] s
   std::vector<int> silent_ids;       ///< servos that do not answer (nor obey)
   std::vector<int> slow_ids;         ///< servos that answer late

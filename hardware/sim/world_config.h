@@ -13,14 +13,14 @@
 namespace aerograsp {
 
 struct SceneConfig {
-  Eigen::Vector3d pipe_center_w_m{
-      0.0, 0.0, -1.3};            ///< centre of the support pipe's axis (NED, so z < 0 is up)
+  /// centre of the support pipe's axis (NED, so z < 0 is up)
+  Eigen::Vector3d pipe_center_w_m{0.0, 0.0, -1.3};
   double pipe_yaw_rad{M_PI / 2};  ///< pipe axis heading from north, [-pi, pi] rad (pi/2: east-west)
   double pipe_radius_m{0.08};     ///< (0, 1] m
   double pipe_length_m{4.0};      ///< (0, 50] m
   int clutter_count{14};          ///< boxes and cylinders on the ground, [0, 200]
-  double clutter_radius_m{
-      5.0};                   ///< clutter lies within this distance of the pipe centre, (0, 50] m
+  /// clutter lies within this distance of the pipe centre, (0, 50] m
+  double clutter_radius_m{5.0};
   double ground_tile_m{0.5};  ///< size of the ground texture's tiles, (0, 10] m
 };
 
@@ -38,8 +38,8 @@ struct ObjectMotionConfig {
 };
 
 struct VehicleSimConfig {
-  std::string start{
-      "hover"};  ///< "hover" (at start_w_m, flying) | "ground" (disarmed at the origin)
+  /// "hover" (at start_w_m, flying) | "ground" (disarmed at the origin)
+  std::string start{"hover"};
   Eigen::Vector3d start_w_m{-0.26, -0.15, -2.104};     ///< hover start (NED), m
   double start_yaw_rad{0.0};                           ///< heading, rad
   Eigen::Vector3d sway_amplitude_m{0.03, 0.03, 0.02};  ///< per axis, each [0, 1] m
@@ -60,8 +60,8 @@ struct ArmsSimConfig {
   double lag_s{0.05};         ///< servo first-order lag, (0, 2] s
   double speed_scale{1.0};    ///< fraction of the URDF velocity limits the servos reach, (0, 2]
   int position_counts{1024};  ///< position resolution (SCS: 10 bits), [2, 65536]
-  double position_range_deg{
-      220.0};  ///< angle spanned by the counts (SCS: about +-110 deg), (0, 360] deg
+  /// angle spanned by the counts (SCS: about +-110 deg), (0, 360] deg
+  double position_range_deg{220.0};
 };
 
 struct CameraSimConfig {
@@ -85,9 +85,9 @@ struct OccluderConfig {
   double start_s{2.0};     ///< first time it hides the object, simulated s, [0, 1e6]
   double duration_s{1.0};  ///< how long each time, (0, 1e6] s
   double period_s{0.0};    ///< hides again every period (0: once), 0 or > duration_s, s
-  double distance_m{0.3};  ///< from the camera along the line to the object, [0.2, 2] m (the D435
-                           ///< sees from 0.2 m)
-  double size_m{0.35};     ///< side of the square panel, (0, 5] m
+  /// from the camera along the line to the object, [0.2, 2] m (the D435 sees from 0.2 m)
+  double distance_m{0.3};
+  double size_m{0.35};  ///< side of the square panel, (0, 5] m
 };
 
 struct WorldConfig {
