@@ -532,7 +532,9 @@ class Peer {
   /// message written the moment our writer sees the reader may be
   /// acknowledged and dropped as history. So `write` goes out `count` times,
   /// `kRepeatPeriodMs` apart (as an emergency-stop button repeats its state).
-  void WhenMatched(DataWriter* w, const std::function<void()>& write) {
+  /// `ack_wait_s` bounds the wait for the acknowledgement: a reader that
+  /// cannot decode a message may never acknowledge it.
+  void WhenMatched(DataWriter* w, const std::function<void()>& write, int ack_wait_s = 10) {
     const auto start = std::chrono::steady_clock::now();
     PublicationMatchedStatus status;
     while (w->get_publication_matched_status(status) == ReturnCode_t::RETCODE_OK &&
@@ -545,18 +547,21 @@ class Peer {
       if (i > 0) std::this_thread::sleep_for(std::chrono::milliseconds(kRepeatPeriodMs));
       write();
     }
-    w->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(10, 0));
+    w->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(ack_wait_s, 0));
   }
   static constexpr int kRepeatPeriodMs = 50;
 
   void SendMalformed(DataWriter* w) {
-    WhenMatched(w, [w] {
-      // Encapsulation CDR_LE, then the bool's byte: 7 is neither false nor true.
-      std::vector<uint8_t> bad = {0x00, 0x01, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00};
-      w->write(&bad);
-      std::vector<uint8_t> truncated = {0x00, 0x01, 0x00, 0x00};  // no byte at all
-      w->write(&truncated);
-    });
+    WhenMatched(
+        w,
+        [w] {
+          // Encapsulation CDR_LE, then the bool's byte: 7 is neither false nor true.
+          std::vector<uint8_t> bad = {0x00, 0x01, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00};
+          w->write(&bad);
+          std::vector<uint8_t> truncated = {0x00, 0x01, 0x00, 0x00};  // no byte at all
+          w->write(&truncated);
+        },
+        /*ack_wait_s=*/0);
     std::cout << "ros2_peer: sent two malformed emergency stops" << std::endl;
   }
 
