@@ -36,8 +36,11 @@ TEST(Ros2CalibrateTest, StopFromThePeerStopsTheWizardWithBothArmsHeld) {
                            << "  dds_config: " << AEROGRASP_DATA_DIR
                            << "/dds/cyclonedds_loopback.xml\n";
 
-  // The peer sends one `true` as soon as the wizard's reader is matched.
-  const std::vector<std::string> argv = {AEROGRASP_ROS2_PEER, "estop", "88", "aerograsp"};
+  // The peer sends `true` as soon as the wizard's reader is matched, and again
+  // every 50 ms for 10 s (a stop written before the reader has discovered the
+  // writer is dropped), as a stop button repeats its state.
+  const std::vector<std::string> argv = {AEROGRASP_ROS2_PEER, "estop",   "88",
+                                         "aerograsp",         "--count", "200"};
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
