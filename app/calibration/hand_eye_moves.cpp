@@ -10,6 +10,7 @@
 #include "app/calibration/calibration_visp.h"
 #include "app/calibration/interrupt_guard.h"
 #include "core/collision.h"
+#include "hardware/device_health.h"
 #include "hardware/scs/scs_arms_driver.h"
 #include "telemetry/telemetry.h"
 
@@ -30,20 +31,18 @@ void CheckFaults(HandEyeHardware& hw) {
   if (!stop.empty()) throw StopRun{stop};
   ScsArmsDriver* scs = hw.scs();
   if (!scs) return;
+  // The mission's servo checks (hardware/device_health.h) with the rig's bounds.
   const CalibrationRig& rig = hw.rig();
+  DeviceHealthLimits limits;
+  limits.servo_max_failed_reads = rig.max_failed_reads;
+  limits.servo_min_voltage_v = rig.min_voltage_v;
+  limits.servo_max_voltage_v = rig.max_voltage_v;
+  limits.servo_max_temperature_c = rig.max_temperature_c;
   for (const ScsServoStatus& s : scs->servo_statuses()) {
-    if (s.failed_reads >= rig.max_failed_reads) {
-      throw StopRun{
-          fmt::format("servo {} (id {}) stopped answering on {} ({} reads failed in a row)", s.name,
-                      s.id, hw.ArmsWhere(), s.failed_reads)};
-    }
-    if (s.voltage_v > 0.0 && (s.voltage_v < rig.min_voltage_v || s.voltage_v > rig.max_voltage_v)) {
-      throw StopRun{fmt::format("servo {} (id {}): supply {:.1f} V outside {:.1f}-{:.1f} V", s.name,
-                                s.id, s.voltage_v, rig.min_voltage_v, rig.max_voltage_v)};
-    }
-    if (s.temperature_c > rig.max_temperature_c) {
-      throw StopRun{fmt::format("servo {} (id {}): {} C, above {:.0f} C", s.name, s.id,
-                                s.temperature_c, rig.max_temperature_c)};
+    for (const DeviceFault& f : CheckServo(s, /*reading_age_s=*/0.0, limits)) {
+      if (f.kind != DeviceFaultKind::kServoSilent) throw StopRun{f.Text()};
+      throw StopRun{fmt::format("{} stopped answering on {} ({} reads failed in a row)", f.device,
+                                hw.ArmsWhere(), s.failed_reads)};
     }
   }
 }
