@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "app/benchmarks/fault_benchmark.h"
+#include "app/benchmarks/mission_benchmark.h"
 #include "app/benchmarks/perception_benchmark.h"
 #include "app/benchmarks/render_benchmark.h"
 #include "app/benchmarks/servo_benchmark.h"
@@ -131,6 +132,15 @@ int main(int argc, char** argv) {
       "state and its latency per kind");
   aerograsp::AddFaultBenchmarkOptions(fault_bench_cmd, &fault_bench);
   // ---- end benchmark faults ----
+  // ---- benchmark missions: every arm, object and motion, seeded ----
+  aerograsp::MissionBenchmarkOptions mission_bench;
+  CLI::App* mission_bench_cmd = benchmark_cmd->add_subcommand(
+      "missions",
+      "Seeded missions of every combination of arms (4dof, 6dof), object (crawler, pipe, "
+      "u_shape) and motion (crawl, static): success on the first attempt and within 3, time to "
+      "grasp, closes, tool error, safety, worst servo step, real-time factor per combination");
+  aerograsp::AddMissionBenchmarkOptions(mission_bench_cmd, &mission_bench);
+  // ---- end benchmark missions ----
   // ---- benchmark perception: plain meshes against coloured ones ----
   aerograsp::PerceptionBenchmarkOptions perception_bench;
   CLI::App* perception_bench_cmd = benchmark_cmd->add_subcommand(
@@ -502,6 +512,8 @@ int main(int argc, char** argv) {
     if (*render_bench_cmd) aerograsp::RunRenderBenchmark(render_bench, std::cout);
     if (*servo_bus_bench_cmd) aerograsp::RunServoBusBenchmark(servo_bus_bench, std::cout);
     if (*fault_bench_cmd) aerograsp::RunFaultBenchmark(fault_bench, std::cout);
+    if (*mission_bench_cmd)
+      code = aerograsp::RunMissionBenchmark(mission_bench, std::cout, std::cerr);
     if (*perception_bench_cmd)
       aerograsp::RunPerceptionBenchmark(perception_bench, std::cout, std::cerr);
     if (*hardware_check_cmd && aerograsp::RunHardwareCheck(hardware_check, std::cout) > 0)

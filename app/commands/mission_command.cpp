@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "app/cli_checks.h"
+#include "app/commands/mission_runs.h"
 #include "app/exit_codes.h"
 #include "app/report/mission_report.h"
 #include "app/report/mission_statistics.h"
@@ -26,22 +27,6 @@ void WriteText(const fs::path& path, const std::string& text) {
   std::ofstream file(path, std::ios::trunc);
   file << text;
   if (!file) throw std::runtime_error(path.string() + ": cannot write");
-}
-
-std::string Describe(const MissionResult& r) {
-  const MissionStatistics s = SummarizeMissions({r});
-  return fmt::format(
-      "{}; grasped at {} after {} attempt(s), {} gripper close(s) ({} held), tool to the true "
-      "grasp at contact {} median, pose RMSE {}, {} switch(es), {} safe-volume entr{}, {} arm "
-      "contact(s), worst servo step {:.2f} ms, {:.2f}x real time",
-      r.success ? "success" : "FAILED: " + r.failure,
-      r.time_to_grasp_s >= 0 ? fmt::format("{:.1f} s", r.time_to_grasp_s) : "never", r.attempts,
-      s.closes, s.holds,
-      std::isfinite(s.tool_error_median_m) ? fmt::format("{:.1f} mm", 1e3 * s.tool_error_median_m)
-                                           : "n/a",
-      r.pose_rmse_m >= 0 ? fmt::format("{:.1f} mm", 1e3 * r.pose_rmse_m) : "n/a", r.grasp_switches,
-      r.safe_volume_entries, r.safe_volume_entries == 1 ? "y" : "ies", r.arm_contacts,
-      r.servo_step_ms_max, r.realtime_factor);
 }
 
 }  // namespace
@@ -118,26 +103,6 @@ ReportRow Headline(const MissionResult& r) {
                    r.frames, r.perception_ms_median, r.render_ms_median, r.global_registrations)}};
 }
 
-ReportRow RunRow(std::uint64_t seed, const MissionResult& r) {
-  const MissionStatistics s = SummarizeMissions({r});
-  return {{"seed", std::to_string(seed)},
-          {"success", r.success ? "yes" : "no"},
-          {"attempts", std::to_string(r.attempts)},
-          {"time to grasp (s)",
-           r.time_to_grasp_s >= 0 ? fmt::format("{:.1f}", r.time_to_grasp_s) : "-"},
-          {"closes (held)", fmt::format("{} ({})", s.closes, s.holds)},
-          {"tool at contact, median (mm)", std::isfinite(s.tool_error_median_m)
-                                               ? fmt::format("{:.1f}", 1e3 * s.tool_error_median_m)
-                                               : "-"},
-          {"pose RMSE (mm)", r.pose_rmse_m >= 0 ? fmt::format("{:.1f}", 1e3 * r.pose_rmse_m) : "-"},
-          {"switches", std::to_string(r.grasp_switches)},
-          {"safe-volume entries", std::to_string(r.safe_volume_entries)},
-          {"arm contacts", std::to_string(r.arm_contacts)},
-          {"worst servo step (ms)", fmt::format("{:.2f}", r.servo_step_ms_max)},
-          {"real-time factor", fmt::format("{:.2f}", r.realtime_factor)},
-          {"failure", r.failure}};
-}
-
 }  // namespace
 
 int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, std::ostream& err) {
@@ -146,10 +111,10 @@ int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, s
   nlohmann::json summary;
   summary["object"] = options.mission.object.empty() ? "crawler" : options.mission.object;
   summary["arm"] = options.mission.arm_type;
-  MissionRecord record;  // of the first run: the report's plots
   const TelemetryConfig telemetry_config = LoadTelemetryConfig(options.telemetry);
 
   if (options.runs == 1) {
+    MissionRecord record;  // the report's plots
     std::ostringstream log;
     struct Tee : std::streambuf {
       std::ostream *a, *b;
@@ -183,61 +148,27 @@ int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, s
     summary.update(MissionRunJson(options.mission.seed, result));
     const std::string path = WriteSummaryFile(dir.string(), summary.dump(2));
     WriteMissionReport(record, record.object_mesh_o, Headline(result), {}, dir.string());
-    out << "mission: " << Describe(result) << "\n";
+    out << "mission: " << DescribeMissionRun(result) << "\n";
     out << "Wrote " << (dir / "index.html").string() << ", " << path << " and "
         << (dir / "mission.log").string() << "\n";
     if (!mcap.empty()) out << "Wrote " << mcap << "\n";
     return result.success ? kExitOk : kExitMissionFailed;
   }
 
-  fs::create_directories(dir / "logs");
   Progress progress(err, "missions", options.runs, "missions");
-  nlohmann::json runs = nlohmann::json::array();
-  std::vector<ReportRow> rows;
-  std::vector<MissionResult> results;
-  for (int k = 0; k < options.runs; ++k) {
-    MissionOptions m = options.mission;
-    m.seed = options.mission.seed + static_cast<std::uint64_t>(k);
-    std::ostringstream log;
-    CommandTelemetry telemetry;  // the first run's, as its plots
-    if (k == 0) {
-      telemetry =
-          OpenTelemetry(telemetry_config, dir.string(), "mission",
-                        [&log](const std::string& line) { log << "telemetry: " << line << "\n"; });
-    }
-    MissionLinks links;
-    links.telemetry = telemetry.sink();
-    links.emergency_stop = telemetry.emergency_stop.get();
-    MissionResult result;
-    try {
-      result = RunMission(m, k == 0 ? &record : nullptr, &log, links);
-    } catch (const std::exception& e) {
-      result.failure = std::string("error: ") + e.what();
-    }
-    const std::string mcap = telemetry.Close();
-    if (!mcap.empty()) log << "Wrote " << mcap << "\n";
-    WriteText(dir / "logs" / fmt::format("seed_{}.log", m.seed), log.str());
-    runs.push_back(MissionRunJson(m.seed, result));
-    rows.push_back(RunRow(m.seed, result));
-    results.push_back(result);
-    if (!result.success) err << fmt::format("\nseed {}: {}\n", m.seed, Describe(result));
-    progress.Update(k + 1);
-  }
+  int done = 0;
+  const MissionRuns flown =
+      FlyMissionRuns(options.mission, options.runs, dir.string(), &telemetry_config,
+                     [&](std::uint64_t seed, const MissionResult& result) {
+                       if (!result.success)
+                         err << fmt::format("\nseed {}: {}\n", seed, DescribeMissionRun(result));
+                       progress.Update(++done);
+                     });
   progress.Finish();
-  const MissionStatistics statistics = SummarizeMissions(results);
-  summary["runs"] = runs;
-  summary.update(MissionStatisticsJson(statistics));
-  const std::string path = WriteSummaryFile(dir.string(), summary.dump(2));
-  ReportRow headline = {
-      {"runs", fmt::format("{} (seeds {} to {})", options.runs, options.mission.seed,
-                           options.mission.seed + options.runs - 1)}};
-  for (auto& row : MissionStatisticsRows(statistics)) headline.push_back(std::move(row));
-  headline.push_back(
-      {"plots", fmt::format("of the first run (seed {}); every run's log is in logs/",
-                            options.mission.seed)});
-  WriteMissionReport(record, record.object_mesh_o, headline, rows, dir.string());
+  const MissionStatistics statistics = WriteMissionRunsReport(flown, summary, dir.string());
   out << DescribeMissionStatistics(statistics);
-  out << "Wrote " << (dir / "index.html").string() << " and " << path << "\n";
+  out << "Wrote " << (dir / "index.html").string() << " and " << (dir / "summary.json").string()
+      << "\n";
   const int successes = statistics.successes;
   return successes == options.runs ? kExitOk : kExitMissionFailed;
 }

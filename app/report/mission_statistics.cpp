@@ -220,4 +220,61 @@ ReportRow MissionStatisticsRows(const MissionStatistics& s) {
            fmt::format("{} ({} of them succeeded)", s.runs_with_switch, s.successes_after_switch)}};
 }
 
+ReportRow MissionStatisticsColumns(const MissionStatistics& s) {
+  const auto percent = [&](int count) {
+    return fmt::format("{:.0f}", s.runs > 0 ? 100.0 * count / s.runs : 0.0);
+  };
+  const auto seconds = [](double v) { return std::isfinite(v) ? fmt::format("{:.1f}", v) : "-"; };
+  const auto mm = [](double v) { return std::isfinite(v) ? fmt::format("{:.1f}", 1e3 * v) : "-"; };
+  return {{"runs", std::to_string(s.runs)},
+          {"grasped", std::to_string(s.successes)},
+          {"1st %", percent(s.first_attempt_successes)},
+          {"<=3 %", percent(s.successes_within_3)},
+          {"grasp s med/p90",
+           fmt::format("{}/{}", seconds(s.time_to_grasp_median_s), seconds(s.time_to_grasp_p90_s))},
+          {"closes/holds", fmt::format("{}/{}", s.closes, s.holds)},
+          {"tool mm", mm(s.tool_error_median_m)},
+          {"RMSE mm", mm(s.pose_rmse_m)},
+          {"entries", std::to_string(s.safe_volume_entries)},
+          {"contacts", std::to_string(s.arm_contacts)},
+          {"servo ms wall/CPU",
+           fmt::format("{:.2f}/{:.2f}", s.servo_step_ms_max, s.servo_step_cpu_ms_max)},
+          {"RT x min/med",
+           fmt::format("{:.1f}/{:.1f}", s.realtime_factor_min, s.realtime_factor_median)}};
+}
+
+ReportRow MissionRunRow(std::uint64_t seed, const MissionResult& r) {
+  const MissionStatistics s = SummarizeMissions({r});
+  return {{"seed", std::to_string(seed)},
+          {"success", r.success ? "yes" : "no"},
+          {"attempts", std::to_string(r.attempts)},
+          {"time to grasp (s)",
+           r.time_to_grasp_s >= 0 ? fmt::format("{:.1f}", r.time_to_grasp_s) : "-"},
+          {"closes (held)", fmt::format("{} ({})", s.closes, s.holds)},
+          {"tool at contact, median (mm)", std::isfinite(s.tool_error_median_m)
+                                               ? fmt::format("{:.1f}", 1e3 * s.tool_error_median_m)
+                                               : "-"},
+          {"pose RMSE (mm)", r.pose_rmse_m >= 0 ? fmt::format("{:.1f}", 1e3 * r.pose_rmse_m) : "-"},
+          {"switches", std::to_string(r.grasp_switches)},
+          {"safe-volume entries", std::to_string(r.safe_volume_entries)},
+          {"arm contacts", std::to_string(r.arm_contacts)},
+          {"worst servo step (ms)", fmt::format("{:.2f}", r.servo_step_ms_max)},
+          {"real-time factor", fmt::format("{:.2f}", r.realtime_factor)},
+          {"failure", r.failure}};
+}
+
+std::string DescribeMissionRun(const MissionResult& r) {
+  const MissionStatistics s = SummarizeMissions({r});
+  return fmt::format(
+      "{}; grasped at {} after {} attempt(s), {} gripper close(s) ({} held), tool to the true "
+      "grasp at contact {} median, pose RMSE {}, {} switch(es), {} safe-volume entr{}, {} arm "
+      "contact(s), worst servo step {:.2f} ms, {:.2f}x real time",
+      r.success ? "success" : "FAILED: " + r.failure,
+      r.time_to_grasp_s >= 0 ? fmt::format("{:.1f} s", r.time_to_grasp_s) : "never", r.attempts,
+      s.closes, s.holds, Millimetres(s.tool_error_median_m),
+      r.pose_rmse_m >= 0 ? fmt::format("{:.1f} mm", 1e3 * r.pose_rmse_m) : "n/a", r.grasp_switches,
+      r.safe_volume_entries, r.safe_volume_entries == 1 ? "y" : "ies", r.arm_contacts,
+      r.servo_step_ms_max, r.realtime_factor);
+}
+
 }  // namespace aerograsp

@@ -80,4 +80,17 @@ std::string DescribeMissionStatistics(const MissionStatistics& s);
 /// The figures as rows (name, value) of the report's headline table.
 ReportRow MissionStatisticsRows(const MissionStatistics& s);
 
+/// The main figures as short (column, value) cells: one row of a table that
+/// compares sets of missions (the missions benchmark). Every set gives the
+/// same columns in the same order.
+ReportRow MissionStatisticsColumns(const MissionStatistics& s);
+
+/// One run as (column, value) cells of the report's table of runs.
+ReportRow MissionRunRow(std::uint64_t seed, const MissionResult& r);
+
+/// One run in a line: success or why not, time to grasp, attempts, closes,
+/// tool error at contact, pose RMSE, switches, safety counts, worst servo
+/// step and real-time factor.
+std::string DescribeMissionRun(const MissionResult& r);
+
 }  // namespace aerograsp
