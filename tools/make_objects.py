@@ -7,7 +7,9 @@ For each object NAME it (over)writes
   data/objects/NAME/NAME.ply     binary little-endian PLY, float xyz in metres, uchar RGB per
                                  vertex, closed and consistently oriented (normals outward)
   data/objects/NAME/object.yaml  mass (an estimate), centre of mass and inertia from the mesh
-                                 at uniform density, dimensions
+                                 at uniform density, dimensions, and the rotations that map the
+                                 shape (and its colours) onto itself, in the block
+                                 `aerograsp object import` writes (docs/objects.md)
 
 Object frame o: origin at the centre of the mesh's axis-aligned bounding box, z up,
 x along the longest side. Every object is one closed polyhedron: a simple polygon
@@ -265,14 +267,31 @@ def make_pipe():
     return mesh
 
 
+class Symmetry:
+    """The proper rotations mapping an object onto itself: half turns about axes of frame o
+    (besides the identity) and, for a body of revolution, its axis (any turn about it).
+    The rotations turn about the area centroid of the surface, as core/symmetry.h's do;
+    tests/core/test_mesh.cpp checks the group against the one found on the mesh."""
+
+    def __init__(self, half_turn_axes, continuous_axis=None):
+        self.half_turn_axes = half_turn_axes
+        self.continuous_axis = continuous_axis
+
+
 OBJECTS = [
-    # name, builder, mass_kg, description
+    # name, builder, mass_kg, description, symmetry
     # 0.4 kg: a guess for a 3D-printed mock-up of this size (about 1.2e-3 m^3 of solid,
     # so ~340 kg/m^3, PLA at roughly a quarter infill), not a weighed robot.
+    # The crawler is the same seen from either end, either side and upside down (its body sits
+    # half-way up its tracks): the three half turns about x, y and z. The U turns end for end
+    # about its vertical axis. The pipe spins freely about its axis and turns end for end.
     ("crawler", make_crawler, 0.4,
-     "mock-up of a pipe-inspection crawler: yellow body between two dark grey tracks"),
-    ("u_shape", make_u_shape, 0.3, "U-shaped bracket, open at the top (+z)"),
-    ("pipe", make_pipe, 0.25, "pipe segment along x, outer diameter 0.09 m, wall 0.006 m"),
+     "mock-up of a pipe-inspection crawler: yellow body between two dark grey tracks",
+     Symmetry([(1, 0, 0), (0, 1, 0), (0, 0, 1)])),
+    ("u_shape", make_u_shape, 0.3, "U-shaped bracket, open at the top (+z)",
+     Symmetry([(0, 0, 1)])),
+    ("pipe", make_pipe, 0.25, "pipe segment along x, outer diameter 0.09 m, wall 0.006 m",
+     Symmetry([(0, 0, 1)], continuous_axis=(1, 0, 0))),
 ]
 
 
@@ -301,9 +320,51 @@ def fmt(value, spec=".6f"):
     return text[1:] if text.startswith("-") and float(text) == 0.0 else text
 
 
-def write_yaml(path, name, description, mass_kg, volume, com, inertia, dims):
-    def vec(v, spec=".6f"):
-        return "[" + ", ".join(fmt(x, spec) for x in v) + "]"
+def surface_centroid(mesh):
+    """The area centroid of the surface, the point the symmetry rotations turn about."""
+    area, first = 0.0, [0.0] * 3
+    for ia, ib, ic in mesh.triangles:
+        a, b, c = mesh.vertices[ia], mesh.vertices[ib], mesh.vertices[ic]
+        u = [b[i] - a[i] for i in range(3)]
+        v = [c[i] - a[i] for i in range(3)]
+        n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+        A = 0.5 * math.sqrt(sum(x * x for x in n))
+        area += A
+        for i in range(3):
+            first[i] += A * (a[i] + b[i] + c[i]) / 3.0
+    return [first[i] / area for i in range(3)]
+
+
+def vec(v, spec=".6f"):
+    return "[" + ", ".join(fmt(x, spec) for x in v) + "]"
+
+
+def symmetry_lines(symmetry, center):
+    """The `symmetry` block in the layout `aerograsp object import` writes."""
+    lines = [
+        "# The rotations that map the object (shape and vertex colours) onto itself, about",
+        "# center_m: p -> center + R (p - center). Written by tools/make_objects.py from the",
+        "# shapes it builds; `aerograsp object import` finds the same group on the mesh",
+        "# (docs/objects.md). rotations_wxyz: quaternions, the identity first.",
+        "symmetry:",
+        f"  center_m: {vec(center)}",
+    ]
+    if symmetry.continuous_axis:
+        lines.append(f"  continuous_axis: {vec(symmetry.continuous_axis)}"
+                     "  # any turn about this axis through center_m")
+    # A half turn about the unit axis a is the quaternion (0, a).
+    rows = [((1, 0, 0, 0), "identity")] + [
+        ((0,) + tuple(axis), f"180 deg about {vec(axis, '.4f')}")
+        for axis in symmetry.half_turn_axes]
+    lines.append("  rotations_wxyz: [")
+    for k, (q, comment) in enumerate(rows):
+        sep = "," if k + 1 < len(rows) else ""
+        lines.append("    " + ", ".join(fmt(x, ".9f") for x in q) + f"{sep}  # {comment}")
+    lines.append("  ]")
+    return lines
+
+
+def write_yaml(path, name, description, mass_kg, volume, com, inertia, dims, symmetry, center):
 
     lines = [
         f"# aerograsp object model '{name}': {description}.",
@@ -319,14 +380,14 @@ def write_yaml(path, name, description, mass_kg, volume, com, inertia, dims):
         "# Inertia about the centre of mass, axes of frame o, kg m^2 (rows of the 3x3 tensor).",
         "inertia_kg_m2: [" + ", ".join(vec(row, ".6e") for row in inertia) + "]",
         f"dimensions_m: {vec(dims)}",
-    ]
+    ] + symmetry_lines(symmetry, center)
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
 
 
 def main():
     os.makedirs(OUT_DIR, exist_ok=True)
-    for name, build, mass_kg, description in OBJECTS:
+    for name, build, mass_kg, description, symmetry in OBJECTS:
         mesh = build()
         orient_outwards(mesh)
         center_on_bounds(mesh)
@@ -339,7 +400,7 @@ def main():
         os.makedirs(folder, exist_ok=True)
         write_ply(os.path.join(folder, f"{name}.ply"), name, mesh)
         write_yaml(os.path.join(folder, "object.yaml"), name, description, mass_kg, volume, com,
-                   inertia, dims)
+                   inertia, dims, symmetry, surface_centroid(mesh))
         print(f"{name}: {len(mesh.vertices)} vertices, {len(mesh.triangles)} triangles, "
               f"volume {volume:.9f} m^3, com [{', '.join(fmt(c) for c in com)}] m, "
               f"dimensions [{', '.join(fmt(d, '.3f') for d in dims)}] m, mass {mass_kg} kg "

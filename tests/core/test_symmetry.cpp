@@ -1,5 +1,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <Eigen/Geometry>
 
@@ -115,6 +116,36 @@ TEST(SymmetryTest, TheShippedPipeTurnsFreelyAboutItsAxisAndFlipsEndForEnd) {
   EXPECT_NEAR(half.angle(), M_PI, 1e-9);
   EXPECT_NEAR(half.axis().x(), 0.0, 1e-9);  // across the axis
   EXPECT_THAT(DescribeSymmetry(s), HasSubstr("continuous about the axis (1, 0, 0)"));
+}
+
+TEST(SymmetryTest, EveryShippedObjectStoresTheGroupFoundOnItsMesh) {
+  for (const char* name : {"crawler", "pipe", "u_shape"}) {
+    SCOPED_TRACE(name);
+    const ObjectModel model = ObjectModel::Load(name);  // the group as object.yaml stores it
+    ASSERT_TRUE(YAML::LoadFile(model.source)["symmetry"]) << model.source;
+    const ObjectSymmetry found = FindMeshSymmetries(model.mesh_o);
+    const ObjectSymmetry& stored = model.symmetry;
+    EXPECT_LT((stored.center_o - found.center_o).norm(), 1e-6);
+    ASSERT_EQ(stored.continuous_axis_o.has_value(), found.continuous_axis_o.has_value());
+    if (stored.continuous_axis_o) {
+      EXPECT_TRUE(stored.continuous_axis_o->isApprox(*found.continuous_axis_o, 1e-9));
+    }
+    ASSERT_EQ(stored.rotations.size(), found.rotations.size());
+    ASSERT_GT(stored.rotations.size(), 1u);  // each shipped object has a symmetry
+    for (const Eigen::Matrix3d& R : stored.rotations) {
+      bool matched = false;
+      for (const Eigen::Matrix3d& F : found.rotations) {
+        const Eigen::Matrix3d between = R.transpose() * F;
+        // Equal, or (about a continuous axis) equal up to a spin about it.
+        matched =
+            matched ||
+            (stored.continuous_axis_o
+                 ? (between * *stored.continuous_axis_o).isApprox(*stored.continuous_axis_o, 1e-6)
+                 : between.isIdentity(1e-6));
+      }
+      EXPECT_TRUE(matched) << R;
+    }
+  }
 }
 
 TEST(SymmetryTest, AGenericObjectHasOnlyTheIdentity) {
