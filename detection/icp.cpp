@@ -141,7 +141,8 @@ PassStats Associate(const ModelCloud& model, const SceneCloud& scene, const Eige
     }
     const Eigen::Vector3f& q = model.points_o[j];
     const Eigen::Vector3f& n = model.normals_o[j];
-    const Eigen::Vector3f& rgb_q = model.has_colors() ? model.colors[j] : scene.colors[i];
+    // A point whose colour is not known is paired on geometry (its colour: the scene's own).
+    const Eigen::Vector3f& rgb_q = model.color_known(j) ? model.colors[j] : scene.colors[i];
     switch (ClassifyPair(p, oRc * scene.normals_c[i], scene.colors[i], q, n, rgb_q, thresholds)) {
       case Rejection::kNone:
         break;

@@ -112,6 +112,18 @@ ModelCloud BuildModelCloud(const TriangleMesh& mesh_o, const ModelCloudOptions& 
   return model;
 }
 
+void ForgetColorsInBox(ModelCloud* model, const Eigen::Isometry3d& oMb,
+                       const Eigen::Vector3d& half_extents_m) {
+  if (!model->has_colors()) return;
+  const Eigen::Isometry3f bMo = oMb.inverse().cast<float>();
+  const Eigen::Vector3f half = half_extents_m.cast<float>();
+  for (std::size_t i = 0; i < model->points_o.size(); ++i) {
+    const Eigen::Vector3f p_b = bMo * model->points_o[i];
+    if ((p_b.cwiseAbs().array() <= half.array()).all())
+      model->colors[i].setConstant(ModelCloud::kUnknownColor);
+  }
+}
+
 namespace {
 
 /// cRo * Rot(a, phi) with phi maximising trace(cRo_ref^T * cRo * Rot(a, phi)).

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -33,6 +34,11 @@ struct ModelCloud {
   /// Whether the points carry the mesh's colours: the colour checks (ICP's
   /// Eq. 3, the pose support's) apply only then.
   bool has_colors() const { return !colors.empty(); }
+  /// The colour a point has where the object does not look like its mesh (a
+  /// label or a tag board fixed on it, ForgetColorsInBox): nothing compares it.
+  static constexpr float kUnknownColor = -1.0f;
+  /// Whether point i's colour describes the object (has_colors() and not forgotten).
+  bool color_known(std::size_t i) const { return has_colors() && colors[i].x() >= 0.0f; }
 
   /// Nearest-point grid over the model's bounds grown by `margin_m`: cells of
   /// `cell_m`, each holding the index of the model point nearest its centre, or
@@ -69,6 +75,13 @@ struct ModelCloudOptions {
 /// builds the grid and finds the symmetries (FindMeshSymmetries).
 /// @throws std::invalid_argument for a mesh with no area or options out of range.
 ModelCloud BuildModelCloud(const TriangleMesh& mesh_o, const ModelCloudOptions& options = {});
+
+/// Forgets the colours of the model points inside the box bMo (the box's frame
+/// b from o; half extents m along b's axes): something of unknown appearance
+/// covers the object there (a printed tag board, a label), so the colour checks
+/// pass those points on geometry alone. Nothing for a model without colours.
+void ForgetColorsInBox(ModelCloud* model, const Eigen::Isometry3d& oMb,
+                       const Eigen::Vector3d& half_extents_m);
 
 /// Rotation error (rad) between an estimate and the truth of cRo, taken over
 /// the symmetries: min over S of angle(R_true^-1 * R_est * S); with a

@@ -137,6 +137,11 @@ void ObjectTracker::SetInitialPose(const Eigen::Isometry3d& cMo) {
   EndSearch(SearchEnd::kAbandoned);
 }
 
+void ObjectTracker::ForgetColorsInBox(const Eigen::Isometry3d& oMb,
+                                      const Eigen::Vector3d& half_extents_m) {
+  aerograsp::ForgetColorsInBox(&model_, oMb, half_extents_m);
+}
+
 std::optional<Eigen::Vector3d> ObjectTracker::EstimateCentre(const PixelBox& box,
                                                              const DepthImage& depth,
                                                              double depth_scale_m,

@@ -150,6 +150,11 @@ class ObjectTracker {
   /// A known first pose (e.g. --init-pose): used as the prior of the next frame.
   void SetInitialPose(const Eigen::Isometry3d& cMo);
 
+  /// Something of unknown appearance covers the object inside the box bMo (b
+  /// from o, half extents m along b's axes): a tag board or a label fixed on it.
+  /// The mesh's colours there are not compared with the image (ForgetColorsInBox).
+  void ForgetColorsInBox(const Eigen::Isometry3d& oMb, const Eigen::Vector3d& half_extents_m);
+
   /// Processes one aligned colour + depth frame. Bad data (empty or all-zero
   /// depth, wrong sizes, no object) yields a lost or unmeasured estimate; never throws.
   /// With the camera's pose wMc at the frame (the vehicle's odometry) the

@@ -117,9 +117,10 @@ class SupportScorer {
           std::max(options_.min_tolerance_m, 3.0 * options_.depth_noise_per_m2 * p.z() * p.z());
       if (std::abs(z_obs - p.z()) <= tolerance) {
         const std::size_t i = index_[k];
-        if (!check_color_ || ColorDistance(Eigen::Vector3f(color_.at(u, v, 0), color_.at(u, v, 1),
-                                                           color_.at(u, v, 2)),
-                                           model_.colors[i]) <= options_.max_color_distance) {
+        if (!check_color_ || !model_.color_known(i) ||
+            ColorDistance(
+                Eigen::Vector3f(color_.at(u, v, 0), color_.at(u, v, 1), color_.at(u, v, 2)),
+                model_.colors[i]) <= options_.max_color_distance) {
           ++support.agree;
         } else if (tolerance > options_.min_tolerance_m && z_obs < p.z() - 0.5 * tolerance &&
                    SelfOccluded(model_, i, c_o)) {

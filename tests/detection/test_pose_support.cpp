@@ -55,6 +55,62 @@ TEST(PoseSupportTest, TheTruePoseAt1_5mIsNotContradictedByItsOwnEdges) {
   EXPECT_LT(score(green).ratio(), 0.2);
 }
 
+// A white label over the crawler's whole top (a tag board, printed, fixed on it): its depth
+// agrees with the true pose, its colour does not, so a third of the visible points contradict
+// the pose. With the model's colours under the label forgotten, they agree on shape alone; a
+// wrong colour elsewhere still contradicts.
+TEST(PoseSupportTest, ColoursForgottenUnderALabelNoLongerContradictTheTruePose) {
+  WorldConfig config = WorldConfig::Load(DataPath("config/world_distance_0.45m.yaml"));
+  World world(config, 7);
+  SimCamera camera(&world);
+  RgbdFrame frame;
+  ASSERT_TRUE(camera.Grab(&frame));
+  const Eigen::Isometry3d cMo = world.wMc().inverse() * world.wMo();
+  // The label: white wherever the crawler's top faces (o's z above 0.02 m) show.
+  ColorImage labelled = frame.color;
+  const CameraIntrinsics& K = camera.intrinsics();
+  for (int v = 0; v < labelled.height; ++v) {
+    for (int u = 0; u < labelled.width; ++u) {
+      const std::uint16_t d = frame.depth.at(u, v);
+      if (d == 0) continue;
+      const Eigen::Vector3d p_o = cMo.inverse() * K.Unproject(u, v, d * camera.depth_scale_m());
+      if (p_o.z() > 0.02 && p_o.z() < 0.045 && std::abs(p_o.x()) < 0.11 &&
+          std::abs(p_o.y()) < 0.045) {
+        for (int c = 0; c < 3; ++c) labelled.at(u, v, c) = 250;
+      }
+    }
+  }
+  ModelCloud model = testing::CrawlerModel();
+  auto score = [&](const ColorImage& color) {
+    return ScorePoseSupport(model, cMo, color, frame.depth, camera.depth_scale_m(), K);
+  };
+  ASSERT_GT(score(frame.color).ratio(), 0.98);
+  EXPECT_LT(score(labelled).ratio(), 0.8);
+
+  const Eigen::Isometry3d oMb(Eigen::Translation3d(0.0, 0.0, 0.0325));
+  ForgetColorsInBox(&model, oMb, Eigen::Vector3d(0.11, 0.045, 0.0125));
+  std::size_t forgotten = 0;
+  for (std::size_t i = 0; i < model.points_o.size(); ++i) {
+    const bool inside = model.points_o[i].z() > 0.0205 && model.points_o[i].z() < 0.0445;
+    if (inside || model.points_o[i].z() < 0.019) {
+      EXPECT_EQ(model.color_known(i), !inside) << i;
+    }
+    forgotten += !model.color_known(i);
+  }
+  EXPECT_GT(forgotten, 100u);
+  EXPECT_GT(score(labelled).ratio(), 0.98);
+  ColorImage green = labelled;
+  for (int y = 0; y < green.height; ++y) {
+    for (int x = 0; x < green.width; ++x) {
+      if (green.at(x, y, 0) == 250) continue;
+      green.at(x, y, 0) = 40;
+      green.at(x, y, 1) = 160;
+      green.at(x, y, 2) = 40;
+    }
+  }
+  EXPECT_LT(score(green).ratio(), 0.8);
+}
+
 // The crawler 1 m away, its pose slid 30 mm along its length (the direction
 // ICP's point-to-plane pairs leave free when the ends are not seen).
 class SlideTest : public ::testing::Test {
