@@ -141,12 +141,15 @@ void SimServoBus::SyncWithWorld() {
         continue;
       }
       const int i = servo.joint;
-      // A limp servo (torque off) stays where it is.
-      target[i] = torque ? servo.calibration.AngleFromRaw(goal) : arm.q_true_rad()[i];
-      any_torque = any_torque || torque;
+      // A servo whose position sensor is off: it reads offset_rad more than
+      // where it is and, as its own control loop uses the same sensor, goes to
+      // offset_rad less than its goal. So holding its reading holds it where it is.
       const double offset_rad = faults_on_ && Contains(config_.offset_ids, servo.id)
                                     ? config_.offset_deg * M_PI / 180.0
                                     : 0.0;
+      // A limp servo (torque off) stays where it is.
+      target[i] = torque ? servo.calibration.AngleFromRaw(goal) - offset_rad : arm.q_true_rad()[i];
+      any_torque = any_torque || torque;
       const int present = servo.calibration.RawFromAngle(arm.q_true_rad()[i] + offset_rad);
       scs::PutU16(static_cast<std::uint16_t>(present), &servo.regs[scs::reg::kPresentPosition]);
       scs::PutU16(kIdleLoad, &servo.regs[scs::reg::kPresentLoad]);

@@ -160,9 +160,10 @@ TEST(MissionGuardsTest, CameraWithoutDepthStopsTheArms) {
 }
 
 TEST(MissionGuardsTest, SafeVolumeInterlockActsOnTheMeasuredJoints) {
-  // The left j2 servo reads 60 deg off: by its reading the arm is inside the
-  // safe volume, where it truly is not. (Holding that reading then moves the
-  // true arm there: a wrong reading is only seen by where it says the arm is.)
+  // The left j2 servo's sensor is 60 deg off: by its reading the arm is inside
+  // the safe volume, where it truly is not. A wrong reading is only seen by
+  // where it says the arm is; the stop holds the arm at that reading, which
+  // for the servo (its control loop uses the same sensor) is where it is.
   const Flown flown = Fly(true, 8.0, [](HardwareConfig* hw) {
     hw->arms.sim_bus.offset_ids = {12};
     hw->arms.sim_bus.offset_deg = 60.0;

@@ -94,10 +94,28 @@ TEST_F(BusFaultsTest, OffsetServoReadsOffByItsAngle) {
   faults.offset_deg = 30.0;
   faults.faults_from_s = 0.05;
   Open(faults);
-  Run(0.1);
+  Run(0.5);  // the arm has settled where the servo takes its goal to be
   const double measured = driver_->JointPositions(Side::kLeft)[1];
   const double truth = world_.arm(Side::kLeft).q_true_rad()[1];
   EXPECT_NEAR(measured - truth, 30.0 * M_PI / 180.0, 2.0 * world_.arm(Side::kLeft).quantum_rad());
+}
+
+TEST_F(BusFaultsTest, AServoWithItsSensorOffIsHeldWhereItIsByTheStop) {
+  // Its reading is 60 deg more than where it is, and it goes to 60 deg less
+  // than its goal (its control loop uses the same sensor): holding its
+  // reading holds it where that reading was taken, a cycle before the stop.
+  SimServoBusConfig faults;
+  faults.offset_ids = {12};
+  faults.offset_deg = 60.0;
+  faults.faults_from_s = 0.05;
+  Open(faults);
+  Run(0.1);
+  driver_->Stop();
+  const double at_stop = world_.arm(Side::kLeft).q_true_rad()[1];
+  Run(1.0);  // long enough for the arm to reach any goal it was sent
+  EXPECT_NEAR(world_.arm(Side::kLeft).q_true_rad()[1], at_stop, 0.15);  // one cycle's motion
+  EXPECT_NEAR(driver_->JointPositions(Side::kLeft)[1] - world_.arm(Side::kLeft).q_true_rad()[1],
+              60.0 * M_PI / 180.0, 2.0 * world_.arm(Side::kLeft).quantum_rad());
 }
 
 TEST_F(BusFaultsTest, CorruptionStartsAtItsTime) {
