@@ -96,6 +96,8 @@ int main(int argc, char** argv) {
   CLI::App* render_bench_cmd =
       benchmark_cmd->add_subcommand("render", "Simulated D435 frame: ray casting and sensor model");
   render_bench_cmd->add_option("--out", render_bench.out_dir, "Folder for summary.json");
+  render_bench_cmd->add_flag("--overwrite", render_bench.overwrite,
+                             "Replace a report already in --out");
   render_bench_cmd->add_option("--frames", render_bench.frames, "Frames to render")
       ->capture_default_str()
       ->check(aerograsp::cli::Range(1, 100000));
@@ -117,6 +119,8 @@ int main(int argc, char** argv) {
                                     "Arm driver cycle (sync write to all servos, read every "
                                     "position) on the simulated bus (pty)");
   servo_bus_bench_cmd->add_option("--out", servo_bus_bench.out_dir, "Folder for summary.json");
+  servo_bus_bench_cmd->add_flag("--overwrite", servo_bus_bench.overwrite,
+                                "Replace a report already in --out");
   servo_bus_bench_cmd->add_option("--cycles", servo_bus_bench.cycles, "Bus cycles to time")
       ->capture_default_str()
       ->check(aerograsp::cli::Range(10, 1000000));
@@ -149,6 +153,8 @@ int main(int argc, char** argv) {
       "sequences, ViSP's tracker beside");
   perception_bench_cmd->add_option("--out", perception_bench.out_dir, "Folder for everything")
       ->required();
+  perception_bench_cmd->add_flag("--overwrite", perception_bench.overwrite,
+                                 "Replace a report already in --out");
   perception_bench_cmd->add_option("--objects", perception_bench.objects, "Objects")
       ->capture_default_str();
   perception_bench_cmd->add_option("--motions", perception_bench.motions, "Object motions")
@@ -192,6 +198,7 @@ int main(int argc, char** argv) {
       ->required();
   plan_cmd->add_option("--out", plan.out_dir, "Output folder (summary.json, grasps.png)")
       ->required();
+  plan_cmd->add_flag("--overwrite", plan.overwrite, "Replace a report already in --out");
   plan_cmd->add_option("--config", plan.config_path, "Platform YAML")
       ->capture_default_str()
       ->check(CLI::ExistingFile);
@@ -308,6 +315,7 @@ int main(int argc, char** argv) {
       ->add_option("--out", replay.out_dir,
                    "Output folder (index.html, summary.json, poses.csv, pose_vs_truth.png)")
       ->required();
+  replay_cmd->add_flag("--overwrite", replay.overwrite, "Replace a report already in --out");
   replay_cmd->add_option("--object", replay.object,
                          "Object (shipped name or model path) [from sequence.yaml]");
   replay_cmd->add_option("--detector", replay.detector,
@@ -447,6 +455,7 @@ int main(int argc, char** argv) {
   bench_cmd
       ->add_option("--out", bench.out_dir, "Report folder (index.html, summary.json, frames.csv)")
       ->required();
+  bench_cmd->add_flag("--overwrite", bench.overwrite, "Replace a report already in --out");
   CLI::Option* bench_hardware =
       bench_cmd
           ->add_option("--hardware", bench.hardware_path,

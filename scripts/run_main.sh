@@ -12,9 +12,9 @@ BUILD_DIR=${BUILD_DIR:-build}
 OUT_DIR=${OUT_DIR:-$BUILD_DIR/main_job}
 # Seed 1 switches pairs when the first becomes unreachable; its first attempt closes on nothing;
 # on the second the left gripper holds and the right aims again (docs/mission.md).
-"$BUILD_DIR/app/aerograsp" mission --seed 1 --out "$OUT_DIR/mission"
+"$BUILD_DIR/app/aerograsp" mission --seed 1 --out "$OUT_DIR/mission" --overwrite
 "$BUILD_DIR/app/aerograsp" record --out "$OUT_DIR/sequence" --frames 90 --seed 1 --motion crawl --overwrite
-"$BUILD_DIR/app/aerograsp" replay "$OUT_DIR/sequence" --out "$OUT_DIR/replay" --filter-frame world
+"$BUILD_DIR/app/aerograsp" replay "$OUT_DIR/sequence" --out "$OUT_DIR/replay" --filter-frame world --overwrite
 "$BUILD_DIR/app/aerograsp" calibrate --arm left --out "$OUT_DIR/calibration"
 # The mission's MCAP log opened by an independent reader (@mcap/core, CRCs checked) and every
 # message decoded with its ROS 2 definition; its channels, message counts and size are printed.

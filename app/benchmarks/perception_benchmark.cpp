@@ -11,6 +11,7 @@
 
 #include "app/commands/record_command.h"
 #include "app/commands/replay_command.h"
+#include "app/report/report_folder.h"
 #include "app/report/summary_file.h"
 #include "core/mesh.h"
 #include "core/object_model.h"
@@ -88,8 +89,8 @@ void RunPerceptionBenchmark(const PerceptionBenchmarkOptions& options, std::ostr
     throw std::invalid_argument("benchmark perception: --out is required");
   if (options.frames < 10 || options.frames > 100000)
     throw std::invalid_argument("benchmark perception: --frames must be in [10, 100000]");
-  const fs::path root(options.out_dir);
-  fs::create_directories(root);
+  ReportFolder folder(options.out_dir, options.overwrite);
+  const fs::path root(folder.path());
   nlohmann::json rows = nlohmann::json::array();
   std::ostringstream table;
   table << fmt::format(
@@ -113,7 +114,6 @@ void RunPerceptionBenchmark(const PerceptionBenchmarkOptions& options, std::ostr
       record.seed = options.seed;
       record.object = name;
       record.motion = motion;
-      record.overwrite = true;
       std::ostringstream quiet;
       progress << "benchmark perception: recording " << tag << "\n";
       RunRecordCommand(record, quiet, progress);
@@ -197,7 +197,9 @@ void RunPerceptionBenchmark(const PerceptionBenchmarkOptions& options, std::ostr
       {"rows_translation_rmse_ok", rows_rmse_ok},
       {"row_count", row_count}};
   // Figures that could not be measured (nothing found) are NaN: written as null.
-  out << "  summary: " << WriteSummaryFile(options.out_dir, summary.dump(2)) << "\n";
+  const std::string path = WriteSummaryFile(folder.path(), summary.dump(2));
+  folder.Commit();
+  out << "  summary: " << folder.Final(path) << "\n";
 }
 
 }  // namespace aerograsp

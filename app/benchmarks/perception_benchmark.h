@@ -17,7 +17,8 @@
 namespace aerograsp {
 
 struct PerceptionBenchmarkOptions {
-  std::string out_dir;                                             ///< created; required
+  std::string out_dir;     ///< required; written aside, renamed at the end
+  bool overwrite = false;  ///< replace a report already in out_dir
   std::vector<std::string> objects{"crawler", "pipe", "u_shape"};  ///< shipped names or paths
   std::vector<std::string> motions{"static", "crawl"};             ///< `record --motion`
   int frames = 150;        ///< frames per sequence, [10, 100000]

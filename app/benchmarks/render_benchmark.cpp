@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <chrono>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <vector>
 
+#include "app/report/report_folder.h"
 #include "app/report/statistics.h"
 #include "app/report/summary_file.h"
 #include "core/data_dir.h"
@@ -19,6 +21,8 @@ namespace aerograsp {
 namespace {}  // namespace
 
 void RunRenderBenchmark(const RenderBenchmarkOptions& options, std::ostream& out) {
+  std::optional<ReportFolder> folder;
+  if (!options.out_dir.empty()) folder.emplace(options.out_dir, options.overwrite);
   const std::string world_path =
       options.world_config.empty() ? DataPath("config/world_default.yaml") : options.world_config;
   WorldConfig config = WorldConfig::Load(world_path);
@@ -77,8 +81,9 @@ void RunRenderBenchmark(const RenderBenchmarkOptions& options, std::ostream& out
         {"wall_ms_median", Percentile(wall_ms, 0.5)},
         {"budget_ms", budget_ms},
     };
-    const std::string path = WriteSummaryFile(options.out_dir, summary.dump(2));
-    out << "  summary: " << path << "\n";
+    const std::string path = WriteSummaryFile(folder->path(), summary.dump(2));
+    folder->Commit();
+    out << "  summary: " << folder->Final(path) << "\n";
   }
 }
 

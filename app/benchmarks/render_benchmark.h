@@ -9,8 +9,9 @@
 namespace aerograsp {
 
 struct RenderBenchmarkOptions {
-  std::string out_dir;  ///< summary.json goes here (created); empty: print only
-  int frames = 100;     ///< frames rendered, [1, 100000]
+  std::string out_dir;     ///< summary.json goes here (written aside, renamed); empty: print only
+  bool overwrite = false;  ///< replace a report already in out_dir
+  int frames = 100;        ///< frames rendered, [1, 100000]
   std::uint64_t seed = 1;
   std::string world_config;  ///< default data/config/world_default.yaml
 };

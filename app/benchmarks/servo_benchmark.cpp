@@ -20,6 +20,7 @@
 #include <stdexcept>
 
 #include "app/cli_checks.h"
+#include "app/report/report_folder.h"
 #include "app/report/statistics.h"
 #include "app/report/summary_file.h"
 #include "core/collision.h"
@@ -422,6 +423,7 @@ nlohmann::json RunConfig(const std::string& config_path, const ServoBenchmarkOpt
 
 void AddServoBenchmarkOptions(CLI::App* cmd, ServoBenchmarkOptions* options) {
   cmd->add_option("--out", options->out_dir, "Folder for summary.json")->required();
+  cmd->add_flag("--overwrite", options->overwrite, "Replace a report already in --out");
   cmd->add_option("--config", options->configs,
                   "Platform YAML (repeatable; default: platform_4dof.yaml and platform_6dof.yaml)")
       ->check(CLI::ExistingFile);
@@ -442,6 +444,7 @@ void AddServoBenchmarkOptions(CLI::App* cmd, ServoBenchmarkOptions* options) {
 }
 
 void RunServoBenchmark(const ServoBenchmarkOptions& options, std::ostream& out) {
+  ReportFolder folder(options.out_dir, options.overwrite);
   std::vector<std::string> configs = options.configs;
   if (configs.empty()) {
     configs = {DataPath("config/platform_4dof.yaml"), DataPath("config/platform_6dof.yaml")};
@@ -457,7 +460,9 @@ void RunServoBenchmark(const ServoBenchmarkOptions& options, std::ostream& out) 
     nlohmann::json arm = RunConfig(config, options, out);
     summary["arms"][Platform::Load(config).config().arm_type] = arm;
   }
-  fmt::print(out, "wrote {}\n", WriteSummaryFile(options.out_dir, summary.dump(2)));
+  const std::string path = WriteSummaryFile(folder.path(), summary.dump(2));
+  folder.Commit();
+  fmt::print(out, "wrote {}\n", folder.Final(path));
 }
 
 }  // namespace aerograsp

@@ -16,7 +16,8 @@ class App;
 namespace aerograsp {
 
 struct ServoBenchmarkOptions {
-  std::string out_dir;               ///< summary.json goes here (created)
+  std::string out_dir;               ///< summary.json goes here (written aside, renamed)
+  bool overwrite = false;            ///< replace a report already in out_dir
   std::vector<std::string> configs;  ///< platform YAMLs; empty: the 4-DoF and 6-DoF ones
   int trials{1000};                  ///< dual-arm trials per config: 2 targets each
   int safety_trials{10000};          ///< random trials counting safe-volume entries; 0 skips

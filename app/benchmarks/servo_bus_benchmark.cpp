@@ -6,8 +6,10 @@
 #include <chrono>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <vector>
 
+#include "app/report/report_folder.h"
 #include "app/report/summary_file.h"
 #include "core/data_dir.h"
 #include "hardware/scs/scs_arms_driver.h"
@@ -26,6 +28,8 @@ double Quantile(std::vector<double> values, double q) {
 }  // namespace
 
 void RunServoBusBenchmark(const ServoBusBenchmarkOptions& options, std::ostream& out) {
+  std::optional<ReportFolder> folder;
+  if (!options.out_dir.empty()) folder.emplace(options.out_dir, options.overwrite);
   const std::string world_path =
       options.world_config.empty() ? DataPath("config/world_default.yaml") : options.world_config;
   World world(WorldConfig::Load(world_path), 1);
@@ -95,8 +99,9 @@ void RunServoBusBenchmark(const ServoBusBenchmarkOptions& options, std::ostream&
         {"bus_bad_checksums", counters.bad_checksums},
         {"goal_hz", 100.0},
     };
-    const std::string path = WriteSummaryFile(options.out_dir, summary.dump(2));
-    out << "  summary: " << path << "\n";
+    const std::string path = WriteSummaryFile(folder->path(), summary.dump(2));
+    folder->Commit();
+    out << "  summary: " << folder->Final(path) << "\n";
   }
 }
 

@@ -11,7 +11,8 @@
 namespace aerograsp {
 
 struct ServoBusBenchmarkOptions {
-  std::string out_dir;       ///< summary.json goes here (created); empty: print only
+  std::string out_dir;       ///< summary.json goes here (written aside, renamed); empty: print only
+  bool overwrite = false;    ///< replace a report already in out_dir
   int cycles = 2000;         ///< bus cycles timed, [10, 1000000]
   std::string world_config;  ///< default data/config/world_default.yaml
 };

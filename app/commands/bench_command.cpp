@@ -16,6 +16,7 @@
 #include "app/commands/bench_report.h"
 #include "app/commands/bench_stand.h"
 #include "app/report/progress.h"
+#include "app/report/report_folder.h"
 #include "app/runtime/mission_arms.h"
 #include "app/runtime/mission_config.h"
 #include "app/runtime/mission_record.h"
@@ -186,13 +187,13 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
         hover);  // hover: stay at the pre-catch pose; else move in (the gripper stays open)
   }
 
-  fs::create_directories(options.out_dir);
+  ReportFolder folder(options.out_dir, options.overwrite);
   CommandTelemetry telemetry =
-      OpenTelemetry(LoadTelemetryConfig(options.telemetry), options.out_dir, "bench",
+      OpenTelemetry(LoadTelemetryConfig(options.telemetry), folder.path(), "bench",
                     [&out](const std::string& line) { out << "telemetry: " << line << "\n"; });
   TelemetrySink* sink = telemetry.sink();
   if (sink) sink->StaticTransforms(0.0, PlatformStaticFrames(platform));
-  const std::string csv_path = (fs::path(options.out_dir) / "frames.csv").string();
+  const std::string csv_path = (fs::path(folder.path()) / "frames.csv").string();
   std::ofstream csv(csv_path);
   if (!csv) throw std::runtime_error(csv_path + ": cannot be written");
   csv << "frame,t_s,tags_ok,tags_used,tag_reprojection_px,found,tags_tx_m,tags_ty_m,tags_tz_m,est_"
@@ -446,12 +447,12 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
   }
   bar.Finish();
   const std::string mcap = telemetry.Close();
-  if (!mcap.empty()) out << "Wrote " << mcap << "\n";
+  if (!mcap.empty()) out << "Wrote " << folder.Final(mcap) << "\n";
   run.frames = frame;
   csv.close();
 
   BenchReportInfo info;
-  info.out_dir = options.out_dir;
+  info.out_dir = folder.path();
   info.object_name = object.name;
   info.object_mesh_o = object.mesh_o;
   info.hardware = hw_config.source;
@@ -461,6 +462,9 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
   info.board = board;
   info.oMt = oMt;
   WriteBenchReport(info, run, out);
+  folder.Commit();  // also when stopped early or blind: the report says so
+  out << "  wrote " << folder.final_path() << "/summary.json, " << folder.final_path()
+      << "/index.html\n";
   if (!stopped.empty()) throw HardwareError("bench: " + stopped + "; the report covers them");
 
   if (run.tag_frames == 0) {

@@ -31,7 +31,8 @@
 namespace aerograsp {
 
 struct BenchCommandOptions {
-  std::string out_dir;        ///< created; the report
+  std::string out_dir;        ///< the report (written aside, renamed at the end)
+  bool overwrite = false;     ///< replace a report already in out_dir
   std::string hardware_path;  ///< hardware YAML; empty: every device simulated in-process
   /// World YAML (with --hardware it replaces the file's world); empty: the hardware
   /// file's, or data/config/world_default.yaml.

@@ -169,7 +169,7 @@ void WriteBenchReport(const BenchReportInfo& info, const BenchResults& run, std:
   summary["perception_vs_truth"] = StatsJson(run.perception_vs_truth);
   summary["servo_error_to_truth_m_median"] = Percentile(run.servo_error_to_truth_m, 0.5, kNaN);
   NullNonFinite(&summary);
-  const std::string summary_path = WriteSummaryFile(info.out_dir, summary.dump(2));
+  WriteSummaryFile(info.out_dir, summary.dump(2));
 
   // The report.
   const fs::path dir(info.out_dir);
@@ -267,7 +267,6 @@ void WriteBenchReport(const BenchReportInfo& info, const BenchResults& run, std:
       summary["servo_target"].get<std::string>(), num("servo_error_m_median", 1e3),
       num("servo_error_m_p95", 1e3), run.servo_error_tracking_m.size(), run.plans,
       run.no_grasp_plans);
-  out << "  wrote " << summary_path << ", " << (dir / "index.html").string() << "\n";
 }
 
 }  // namespace aerograsp

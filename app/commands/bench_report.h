@@ -63,7 +63,7 @@ void AddBenchTrace(PoseTrace* trace, double t_s, bool ok, const Eigen::Isometry3
                    double rotation_error_deg);
 
 /// Writes DIR/summary.json, the plots and DIR/index.html, and prints the
-/// headline figures on `out`.
+/// headline figures on `out` (the command says where the report is).
 void WriteBenchReport(const BenchReportInfo& info, const BenchResults& run, std::ostream& out);
 
 }  // namespace aerograsp

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "app/report/progress.h"
+#include "app/report/report_folder.h"
 #include "core/data_dir.h"
 #include "core/object_model.h"
 #include "core/platform.h"
@@ -83,13 +84,8 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out,
     throw std::invalid_argument("--on-support: must be in [0, 1]");
   }
   const ObjectModel object = ObjectModel::Load(options.object);
-  const fs::path dir(options.out_dir);
-  if (fs::exists(dir / "labels.csv")) {
-    if (!options.overwrite)
-      throw std::runtime_error(options.out_dir + ": holds a dataset already (use --overwrite)");
-    fs::remove_all(dir / "images");
-    fs::remove(dir / "labels.csv");
-  }
+  ReportFolder folder(options.out_dir, options.overwrite, "labels.csv");
+  const fs::path dir(folder.path());
   fs::create_directories(dir / "images");
   std::ofstream labels(dir / "labels.csv");
   if (!labels) throw std::runtime_error((dir / "labels.csv").string() + ": cannot be written");
@@ -303,7 +299,9 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out,
     bar.Update(i + 1);
   }
   bar.Finish();
+  labels.close();
   if (!labels) throw std::runtime_error((dir / "labels.csv").string() + ": cannot be written");
+  folder.Commit();
   out << fmt::format("dataset: {} images of {} in {} ({} with the object visible), seed {}\n",
                      options.count, object.name, options.out_dir, visible_count, options.seed);
 }

@@ -33,8 +33,9 @@ struct DatasetCommandOptions {
   double on_support = 0.0;     ///< fraction of images with the object on the support pipe, [0, 1]
 };
 
-/// @throws ConfigError / MeshError naming the object; std::runtime_error when
-/// DIR holds a dataset and overwrite is false, or cannot be written.
+/// The dataset is written aside and renamed to DIR at the end (app/report/report_folder.h).
+/// @throws ConfigError / MeshError naming the object, ConfigError when DIR holds
+/// a dataset and overwrite is false; std::runtime_error when it cannot be written.
 void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out,
                        std::ostream& progress);
 

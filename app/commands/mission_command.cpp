@@ -16,6 +16,7 @@
 #include "app/report/mission_report.h"
 #include "app/report/mission_statistics.h"
 #include "app/report/progress.h"
+#include "app/report/report_folder.h"
 #include "app/report/summary_file.h"
 
 namespace aerograsp {
@@ -35,6 +36,7 @@ void AddMissionOptions(CLI::App* cmd, MissionCommandOptions* o) {
   MissionOptions& m = o->mission;
   cmd->add_option("--out", o->out_dir, "Report folder: index.html, summary.json, mission.log")
       ->required();
+  cmd->add_flag("--overwrite", o->overwrite, "Replace a report already in --out");
   cmd->add_option("--seed", m.seed, "World seed (same seed, same mission)")
       ->capture_default_str()
       ->check(cli::Seed());
@@ -106,8 +108,8 @@ ReportRow Headline(const MissionResult& r) {
 }  // namespace
 
 int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, std::ostream& err) {
-  const fs::path dir(options.out_dir);
-  fs::create_directories(dir);
+  ReportFolder folder(options.out_dir, options.overwrite);
+  const fs::path dir(folder.path());
   nlohmann::json summary;
   summary["object"] = options.mission.object.empty() ? "crawler" : options.mission.object;
   summary["arm"] = options.mission.arm_type;
@@ -128,7 +130,7 @@ int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, s
     tee.b = &log;
     std::ostream both(&tee);
     out << fmt::format("mission: seed {}, {} arms, report in {}\n", options.mission.seed,
-                       options.mission.arm_type, dir.string());
+                       options.mission.arm_type, folder.final_path());
     CommandTelemetry telemetry =
         OpenTelemetry(telemetry_config, dir.string(), "mission",
                       [&both](const std::string& line) { both << "telemetry: " << line << "\n"; });
@@ -140,18 +142,18 @@ int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, s
       result = RunMission(options.mission, &record, &both, links);
     } catch (...) {
       telemetry.Close();
-      WriteText(dir / "mission.log", log.str());
-      throw;
+      throw;  // the earlier report, if any, stays whole
     }
     const std::string mcap = telemetry.Close();
     WriteText(dir / "mission.log", log.str());
     summary.update(MissionRunJson(options.mission.seed, result));
     const std::string path = WriteSummaryFile(dir.string(), summary.dump(2));
     WriteMissionReport(record, record.object_mesh_o, Headline(result), {}, dir.string());
+    folder.Commit();
     out << "mission: " << DescribeMissionRun(result) << "\n";
-    out << "Wrote " << (dir / "index.html").string() << ", " << path << " and "
-        << (dir / "mission.log").string() << "\n";
-    if (!mcap.empty()) out << "Wrote " << mcap << "\n";
+    out << "Wrote " << folder.Final((dir / "index.html").string()) << ", " << folder.Final(path)
+        << " and " << folder.Final((dir / "mission.log").string()) << "\n";
+    if (!mcap.empty()) out << "Wrote " << folder.Final(mcap) << "\n";
     return result.success ? kExitOk : kExitMissionFailed;
   }
 
@@ -166,8 +168,10 @@ int RunMissionCommand(const MissionCommandOptions& options, std::ostream& out, s
                      });
   progress.Finish();
   const MissionStatistics statistics = WriteMissionRunsReport(flown, summary, dir.string());
+  folder.Commit();
   out << DescribeMissionStatistics(statistics);
-  out << "Wrote " << (dir / "index.html").string() << " and " << (dir / "summary.json").string()
+  out << "Wrote " << folder.final_path() << "/index.html and " << folder.final_path()
+      << "/summary.json"
       << "\n";
   const int successes = statistics.successes;
   return successes == options.runs ? kExitOk : kExitMissionFailed;

@@ -20,8 +20,9 @@ namespace aerograsp {
 
 struct MissionCommandOptions {
   MissionOptions mission;
-  std::string out_dir;         ///< report folder (created)
+  std::string out_dir;         ///< report folder (written aside, renamed at the end)
   int runs{1};                 ///< seeded missions: seeds seed, seed + 1, ...
+  bool overwrite{false};       ///< replace a report already in out_dir (app/report/report_folder.h)
   TelemetryOptions telemetry;  ///< of the first run only when there are several
 };
 

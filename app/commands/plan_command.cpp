@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "app/report/grasp_plot.h"
+#include "app/report/report_folder.h"
 #include "app/report/statistics.h"
 #include "app/report/summary_file.h"
 #include "core/config.h"
@@ -130,7 +131,7 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
   config.edge_margin_m = options.edge_margin_m;
   config.Validate("command line", gripper);
 
-  fs::create_directories(options.out_dir);
+  ReportFolder folder(options.out_dir, options.overwrite);
 
   // Contacts: from the cache when it is valid, else generated and cached.
   const ContactCacheKey key = MakeContactCacheKey(object.mesh_o, gripper, config.contacts);
@@ -274,9 +275,8 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
     }
   }
 
-  const std::string png = (fs::path(options.out_dir) / "grasps.png").string();
+  const std::string png = (fs::path(folder.path()) / "grasps.png").string();
   WriteGraspPlot(object, contacts, plan.ranked, 3, query.dMo, png);
-  out << "\nWrote " << png << "\n";
 
   nlohmann::json j;
   j["object"] = object.name;
@@ -323,7 +323,10 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
                    {"right", GraspJson(d.right, contacts)}});
   }
   j["top"] = top;
-  out << "Wrote " << WriteSummaryFile(options.out_dir, j.dump(2)) << "\n";
+  const std::string summary = WriteSummaryFile(folder.path(), j.dump(2));
+  folder.Commit();
+  out << "\nWrote " << folder.Final(png) << "\n";
+  out << "Wrote " << folder.Final(summary) << "\n";
 }
 
 }  // namespace aerograsp

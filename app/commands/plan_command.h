@@ -11,7 +11,8 @@ namespace aerograsp {
 
 struct PlanCommandOptions {
   std::string object;       ///< an object name (shipped or imported) or a mesh path
-  std::string out_dir;      ///< summary.json and grasps.png go here (created)
+  std::string out_dir;      ///< summary.json and grasps.png go here (written aside, renamed)
+  bool overwrite = false;   ///< replace a report already in out_dir
   std::string config_path;  ///< platform YAML
   /// Where the object is placed for planning: its bounding-box centre
   /// (PlacementCentre, the origin of o for the shipped objects) and the axes of

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "app/report/progress.h"
+#include "app/report/report_folder.h"
 #include "core/data_dir.h"
 #include "hardware/sequence.h"
 #include "hardware/sim/sim_devices.h"
@@ -57,6 +58,7 @@ void RunRecordCommand(const RecordCommandOptions& options, std::ostream& out,
   }
   config.Validate();
   if (options.frames < 1) throw HardwareError("--frames: must be at least 1");
+  ReportFolder folder(options.out_dir, options.overwrite, "sequence.yaml");
 
   World world(config, options.seed);
   SimCamera camera(&world);
@@ -70,7 +72,7 @@ void RunRecordCommand(const RecordCommandOptions& options, std::ostream& out,
   info.description =
       fmt::format("aerograsp simulator, world {}, seed {}, object {} ({})", world_path,
                   options.seed, world.object().name, config.object.motion);
-  SequenceWriter writer(options.out_dir, info, options.overwrite);
+  SequenceWriter writer(folder.path(), info);
 
   Progress bar(progress, "record", options.frames, "frames");
   double render_s = 0.0, raycast_s = 0.0, model_s = 0.0, valid_depth = 0.0, object_pixels = 0.0;
@@ -89,7 +91,7 @@ void RunRecordCommand(const RecordCommandOptions& options, std::ostream& out,
     extras.q_right_rad = world.arm(Side::kRight).q_measured_rad();
     writer.Write(frame, extras);
     if (i == 0)
-      WritePreviews(frame, info.depth_scale_m, config.camera.d435.max_range_m, options.out_dir);
+      WritePreviews(frame, info.depth_scale_m, config.camera.d435.max_range_m, folder.path());
     valid_depth += std::count_if(frame.depth.data.begin(), frame.depth.data.end(),
                                  [](std::uint16_t d) { return d != 0; }) /
                    static_cast<double>(frame.depth.data.size());
@@ -98,6 +100,7 @@ void RunRecordCommand(const RecordCommandOptions& options, std::ostream& out,
     bar.Update(i + 1);
   }
   writer.Close();
+  folder.Commit();
   bar.Finish();
   const int n = options.frames;
   out << fmt::format(

@@ -17,6 +17,7 @@
 #include "app/report/pose_plot.h"
 #include "app/report/progress.h"
 #include "app/report/replay_report.h"
+#include "app/report/report_folder.h"
 #include "app/report/statistics.h"
 #include "app/runtime/telemetry_frames.h"
 #include "core/data_dir.h"
@@ -180,6 +181,7 @@ int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
   if (options.filter_frame == "world") perception.weak_direction_std_m = kWorldWeakDirectionStdM;
   if (!options.perception_config.empty())
     perception = LoadPerceptionOptions(options.perception_config, perception);
+  ReportFolder folder(options.out_dir, options.overwrite);
 
   const std::unique_ptr<RecordedCamera> recording =
       OpenRecording(options.sequence, options.recording);
@@ -234,18 +236,17 @@ int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
   if (init) tracker.SetInitialPose(*init);
   std::unique_ptr<VispPeerTracker> peer;
   if (options.run_peer)
-    peer = std::make_unique<VispPeerTracker>(object, info.intrinsics, options.out_dir);
+    peer = std::make_unique<VispPeerTracker>(object, info.intrinsics, folder.path());
 
-  fs::create_directories(options.out_dir);
   CommandTelemetry telemetry =
-      OpenTelemetry(LoadTelemetryConfig(options.telemetry), options.out_dir, "replay",
+      OpenTelemetry(LoadTelemetryConfig(options.telemetry), folder.path(), "replay",
                     [&out](const std::string& line) { out << "telemetry: " << line << "\n"; });
   TelemetrySink* sink = telemetry.sink();
   if (sink && dMc) {
     sink->StaticTransforms(0.0, {{telemetry_frame::kMap, telemetry_frame::kWorld, MapMWorld()},
                                  {telemetry_frame::kBody, telemetry_frame::kCamera, *dMc}});
   }
-  const std::string poses_path = (fs::path(options.out_dir) / "poses.csv").string();
+  const std::string poses_path = (fs::path(folder.path()) / "poses.csv").string();
   std::ofstream poses(poses_path);
   if (!poses) throw std::runtime_error(poses_path + ": cannot be written");
   poses << "frame,stamp_s,tx_m,ty_m,tz_m,qw,qx,qy,qz,confidence,state,measured,global_init,gated,"
@@ -468,7 +469,7 @@ int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
   for (auto& [key, value] : summary.items()) {
     if (value.is_number_float() && !std::isfinite(value.get<double>())) value = nullptr;
   }
-  const std::string summary_path = (fs::path(options.out_dir) / "summary.json").string();
+  const std::string summary_path = (fs::path(folder.path()) / "summary.json").string();
   std::ofstream file(summary_path);
   file << summary.dump(2) << "\n";
   if (!file) throw std::runtime_error(summary_path + ": cannot be written");
@@ -491,7 +492,7 @@ int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
   }
   if (!stop_reason.empty()) headline.push_back({"stopped early", stop_reason});
   WriteReplayReport("Replay report: " + object.name, headline,
-                    camera.has_groundtruth() ? truth_trace : PoseTrace{}, traces, options.out_dir);
+                    camera.has_groundtruth() ? truth_trace : PoseTrace{}, traces, folder.path());
   out << fmt::format("replay: {} frames of {}, object {}, detector {}\n", frames, options.sequence,
                      object.name,
                      tracker.has_detector() ? "yes" : "no (whole-frame global registration)");
@@ -521,9 +522,10 @@ int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
           acc.value("reacquire_max_frames", 0), acc.value("never_reacquired", 0));
     }
   }
-  out << "  wrote " << summary_path << " and "
-      << (fs::path(options.out_dir) / "index.html").string() << "\n";
-  if (!mcap.empty()) out << "  wrote " << mcap << "\n";
+  folder.Commit();  // also when stopped early: the report says so
+  out << "  wrote " << folder.Final(summary_path) << " and "
+      << folder.Final((fs::path(folder.path()) / "index.html").string()) << "\n";
+  if (!mcap.empty()) out << "  wrote " << folder.Final(mcap) << "\n";
   return stop_reason.empty() ? kExitOk : kExitStoppedEarly;
 }
 

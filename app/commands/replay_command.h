@@ -26,7 +26,8 @@ namespace aerograsp {
 
 struct ReplayCommandOptions {
   std::string sequence;      ///< sequence folder, .bag file or TUM RGB-D folder
-  std::string out_dir;       ///< created; poses.csv, summary.json, index.html, pose_vs_truth.png
+  std::string out_dir;       ///< poses.csv, summary.json, index.html, pose_vs_truth.png
+  bool overwrite = false;    ///< replace a report already in out_dir
   std::string object;        ///< overrides the sequence's object (shipped name or model path)
   std::string detector;      ///< ONNX path; "" = data/objects/NAME/detector.onnx when it exists
   bool use_detector = true;  ///< false: whole-frame global registration, no CNN

@@ -20,15 +20,23 @@ fs::path Beside(const fs::path& dir, const std::string& what) {
 
 }  // namespace
 
-ReportFolder::ReportFolder(const std::string& dir, bool overwrite) {
+ReportFolder::ReportFolder(const std::string& dir, bool overwrite, const std::string& signature) {
+  if (dir.empty()) throw ConfigError("--out: no folder given");
   fs::path d = fs::absolute(dir).lexically_normal();
   if (!d.has_filename()) d = d.parent_path();  // "out/" -> "out"
   dir_ = d.string();
+  shown_ = dir;
+  while (shown_.size() > 1 && shown_.back() == '/') shown_.pop_back();
   std::error_code ec;
   if (fs::exists(d, ec)) {
     if (!fs::is_directory(d, ec)) throw ConfigError(dir + ": is a file, not a report folder");
-    if (!fs::is_empty(d, ec) && !overwrite)
-      throw ConfigError(dir + ": holds an earlier report; --overwrite replaces it");
+    if (!fs::is_empty(d, ec)) {
+      if (!fs::exists(d / signature, ec)) {
+        throw ConfigError(dir + ": is not empty and holds no report (no " + signature +
+                          "); choose another folder");
+      }
+      if (!overwrite) throw ConfigError(dir + ": holds an earlier report; --overwrite replaces it");
+    }
   }
   const fs::path work = Beside(d, "partial");
   fs::remove_all(work, ec);
@@ -43,8 +51,14 @@ ReportFolder::~ReportFolder() {
   fs::remove_all(work_, ec);
 }
 
+std::string ReportFolder::Final(const std::string& written) const {
+  if (written == work_) return shown_;
+  if (written.rfind(work_ + "/", 0) == 0) return shown_ + written.substr(work_.size());
+  return written;
+}
+
 const std::string& ReportFolder::Commit() {
-  if (committed_) return dir_;
+  if (committed_) return shown_;
   const fs::path d(dir_);
   const fs::path old = Beside(d, "replaced");
   std::error_code ec;
@@ -62,7 +76,7 @@ const std::string& ReportFolder::Commit() {
   }
   committed_ = true;
   fs::remove_all(old, ec);
-  return dir_;
+  return shown_;
 }
 
 }  // namespace aerograsp

@@ -18,6 +18,7 @@
 #include "hardware/sim/world.h"
 #include "hardware/sim/world_config.h"
 #include "tests/app/headless_browser.h"
+#include "tests/common/earlier_report.h"
 #include "tests/common/output_folder_test.h"
 
 namespace aerograsp {
@@ -110,6 +111,22 @@ TEST_F(BenchCommandTest, ABoardFacingAwayIsNeverSeenAndSaysSo) {
     EXPECT_THAT(e.what(), HasSubstr("--board-pose"));
   }
   EXPECT_EQ(Summary()["tag_frames"], 0);  // the report is written first
+}
+
+TEST_F(BenchCommandTest, AnEarlierReportIsRefusedAndReplacedWithOverwrite) {
+  BenchCommandOptions options;
+  options.out_dir = folder_;
+  options.frames = 4;
+  // The board facing away: a short run that ends in an error after its report.
+  options.oMt = MakeTransform(Eigen::Vector3d(0.0, 0.0, -0.0405), Eigen::Vector3d::Zero());
+  std::ostringstream out, progress;
+  testing::ExpectRefusesAnEarlierReport([&] { RunBenchCommand(options, out, progress); }, folder_);
+  options.overwrite = true;
+  EXPECT_THROW(RunBenchCommand(options, out, progress), std::runtime_error);
+  testing::ExpectReplacedTheEarlierReport(folder_);
+  EXPECT_EQ(Summary()["frames"], 4);
+  EXPECT_THAT(out.str(),
+              HasSubstr("wrote " + folder_ + "/summary.json, " + folder_ + "/index.html"));
 }
 
 /// A hardware file for the bench's real-device path on simulated devices: the

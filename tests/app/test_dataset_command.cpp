@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/commands/dataset_command.h"
+#include "tests/common/earlier_report.h"
 #include "tests/common/output_folder_test.h"
 
 namespace aerograsp {
@@ -95,6 +96,17 @@ TEST_F(DatasetCommandTest, OnSupportShowsTheObjectOnItsPipeFromTheVehicle) {
   }
   EXPECT_GE(visible, 7);
   EXPECT_GE(covered, 1);
+}
+
+TEST_F(DatasetCommandTest, AnEarlierDatasetIsRefusedAndReplacedWithOverwrite) {
+  const std::string dir = folder_ + "/d";
+  options_.overwrite = false;
+  options_.count = 2;
+  testing::ExpectRefusesAnEarlierReport([&] { Run("d"); }, dir, "labels.csv");
+  options_.overwrite = true;
+  EXPECT_THAT(Run("d"), HasSubstr("dataset: 2 images of pipe in " + dir));
+  testing::ExpectReplacedTheEarlierReport(dir, "labels.csv");
+  EXPECT_TRUE(fs::exists(dir + "/images/000001.png"));
 }
 
 TEST_F(DatasetCommandTest, OnSupportOutOfRangeIsRefused) {

@@ -21,6 +21,7 @@
 #include "hardware/sim/world.h"
 #include "hardware/sim/world_config.h"
 #include "servo/ik.h"
+#include "tests/common/earlier_report.h"
 
 namespace aerograsp {
 namespace {
@@ -82,6 +83,29 @@ TEST(MissionCommandTest, TakesOffFindsTheObjectAndWritesTheReport) {
   EXPECT_NE(at("arms    idle -> emergency stop: the mission took longer than 12 s"),
             std::string::npos)
       << log;
+  fs::remove_all(dir);
+}
+
+TEST(MissionCommandTest, AnEarlierReportIsRefusedKeptByAFailedStartAndReplacedWithOverwrite) {
+  const fs::path dir = TempDir("earlier");
+  MissionCommandOptions options;
+  options.mission = ShortMission(3);
+  options.mission.timeout_s = 2.0;  // on the ground: quick
+  options.out_dir = dir.string();
+  std::ostringstream out, err;
+  testing::ExpectRefusesAnEarlierReport([&] { RunMissionCommand(options, out, err); },
+                                        options.out_dir);
+  // A mission failing at start leaves the earlier report whole, nothing beside it.
+  options.overwrite = true;
+  options.mission.object = "no_such_object";
+  EXPECT_ANY_THROW(RunMissionCommand(options, out, err));
+  EXPECT_EQ(testing::ReadText(dir / "earlier_only.txt"), "earlier");
+  EXPECT_EQ(testing::ReadText(dir / "summary.json"), "earlier");
+  testing::ExpectNothingBeside(options.out_dir);
+  options.mission.object = "u_shape";
+  EXPECT_EQ(RunMissionCommand(options, out, err), kExitMissionFailed);  // stopped by its limit
+  testing::ExpectReplacedTheEarlierReport(options.out_dir);
+  EXPECT_TRUE(fs::exists(dir / "mission.log"));
   fs::remove_all(dir);
 }
 

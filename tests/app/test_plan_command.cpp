@@ -10,6 +10,7 @@
 #include "app/commands/plan_command.h"
 #include "core/config.h"
 #include "core/mesh.h"
+#include "tests/common/earlier_report.h"
 #include "tests/common/test_meshes.h"
 
 namespace aerograsp {
@@ -57,6 +58,7 @@ TEST_F(PlanCommandTest, ShippedObjectGivesTableSummaryPngAndCache) {
   EXPECT_TRUE(j["feasible"].get<bool>());
   EXPECT_TRUE(fs::exists(fs::path(options_.out_dir) / "grasps.png"));
   // Second run reads the cache.
+  options_.overwrite = true;
   EXPECT_THAT(Run(), HasSubstr("cache ok"));
   EXPECT_EQ(Summary()["dual_pairs"], j["dual_pairs"]);
   // A damaged cache is detected and rebuilt.
@@ -68,6 +70,15 @@ TEST_F(PlanCommandTest, ShippedObjectGivesTableSummaryPngAndCache) {
   const std::string third = Run();
   EXPECT_THAT(third, HasSubstr("checksum mismatch (corrupt); regenerating"));
   EXPECT_EQ(Summary()["dual_pairs"], j["dual_pairs"]);
+}
+
+TEST_F(PlanCommandTest, AnEarlierReportIsRefusedAndReplacedWithOverwrite) {
+  options_.object = "u_shape";
+  testing::ExpectRefusesAnEarlierReport([&] { Run(); }, options_.out_dir);
+  options_.overwrite = true;
+  EXPECT_THAT(Run(), HasSubstr("Wrote " + options_.out_dir + "/summary.json"));
+  testing::ExpectReplacedTheEarlierReport(options_.out_dir);
+  EXPECT_TRUE(fs::exists(fs::path(options_.out_dir) / "grasps.png"));
 }
 
 TEST_F(PlanCommandTest, ObjectTooBigForTheGripperSaysSo) {

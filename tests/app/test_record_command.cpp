@@ -6,6 +6,7 @@
 
 #include "app/commands/record_command.h"
 #include "app/commands/replay_command.h"
+#include "core/config.h"
 #include "core/data_dir.h"
 #include "core/shape_mesh.h"
 #include "hardware/sequence.h"
@@ -77,8 +78,8 @@ TEST_F(RecordCommandTest, RefusesToOverwriteUnlessAsked) {
   try {
     Run();
     FAIL() << "expected an error";
-  } catch (const HardwareError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("already holds a sequence"));
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(": holds an earlier report; --overwrite replaces it"));
   }
   options_.overwrite = true;
   options_.frames = 2;

@@ -8,6 +8,7 @@
 
 #include "app/commands/convert_command.h"
 #include "app/commands/replay_command.h"
+#include "core/config.h"
 #include "core/transforms.h"
 #include "hardware/bag/realsense_bag.h"
 #include "tests/common/simulated_recording.h"
@@ -115,7 +116,8 @@ TEST_F(RecordingCommandsTest, ConvertWritesTheBagAsASequenceThatReplaysTheSameFr
   EXPECT_FALSE(sequence.Grab(&b));
   // Not over a sequence unless asked.
   EXPECT_THAT([&] { RunConvertCommand(options, out, progress); },
-              ::testing::ThrowsMessage<HardwareError>(HasSubstr("already holds a sequence")));
+              ::testing::ThrowsMessage<ConfigError>(
+                  HasSubstr(": holds an earlier report; --overwrite replaces it")));
   options.overwrite = true;
   options.max_frames = 2;
   RunConvertCommand(options, out, progress);
@@ -139,9 +141,9 @@ TEST_F(RecordingCommandsTest, AFailedConversionLeavesNothingBehind) {
   // Nor over a folder that is not a sequence.
   fs::create_directories(fs::path(options.out_dir) / "photos");
   options.input = bag();
-  EXPECT_THAT(
-      [&] { RunConvertCommand(options, out, progress); },
-      ::testing::ThrowsMessage<HardwareError>(HasSubstr("is not an empty folder or a sequence")));
+  EXPECT_THAT([&] { RunConvertCommand(options, out, progress); },
+              ::testing::ThrowsMessage<ConfigError>(HasSubstr(
+                  "is not empty and holds no report (no sequence.yaml); choose another folder")));
   EXPECT_TRUE(fs::exists(fs::path(options.out_dir) / "photos"));
 }
 

@@ -14,6 +14,7 @@
 #include "core/transforms.h"
 #include "hardware/rgbd_camera.h"
 #include "tests/app/headless_browser.h"
+#include "tests/common/earlier_report.h"
 
 namespace aerograsp {
 namespace {
@@ -117,9 +118,14 @@ TEST_F(ReplayCommandTest, ATruncatedSequenceIsReportedNotFatal) {
   EXPECT_EQ(s["frames"], 3);
   ASSERT_TRUE(s.contains("stopped_early"));
   EXPECT_THAT(s["stopped_early"].get<std::string>(), HasSubstr("000003.png"));
-  // A missing image is found when the sequence is opened.
+  // A missing image is found when the sequence is opened: the report of the
+  // run before stays whole, nothing of this run beside it.
   fs::remove(png);
+  options_.overwrite = true;
   EXPECT_THROW(Run(), HardwareError);
+  std::ifstream earlier(fs::path(out_dir_) / "summary.json");
+  EXPECT_EQ(nlohmann::json::parse(earlier)["frames"], 3);
+  testing::ExpectNothingBeside(out_dir_);
   fs::remove_all(copy);
 }
 
@@ -171,6 +177,17 @@ TEST_F(ReplayCommandTest, AnObjectFullyHiddenIsFoundAgainWithinFiveFramesOfReapp
   EXPECT_LE(s["reacquire_max_frames"].get<int>(), 5);
   EXPECT_EQ(s["frames_visible"], 16);
   EXPECT_LT(s["translation_rmse_m"].get<double>(), 0.01);
+}
+
+TEST_F(ReplayCommandTest, AnEarlierReportIsRefusedAndReplacedWithOverwrite) {
+  options_.init_from_truth = true;
+  options_.run_peer = false;
+  options_.max_frames = 2;
+  testing::ExpectRefusesAnEarlierReport([&] { Run(); }, out_dir_);
+  options_.overwrite = true;
+  EXPECT_EQ(Run()["frames"], 2);
+  testing::ExpectReplacedTheEarlierReport(out_dir_);
+  EXPECT_TRUE(fs::exists(fs::path(out_dir_) / "poses.csv"));
 }
 
 TEST_F(ReplayCommandTest, AMissingOrCorruptModelIsAClearError) {

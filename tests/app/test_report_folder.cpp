@@ -103,5 +103,28 @@ TEST_F(ReportFolderTest, AnEmptyFolderIsUsedAndAFileIsRefused) {
   EXPECT_EQ(Read(file), "mine");
 }
 
+TEST_F(ReportFolderTest, AFolderOfOtherFilesIsNeverReplacedEvenWithOverwrite) {
+  fs::create_directories(dir_);
+  Write(dir_ / "thesis.tex", "mine");
+  try {
+    ReportFolder folder(dir_.string(), true);
+    FAIL() << "a folder without a report was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), dir_.string() +
+                                         ": is not empty and holds no report (no summary.json); "
+                                         "choose another folder");
+  }
+  EXPECT_EQ(Read(dir_ / "thesis.tex"), "mine");
+  EXPECT_EQ(Entries(), 1u);
+}
+
+TEST_F(ReportFolderTest, NamesWrittenFilesAsTheyWillBeAfterTheCommit) {
+  ReportFolder folder(dir_.string() + "/", false, "sequence.yaml");
+  EXPECT_EQ(folder.final_path(), dir_.string());
+  EXPECT_EQ(folder.Final((fs::path(folder.path()) / "logs" / "a.log").string()),
+            (dir_ / "logs" / "a.log").string());
+  EXPECT_EQ(folder.Final("/elsewhere/b.log"), "/elsewhere/b.log");
+}
+
 }  // namespace
 }  // namespace aerograsp

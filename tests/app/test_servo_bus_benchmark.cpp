@@ -13,6 +13,7 @@ namespace {
 TEST(ServoBusBenchmarkTest, WritesCycleRateToSummary) {
   ServoBusBenchmarkOptions options;
   options.out_dir = ::testing::TempDir() + "/servo_bus_bench";
+  std::filesystem::remove_all(options.out_dir);
   options.cycles = 20;
   std::ostringstream out;
   RunServoBusBenchmark(options, out);
