@@ -20,7 +20,7 @@ TIMEOUT=${FUZZ_TIMEOUT:-10}
 
 # Runs per campaign (at FUZZ_SCALE=1 about a minute in all on a 2-core machine).
 declare -A RUNS=(
-  [fuzz_mesh]=12000
+  [fuzz_mesh]=16000
   [fuzz_config]=6000
   [fuzz_sequence]=3000
   [fuzz_calibration]=10000
