@@ -26,14 +26,16 @@ declare -A RUNS=(
   [fuzz_calibration]=10000
   [fuzz_mavlink_parser]=300000
   [fuzz_scs_parser]=600000
+  [fuzz_bag]=600
 )
 declare -A CORPUS=(
   [fuzz_mesh]=mesh [fuzz_config]=config [fuzz_sequence]=sequence
   [fuzz_calibration]=calibration [fuzz_mavlink_parser]=mavlink [fuzz_scs_parser]=scs
+  [fuzz_bag]=bag
 )
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(fuzz_mesh fuzz_config fuzz_sequence fuzz_calibration
-                                     fuzz_mavlink_parser fuzz_scs_parser)
+                                     fuzz_mavlink_parser fuzz_scs_parser fuzz_bag)
 
 if [ ! -f "$FUZZ_BUILD_DIR/build.ninja" ]; then
   cmake -S tests/fuzz -B "$FUZZ_BUILD_DIR" -G Ninja -DCMAKE_C_COMPILER=clang \

@@ -13,9 +13,11 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <optional>
 #include <regex>
+#include <set>
 
 namespace aerograsp {
 namespace fs = std::filesystem;
@@ -49,6 +51,77 @@ geometry_msgs::Transform ToTransform(const Eigen::Isometry3d& T) {
 }
 
 std::string Size(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
+
+constexpr std::uint32_t kMaxRecordHeaderBytes = 1u << 20;  // real ones are well under 1 KB
+
+std::uint64_t LittleEndian(const std::string& bytes) {
+  std::uint64_t v = 0;
+  for (std::size_t i = bytes.size(); i-- > 0;) v = (v << 8) | static_cast<std::uint8_t>(bytes[i]);
+  return v;
+}
+
+/// The bag's top-level records (ROS bag 2.0: header length, header fields,
+/// data length, data) against the file's size, before rosbag_storage reads
+/// them: it allocates a record's declared length before reading it, so a
+/// corrupt length becomes an allocation of gigabytes. Also where the bag's
+/// index and chunks are said to start: at a record. Returns what is wrong, or
+/// "" (also for a file that is not a 2.0 bag: rosbag_storage says what it is).
+std::string CheckBagRecords(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::error_code ec;
+  const std::uint64_t size = fs::file_size(path, ec);
+  std::string magic(13, '\0');
+  if (ec || !in.read(magic.data(), 13) || magic != "#ROSBAG V2.0\n") return "";
+  std::set<std::uint64_t> starts;
+  std::vector<std::pair<std::string, std::uint64_t>> pointers;  // (field, position)
+  const auto u32 = [&in](std::uint32_t* v) {
+    char b[4];
+    if (!in.read(b, 4)) return false;
+    *v = static_cast<std::uint32_t>(LittleEndian(std::string(b, 4)));
+    return true;
+  };
+  for (std::uint64_t pos = 13; pos < size;) {
+    const std::string at = "record at byte " + std::to_string(pos);
+    starts.insert(pos);
+    std::uint32_t header_len = 0, data_len = 0;
+    in.seekg(static_cast<std::streamoff>(pos));
+    if (size - pos < 4 || !u32(&header_len)) return at + ": truncated";
+    if (header_len > kMaxRecordHeaderBytes || header_len > size - pos - 4)
+      return at + ": a header of " + std::to_string(header_len) + " bytes";
+    std::string header(header_len, '\0');
+    if (!in.read(header.data(), header_len)) return at + ": truncated";
+    std::map<std::string, std::string> fields;
+    for (std::size_t off = 0; off < header.size();) {
+      if (header.size() - off < 4) return at + ": a header field runs past the header";
+      const std::uint64_t len = LittleEndian(header.substr(off, 4));
+      off += 4;
+      if (len > header.size() - off) return at + ": a header field runs past the header";
+      const std::string field = header.substr(off, len);
+      off += len;
+      const std::size_t eq = field.find('=');
+      if (eq != std::string::npos) fields[field.substr(0, eq)] = field.substr(eq + 1);
+    }
+    if (size - pos - 4 - header_len < 4 || !u32(&data_len)) return at + ": truncated";
+    if (data_len > size - pos - 8 - header_len)
+      return at + ": " + std::to_string(data_len) + " bytes of data past the end of the file";
+    const std::string op = fields.count("op") ? fields["op"] : "";
+    if (op == "\x03" && fields["index_pos"].size() == 8)
+      pointers.push_back({"index_pos", LittleEndian(fields["index_pos"])});
+    if (op == "\x06" && fields["chunk_pos"].size() == 8)
+      pointers.push_back({"chunk_pos", LittleEndian(fields["chunk_pos"])});
+    if (op == "\x05" && fields["compression"] == "none" && fields["size"].size() == 4 &&
+        LittleEndian(fields["size"]) != data_len) {
+      return at + ": an uncompressed chunk of " + std::to_string(data_len) + " bytes says " +
+             std::to_string(LittleEndian(fields["size"]));
+    }
+    pos += 8 + std::uint64_t(header_len) + data_len;
+  }
+  for (const auto& [field, position] : pointers) {
+    if (!starts.count(position) && !(field == "index_pos" && position == size))
+      return field + " " + std::to_string(position) + " is not the start of a record";
+  }
+  return "";
+}
 
 }  // namespace
 
@@ -157,6 +230,8 @@ struct RealsenseBagCamera::Impl {
 
   void Open(const BagOptions& options) {
     if (!fs::is_regular_file(path)) Fail("no such file");
+    if (const std::string wrong = CheckBagRecords(path); !wrong.empty())
+      Fail("cannot be read as a ROS bag (truncated or corrupt): " + wrong);
     try {
       bag.open(path, rosbag::bagmode::Read);
     } catch (const std::exception& e) {
@@ -266,7 +341,13 @@ struct RealsenseBagCamera::Impl {
 RealsenseBagCamera::RealsenseBagCamera(const std::string& path, const BagOptions& options)
     : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
-  impl_->Open(options);
+  try {
+    impl_->Open(options);
+  } catch (const HardwareError&) {
+    throw;
+  } catch (const std::exception& e) {  // the bag library's, on a corrupt record
+    throw HardwareError(path + ": cannot be read as a ROS bag (corrupt): " + e.what());
+  }
 }
 
 RealsenseBagCamera::~RealsenseBagCamera() = default;

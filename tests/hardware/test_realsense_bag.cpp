@@ -130,6 +130,25 @@ TEST_F(RealsenseBagTest, ATruncatedBagIsNamed) {
   ExpectError([&] { RealsenseBagCamera bag(path_); }, path_ + ": no such file");
 }
 
+TEST_F(RealsenseBagTest, ARecordLengthPastTheEndIsNamedBeforeTheBagLibraryReadsIt) {
+  // The bag library allocates a record's declared length before reading it:
+  // a corrupt length would be gigabytes of memory.
+  WriteBag(Streams());
+  std::fstream file(path_, std::ios::in | std::ios::out | std::ios::binary);
+  char length[4];
+  file.seekg(13);  // the first record, after "#ROSBAG V2.0\n"
+  file.read(length, 4);
+  const std::uint32_t header_len = std::uint8_t(length[0]) | std::uint8_t(length[1]) << 8 |
+                                   std::uint8_t(length[2]) << 16 | std::uint32_t(length[3]) << 24;
+  file.seekp(13 + 4 + header_len);
+  file.write("\xf0\xff\xff\xff", 4);  // its data length: 4294967280 bytes
+  file.close();
+  ExpectError([&] { RealsenseBagCamera bag(path_); },
+              path_ +
+                  ": cannot be read as a ROS bag (truncated or corrupt): record at byte 13: "
+                  "4294967280 bytes of data past the end of the file");
+}
+
 /// The real D435 recording, where it exists (AEROGRASP_REALSENSE_SAMPLES names its folder).
 TEST(RealRealsenseBagTest, ReadsTheD435Recording) {
   const char* dir = std::getenv("AEROGRASP_REALSENSE_SAMPLES");
