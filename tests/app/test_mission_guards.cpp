@@ -113,6 +113,20 @@ TEST(MissionGuardsTest, LostLinkStopsTheArmsAndHoldsOnce) {
   EXPECT_EQ(flown.Count("autopilot refused hold"), 1) << flown.log;
 }
 
+TEST(MissionGuardsTest, TwoFaultsAtOnceStopTheArmsOnceAndHoldTheVehicleOnce) {
+  const Flown flown = Fly(true, 8.0, [](HardwareConfig* hw) {
+    hw->arms.sim_bus.silent_ids = {12};
+    hw->arms.sim_bus.faults_from_s = 4.0;
+    hw->autopilot.sim_px4.silent = true;
+    hw->autopilot.sim_px4.faults_from_s = 4.0;
+  });
+  ExpectStoppedSoonAfterTheFault(flown);
+  EXPECT_EQ(flown.result.device_faults.count("servo_silent"), 1u) << flown.log;
+  EXPECT_EQ(flown.result.device_faults.count("link_lost"), 1u) << flown.log;
+  // The hold goes unanswered; a second cause does not send it again.
+  EXPECT_EQ(flown.Count("autopilot refused hold"), 1) << flown.log;
+}
+
 TEST(MissionGuardsTest, CommandRefusedInFlightStopsTheArms) {
   // Armed and taking off before the fault; the switch to offboard for the
   // approach is the first command it refuses.
