@@ -26,6 +26,7 @@ void GraspPolicyConfig::Validate(const std::string& source, const std::string& p
   CheckRange(source, prefix + "branch_jump_rad", branch_jump_rad, 1e-6, 6.3, "rad");
   CheckRange(source, prefix + "branch_drift_rad_per_s", branch_drift_rad_per_s, 0.0, 10.0, "rad/s");
   CheckRange(source, prefix + "max_reaims", max_reaims, 0, 100, "");
+  CheckRange(source, prefix + "reaim_wait_s", reaim_wait_s, 0.0, 60.0, "s");
   CheckRange(source, prefix + "home_tolerance_m", home_tolerance_m, 1e-6, 0.2, "m");
 }
 
@@ -157,9 +158,22 @@ AttemptDecision DecideAttempt(const AttemptView& view, const GraspPolicyState& s
         d.action = AttemptAction::kWait;  // still closing
         return d;
       }
-    } else if (free_ended && state.reaims < config.max_reaims && !view.reaim_unavailable) {
-      d.action = AttemptAction::kReaim;
-      d.holder = holder;
+    } else if (free_ended && state.reaims < config.max_reaims) {
+      if (!view.reaim_unavailable) {
+        d.action = AttemptAction::kReaim;
+        d.holder = holder;
+        return d;
+      }
+      // No pair for the free arm yet: opened, the holder would drop a good
+      // half-grasp; it stays closed while the search is asked again.
+      if (view.reaim_unavailable_for_s <= config.reaim_wait_s) {
+        d.action = AttemptAction::kWait;
+        return d;
+      }
+      d.action = AttemptAction::kRetry;
+      d.reason =
+          fmt::format("the {} gripper holds but the {} arm found no pair for {:.1f} s",
+                      kArmNames[holder], kArmNames[1 - holder], view.reaim_unavailable_for_s);
       return d;
     }
   }

@@ -21,7 +21,9 @@
 //    or both grippers closed without holding (DecideAttempt);
 //  - re-aim: one gripper holds, the other's attempt ended: the free arm aims
 //    at the pair clear of edges, nearest its joints, that clears the holding
-//    arm, at most max_reaims times an attempt (DecideAttempt, RankReaim);
+//    arm, at most max_reaims times an attempt; with no such pair the holder
+//    stays closed and the search is asked again for reaim_wait_s before the
+//    attempt ends (DecideAttempt, RankReaim);
 //  - give up: no plan within planning_timeout_s (PlanningGiveUp); after
 //    max_attempts failed attempts the planner machine fails.
 #pragma once
@@ -59,6 +61,10 @@ struct GraspPolicyConfig {
   /// ... plus this much per second since the last accepted solution, [0, 10] rad/s.
   double branch_drift_rad_per_s{0.5};
   int max_reaims{3};  ///< re-aims of the free arm per attempt while the other holds, [0, 100]
+  /// With no pair for the free arm the holder stays closed this long, the
+  /// search asked again at the re-evaluation rate (the carried object's
+  /// estimate is refined frame by frame), before the attempt ends, [0, 60] s.
+  double reaim_wait_s{2.0};
   double home_tolerance_m{0.01};  ///< an arm this near its home tool position is back, (0, 0.2] m
 
   /// @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
@@ -140,7 +146,8 @@ struct AttemptView {
   double aperture_m[2] = {0.0, 0.0};                                     ///< the grippers' openings
   double lost_for_s = -1.0;          ///< the object out of view this long; < 0: in view
   bool one_gripper_carries = false;  ///< a re-aim is under way (one gripper holds)
-  bool reaim_unavailable = false;    ///< the free arm found no pair this cycle
+  bool reaim_unavailable = false;    ///< the free arm's last search found no pair (not due again)
+  double reaim_unavailable_for_s = -1.0;  ///< since the first search found none; < 0: none failed
 };
 
 enum class AttemptAction {

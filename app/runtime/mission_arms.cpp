@@ -143,6 +143,7 @@ std::optional<std::string> GraspArms::Step(double t, double dt_s, const FollowVi
       closing.bMg_target = reached_bMg_[a];
       closing.object_held_in_world = view.object_held_in_world;
       closing.target_age_s = t - reached_stamp_s_[a];
+      if (pairs[a] >= 0) closing.pair_width_m = planner_.contacts().pairs[pairs[a]].width_m();
       evaluator_->Closing(a, closing);
     }
     if (evaluator_ && phase_before == GraspPhase::kClose && command.phase == GraspPhase::kDone)

@@ -74,6 +74,7 @@ std::vector<Field> Fields(MissionConfig* c) {
                      {"policy", "branch_jump_rad", &p.branch_jump_rad},
                      {"policy", "branch_drift_rad_per_s", &p.branch_drift_rad_per_s},
                      {"policy", "max_reaims", &p.max_reaims},
+                     {"policy", "reaim_wait_s", &p.reaim_wait_s},
                      {"policy", "home_tolerance_m", &p.home_tolerance_m}});
   GraspPlannerConfig& g = c->planner;
   f.insert(f.end(), {{"planner", "depth_min_m", &g.depth_min_m},

@@ -17,7 +17,34 @@ MissionEvaluator::MissionEvaluator(const World& world, const Platform& platform,
       symmetry_(std::move(symmetry)),
       log_(std::move(log)) {}
 
+Eigen::Vector3d MissionEvaluator::TrueGraspInTool(int a) const {
+  Eigen::Isometry3d wMo_true = world_.wMo();
+  const Eigen::Matrix3d wRd = world_.wMd().linear();
+  wMo_true.linear() = wRd * ClosestSymmetricRotation(wRd.transpose() * wMo_true.linear(),
+                                                     closing_dRo_estimate_[a], symmetry_);
+  return world_.wMe(kSides[a]).inverse() * (wMo_true * closing_target_o_[a]);
+}
+
 void MissionEvaluator::Step() {
+  for (int a = 0; a < 2; ++a) {
+    if (!closing_[a] || closing_logged_[a]) continue;
+    // The pads against the true grasp while the gripper closes: where they are
+    // when they hold, or when their opening reaches the pair's width.
+    const Eigen::Vector3d e_p = TrueGraspInTool(a);
+    const double dt = world_.now_s() - closing_e_p_t_s_[a];
+    const Eigen::Vector3d e_v =
+        dt > 0.0 ? Eigen::Vector3d((e_p - closing_e_p_[a]) / dt) : Eigen::Vector3d::Zero();
+    closing_e_p_[a] = e_p;
+    closing_e_p_t_s_[a] = world_.now_s();
+    const GripperState g = world_.gripper(kSides[a]);
+    if (!g.holding && g.aperture_m > closing_width_m_[a]) continue;
+    closing_logged_[a] = true;
+    log_(fmt::format(
+        "servo   {} pads at {:.0f} mm ({}): the true grasp at [{:.1f}, {:.1f}, {:.1f}] mm in the "
+        "tool frame (closing, pads' width, depth), moving [{:.0f}, {:.0f}, {:.0f}] mm/s",
+        kArmNames[a], 1e3 * g.aperture_m, g.holding ? "holding" : "the pair's width", 1e3 * e_p.x(),
+        1e3 * e_p.y(), 1e3 * e_p.z(), 1e3 * e_v.x(), 1e3 * e_v.y(), 1e3 * e_v.z()));
+  }
   for (int a = 0; a < 2; ++a) {
     const bool inside =
         collision_.ArmInSafeVolume(kSides[a], world_.arm(kSides[a]).q_true_rad(), 0.0);
@@ -73,6 +100,16 @@ void MissionEvaluator::Closing(int a, const ClosingView& view) {
   closing_[a] = true;
   closing_target_o_[a] = target_o;
   closing_dRo_estimate_[a] = dMo_est.linear();
+  closing_width_m_[a] = view.pair_width_m;
+  closing_logged_[a] = false;
+  closing_e_p_[a] = TrueGraspInTool(a);
+  closing_e_p_t_s_[a] = world_.now_s();
+  const Eigen::Vector3d e_target = view.dMe.inverse() * (dMb * view.bMg_target).translation();
+  log_(fmt::format(
+      "servo   {} arm closes: in the tool frame the target is at [{:.1f}, {:.1f}, {:.1f}] mm, "
+      "the true grasp at [{:.1f}, {:.1f}, {:.1f}] mm",
+      kArmNames[a], 1e3 * e_target.x(), 1e3 * e_target.y(), 1e3 * e_target.z(),
+      1e3 * closing_e_p_[a].x(), 1e3 * closing_e_p_[a].y(), 1e3 * closing_e_p_[a].z()));
   log_(fmt::format(
       "servo   {} arm closes: the tool is {:.1f} mm from its target and {:.1f} mm from the "
       "grasp "

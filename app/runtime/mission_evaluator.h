@@ -30,6 +30,7 @@ struct ClosingView {
   Eigen::Isometry3d bMg_target = Eigen::Isometry3d::Identity();  ///< the grasp target in b
   bool object_held_in_world = false;  ///< briefly lost: held at its last world pose
   double target_age_s = 0.0;          ///< since the target was last solved
+  double pair_width_m = 0.0;          ///< the contact pair's width (0: not known)
 };
 
 class MissionEvaluator {
@@ -40,7 +41,9 @@ class MissionEvaluator {
                    ObjectSymmetry symmetry, std::function<void(const std::string&)> log);
 
   /// Each servo cycle: an arm whose true joints enter the safe volume counts,
-  /// and so do the two arms coming into contact.
+  /// and so do the two arms coming into contact. A closing gripper's pads are
+  /// logged against the true grasp once, when they hold or their opening
+  /// reaches the pair's width (where the close is decided).
   void Step();
   /// A camera frame stamped stamp_s was taken now: the object's true pose then.
   void FrameTaken(double stamp_s);
@@ -68,6 +71,9 @@ class MissionEvaluator {
   double rotation_rmse_deg() const;
 
  private:
+  /// The grasp point Closing kept, on the true object, in arm a's true tool frame.
+  Eigen::Vector3d TrueGraspInTool(int a) const;
+
   const World& world_;
   const Platform& platform_;
   const PlatformCollision& collision_;
@@ -83,6 +89,12 @@ class MissionEvaluator {
   bool closing_[2] = {false, false};
   Eigen::Vector3d closing_target_o_[2];
   Eigen::Matrix3d closing_dRo_estimate_[2];
+  // While a gripper closes: its pair's width, whether the pads were logged at
+  // it, and the true grasp point in the tool frame at the last cycle.
+  double closing_width_m_[2] = {0.0, 0.0};
+  bool closing_logged_[2] = {false, false};
+  Eigen::Vector3d closing_e_p_[2];
+  double closing_e_p_t_s_[2] = {0.0, 0.0};
   std::vector<GripperClose> closes_;
   double sq_position_ = 0.0, sq_rotation_ = 0.0;
   int frames_ = 0;

@@ -62,6 +62,7 @@ bool GraspScheduler::AimFreeArm(double t, int holding) {
   const int best = RankReaim(
       candidates, [&](const ArmGrasp& g) { return !collide(g.q_grasp) && !collide(g.q_precatch); });
   if (best < 0) {
+    if (reaim_failed_since_s_ >= 0) return false;  // logged at its first search
     log_(
         fmt::format("planner: the {} gripper holds the object but no pair clears it for the {} "
                     "arm ({} feasible for it{})",
@@ -155,19 +156,28 @@ void GraspScheduler::Plan(double t) {
   view.lost_for_s = object_->lost_for_s(t);
   view.one_gripper_carries = object_->holder() >= 0;
   a_gripper_holds_ = view.holds[0] || view.holds[1];
+  // A re-aim search that found no pair is asked again at the re-evaluation rate.
+  view.reaim_unavailable = t + 1e-9 < next_reaim_s_;
+  view.reaim_unavailable_for_s = reaim_failed_since_s_ < 0 ? -1.0 : t - reaim_failed_since_s_;
   AttemptDecision decision = DecideAttempt(view, policy_, config_.policy);
   if (decision.action == AttemptAction::kReaim) {
     if (AimFreeArm(t, decision.holder)) {
       ++policy_.reaims;
+      reaim_failed_since_s_ = -1.0;
       return;
     }
+    if (reaim_failed_since_s_ < 0) reaim_failed_since_s_ = t;
+    next_reaim_s_ = t + 1.0 / config_.reevaluate_rate_hz;
     view.reaim_unavailable = true;
+    view.reaim_unavailable_for_s = t - reaim_failed_since_s_;
     decision = DecideAttempt(view, policy_, config_.policy);
   }
   if (decision.action == AttemptAction::kWait) return;
   if (decision.action == AttemptAction::kRetry) {
     object_->Released();
     policy_.reaims = 0;
+    reaim_failed_since_s_ = -1.0;
+    next_reaim_s_ = 0.0;
     sm_.planner->Retry(t, decision.reason);
     StopArms(t, "attempt ended: " + decision.reason);
     // Held at their grasp poses the arms hide part of the object from the

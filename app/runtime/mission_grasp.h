@@ -91,6 +91,10 @@ class GraspScheduler {
 
   GraspPolicyState policy_;
   double next_reevaluate_s_ = 0.0;
+  // The free arm's re-aim search: when it first found no pair (< 0: it has
+  // not failed), and when it is due again.
+  double reaim_failed_since_s_ = -1.0;
+  double next_reaim_s_ = 0.0;
   std::future<SwitchDecision> reevaluating_;
   Eigen::Isometry3d reevaluate_dMo_ = Eigen::Isometry3d::Identity();
   double planning_since_s_ = -1.0;

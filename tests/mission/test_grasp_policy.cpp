@@ -223,12 +223,34 @@ TEST(GraspPolicyTest, TheFreeArmReaimsWhileTheOtherGripperHolds) {
   AttemptDecision d = DecideAttempt(view, state, config);
   EXPECT_EQ(d.action, AttemptAction::kReaim);
   EXPECT_EQ(d.holder, 1);
-  // Out of re-aims, or no pair for the free arm: the attempt ends.
+  // Out of re-aims: the attempt ends.
   state.reaims = 3;
   EXPECT_EQ(DecideAttempt(view, state, config).action, AttemptAction::kRetry);
-  state.reaims = 0;
+}
+
+TEST(GraspPolicyTest, WithNoPairForTheFreeArmTheHolderStaysClosedForTheWait) {
+  GraspPolicyConfig config;
+  config.reaim_wait_s = 2.0;
+  AttemptView view;
+  view.phase[0] = GraspPhase::kDone;
+  view.phase[1] = GraspPhase::kTimedOut;  // the right arm's attempt ended
+  view.holds[0] = true;
+  view.one_gripper_carries = true;
+  view.reaim_unavailable = true;  // its search found no pair
+  view.reaim_unavailable_for_s = 0.0;
+  EXPECT_EQ(DecideAttempt(view, GraspPolicyState{}, config).action, AttemptAction::kWait);
+  view.reaim_unavailable_for_s = 2.0;
+  EXPECT_EQ(DecideAttempt(view, GraspPolicyState{}, config).action, AttemptAction::kWait);
+  // The search is due again: it is asked.
+  view.reaim_unavailable = false;
+  EXPECT_EQ(DecideAttempt(view, GraspPolicyState{}, config).action, AttemptAction::kReaim);
+  // Still none after the wait: the attempt ends, saying why.
   view.reaim_unavailable = true;
-  EXPECT_EQ(DecideAttempt(view, state, config).action, AttemptAction::kRetry);
+  view.reaim_unavailable_for_s = 2.1;
+  const AttemptDecision d = DecideAttempt(view, GraspPolicyState{}, config);
+  EXPECT_EQ(d.action, AttemptAction::kRetry);
+  EXPECT_THAT(d.reason,
+              HasSubstr("the left gripper holds but the right arm found no pair for 2.1 s"));
 }
 
 TEST(GraspPolicyTest, TheHoldingGripperFinishesClosingBeforeTheFreeArmReaims) {
