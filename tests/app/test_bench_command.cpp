@@ -74,6 +74,22 @@ TEST_F(BenchCommandTest, ArmsReachTheHoverPointOffTheGrasp) {
   EXPECT_TRUE(fs::exists(fs::path(folder_) / "joints.png"));
 }
 
+// The board's print covers the crawler's yellow top: compared with the mesh's colours, its black
+// and white contradict even the true pose (support 0.83-0.86 under the 0.9 needed), and the still
+// crawler was found in 6 of these 30 frames. The bench forgets the colours under the board.
+TEST_F(BenchCommandTest, AStillObjectUnderItsBoardIsFoundWithTheDefaultPerception) {
+  BenchCommandOptions options;
+  options.out_dir = folder_;
+  options.frames = 30;       // 1 s: the arms are still far from the object
+  options.path_scale = 0.0;  // held still at the mission's grasp point, 0.44 m from the camera
+  options.perception_config = DataPath("config/perception_default.yaml");
+  std::ostringstream out, progress;
+  RunBenchCommand(options, out, progress);
+  const nlohmann::json s = Summary();
+  EXPECT_GE(s["found_frames"].get<int>(), 25) << out.str();
+  EXPECT_LT(s["perception_vs_truth"]["translation_median_m"].get<double>(), 0.005) << out.str();
+}
+
 TEST_F(BenchCommandTest, TheReportsChartsAreDrawnInABrowser) {
   const std::string chromium = FindChromium();
   if (chromium.empty())
