@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/collision.h"
+#include "core/symmetry.h"
 #include "hardware/sim/world.h"
 
 namespace aerograsp {
@@ -91,7 +92,9 @@ void MissionEvaluator::Closing(int a, const ClosingView& view) {
   // taken in its symmetric equivalent nearest the estimate).
   const Eigen::Isometry3d& dMo_est = view.dMo_estimate;
   Eigen::Isometry3d dMo_true = world_.wMd().inverse() * world_.wMo();
-  dMo_true.linear() = ClosestSymmetricRotation(dMo_true.linear(), dMo_est.linear(), symmetry_);
+  dMo_true = WithSymmetricRotation(
+      dMo_true, ClosestSymmetricRotation(dMo_true.linear(), dMo_est.linear(), symmetry_),
+      symmetry_);
   const Eigen::Isometry3d dMb = platform_.dMb(kSides[a]);
   const Eigen::Vector3d tool_d = view.dMe.translation();
   const Eigen::Vector3d target_o = (dMo_est.inverse() * dMb * view.bMg_target).translation();
@@ -137,8 +140,9 @@ void MissionEvaluator::Closed(int a) {
     // The grasp point on the true object, in the symmetric twin nearest the
     // estimate the close aimed with; the tool against it, in d.
     Eigen::Isometry3d dMo_true = world_.wMd().inverse() * world_.wMo();
-    dMo_true.linear() =
-        ClosestSymmetricRotation(dMo_true.linear(), closing_dRo_estimate_[a], symmetry_);
+    dMo_true = WithSymmetricRotation(
+        dMo_true, ClosestSymmetricRotation(dMo_true.linear(), closing_dRo_estimate_[a], symmetry_),
+        symmetry_);
     const Eigen::Vector3d tool_d = (world_.wMd().inverse() * world_.wMe(side)).translation();
     close.tool_error_m = (tool_d - dMo_true * closing_target_o_[a]).norm();
     closing_[a] = false;

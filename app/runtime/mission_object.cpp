@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "app/runtime/mission_vehicle.h"
+#include "core/symmetry.h"
 
 namespace aerograsp {
 
@@ -41,7 +42,9 @@ void TrackedObject::Update(double t, const ObjectEstimate& estimate, const Eigen
     // when the gripper closed, often while the fingers hid the object).
     const Eigen::Isometry3d dMo_estimate = dMc * estimate_.cMo;  // at the frame
     Eigen::Isometry3d eMo = dMe_(holder_).inverse() * dMo_estimate;
-    eMo.linear() = ClosestSymmetricRotation(eMo.linear(), eMo_held_.linear(), symmetry_);
+    // Its symmetric twin nearest the held pose, turned about the symmetry's centre.
+    eMo = WithSymmetricRotation(
+        eMo, ClosestSymmetricRotation(eMo.linear(), eMo_held_.linear(), symmetry_), symmetry_);
     eMo_held_.translation() += alpha_ * (eMo.translation() - eMo_held_.translation());
     eMo_held_.linear() = Eigen::Quaterniond(eMo_held_.linear())
                              .slerp(alpha_, Eigen::Quaterniond(eMo.linear()))
