@@ -232,6 +232,11 @@ int main(int argc, char** argv) {
                    "along them rank first, m")
       ->capture_default_str()
       ->check(aerograsp::cli::Finite());
+  plan_cmd->add_flag("--place", plan.place,
+                     "Plan where the mission holds the object: the placement searched around "
+                     "--object-xyz, upright at --object-rpy's yaw, with the mission's planner and "
+                     "placement settings (data/config/mission_default.yaml; the planner options "
+                     "above are then ignored)");
   plan_cmd->add_option("--mass", plan.mass_kg, "Mass of a bare mesh, kg")
       ->capture_default_str()
       ->check(aerograsp::cli::Range(1e-6, 1e4));

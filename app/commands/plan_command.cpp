@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -16,12 +17,14 @@
 #include "app/report/report_folder.h"
 #include "app/report/statistics.h"
 #include "app/report/summary_file.h"
+#include "app/runtime/mission_config.h"
 #include "core/config.h"
 #include "core/data_dir.h"
 #include "core/object_model.h"
 #include "core/platform.h"
 #include "core/transforms.h"
 #include "grasp/contact_cache.h"
+#include "grasp/placement.h"
 #include "grasp/planner.h"
 
 namespace aerograsp {
@@ -129,6 +132,11 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
   config.depth_min_m = options.depth_min_m;
   config.reach_margin_m = options.reach_margin_m;
   config.edge_margin_m = options.edge_margin_m;
+  std::optional<MissionConfig> mission;
+  if (options.place) {
+    mission = MissionConfig::Load(DataPath("config/mission_default.yaml"));
+    config = mission->planner;
+  }
   config.Validate("command line", gripper);
 
   ReportFolder folder(options.out_dir, options.overwrite);
@@ -178,6 +186,14 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
       MakeTransform(options.object_xyz_m, options.object_rpy_deg * M_PI / 180.0), object.mesh_o);
   query.q_left = platform.home(Side::kLeft);
   query.q_right = platform.home(Side::kRight);
+  std::optional<Placement> placement;
+  if (mission) {
+    PlacementConfig place = mission->placement;
+    place.object_yaw_rad = std::remainder(options.object_rpy_deg.z() * M_PI / 180.0, 2.0 * M_PI);
+    placement =
+        ChoosePlacement(planner, query.dMo.translation(), place, query.q_left, query.q_right);
+    query.dMo = placement->dMo;
+  }
 
   PlanResult plan;
   std::vector<double> feas_us, qual_us, exact_us;
@@ -216,6 +232,17 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
       centre_o.x(), centre_o.y(), centre_o.z(), options.object_xyz_m.x(), options.object_xyz_m.y(),
       options.object_xyz_m.z(), options.object_rpy_deg.x(), options.object_rpy_deg.y(),
       options.object_rpy_deg.z());
+  if (placement) {
+    const Eigen::Vector3d& p = placement->dMo.translation();
+    out << fmt::format(
+        "Placement (the mission's): the object's origin at [{:.3f} {:.3f} {:.3f}] m in d, upright "
+        "at yaw {:.1f} deg ({} points searched): left {}, right {} grasps clear of its ends "
+        "through the sway (at --object-xyz: {}, {}); {} dual grasps of them ranked{}\n",
+        p.x(), p.y(), p.z(), options.object_rpy_deg.z(), placement->points,
+        placement->robust_pairs[0], placement->robust_pairs[1], placement->nominal_robust_pairs[0],
+        placement->nominal_robust_pairs[1], placement->dual_grasps,
+        placement->first_choice_counts ? ", the first among them" : "");
+  }
   out << fmt::format(
       "Friction: mu {:.2f}, {}-edge cones, torsional {:.4f} m (soft finger); torques about the "
       "centre of mass / {:.3f} m\n",
@@ -288,6 +315,15 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
                     query.dMo.translation().z()};
   j["dMo_rpy_deg"] = {options.object_rpy_deg.x(), options.object_rpy_deg.y(),
                       options.object_rpy_deg.z()};
+  if (placement) {
+    const Eigen::Vector3d& p = placement->dMo.translation();
+    j["placement"] = {{"dMo_xyz_m", {p.x(), p.y(), p.z()}},
+                      {"points", placement->points},
+                      {"robust_pairs", {placement->robust_pairs[0], placement->robust_pairs[1]}},
+                      {"nominal_robust_pairs",
+                       {placement->nominal_robust_pairs[0], placement->nominal_robust_pairs[1]}},
+                      {"dual_grasps", placement->dual_grasps}};
+  }
   j["resolution_m"] = contacts.resolution_m;
   j["friction"] = {{"mu", config.friction.mu},
                    {"cone_edges", config.friction.cone_edges},

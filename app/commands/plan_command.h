@@ -33,6 +33,10 @@ struct PlanCommandOptions {
   double reach_margin_m = 0.0;
   /// contacts this far from their faces' edges rank first (m); GraspPlannerConfig::edge_margin_m
   double edge_margin_m = 0.0;
+  /// Search where the mission holds the object (grasp/placement.h) around
+  /// object_xyz_m, upright at object_rpy_deg's yaw, with the mission's planner
+  /// and placement settings (mission_default.yaml), and plan there.
+  bool place = false;
   double mass_kg = 0.5;  ///< used for a bare mesh (shipped objects carry theirs)
   /// contact cache folder; "" = $XDG_CACHE_HOME/aerograsp or ~/.cache/aerograsp
   std::string cache_dir;

@@ -58,11 +58,19 @@ std::vector<Field> Fields(MissionConfig* c) {
       {"", "setpoint_rate_hz", &c->setpoint_rate_hz},
       {"", "reevaluate_rate_hz", &c->reevaluate_rate_hz},
       {"", "object_filter_s", &c->object_filter_s},
+      {"", "vehicle_lag_s", &c->vehicle_lag_s},
       {"", "predict_max_s", &c->predict_max_s},
       {"", "search_timeout_s", &c->search_timeout_s},
       {"", "timeout_s", &c->timeout_s},
       {"", "servo_margin_m", &c->servo_margin_m},
   };
+  PlacementConfig& pl = c->placement;
+  f.insert(f.end(), {{"placement", "search_x_m", &pl.search_x_m},
+                     {"placement", "search_y_m", &pl.search_y_m},
+                     {"placement", "search_z_m", &pl.search_z_m},
+                     {"placement", "step_m", &pl.step_m},
+                     {"placement", "end_margin_m", &pl.end_margin_m},
+                     {"placement", "object_yaw_rad", &pl.object_yaw_rad}});
   GraspPolicyConfig& p = c->policy;
   f.insert(f.end(), {{"policy", "near_tolerance_m", &p.near_tolerance_m},
                      {"policy", "settle_s", &p.settle_s},
@@ -151,6 +159,11 @@ GraspPlannerConfig MissionPlannerDefaults() {
   // (the contacts may sit deeper as the object sways).
   c.depth_max_m = 0.10;
   c.edge_margin_m = 0.015;
+  // Pairs that stay feasible with the object 2 cm off along each axis rank
+  // first: the followed pair is solved again every cycle while the vehicle
+  // sways (3 cm, 2 cm vertically) and the placement puts the object where
+  // both arms have such pairs.
+  c.reach_margin_m = 0.02;
   return c;
 }
 
@@ -241,10 +254,12 @@ void MissionConfig::Validate() const {
   CheckRange(s, "setpoint_rate_hz", setpoint_rate_hz, 2.0, 100.0, "Hz");
   CheckRange(s, "reevaluate_rate_hz", reevaluate_rate_hz, 1e-6, 100.0, "Hz");
   CheckRange(s, "object_filter_s", object_filter_s, 1e-6, 10.0, "s");
+  CheckRange(s, "vehicle_lag_s", vehicle_lag_s, 0.0, 5.0, "s");
   CheckRange(s, "predict_max_s", predict_max_s, 0.0, 1.0, "s");
   CheckRange(s, "search_timeout_s", search_timeout_s, 1e-6, 600.0, "s");
   CheckRange(s, "timeout_s", timeout_s, 1e-6, 3600.0, "s");
   CheckRange(s, "servo_margin_m", servo_margin_m, 0.0, 0.05, "m");
+  placement.Validate(s, "placement.");
   policy.Validate(s, "policy.");
   // The depth range is checked against the gripper's fingers when the
   // platform is known (GraspPlanner); here against the longest allowed.

@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "grasp/placement.h"
 #include "grasp/planner.h"
 #include "mission/grasp_policy.h"
 #include "servo/arm_servo.h"
@@ -19,7 +20,8 @@
 namespace aerograsp {
 
 /// The planner as the mission sets it: contacts 2.5 cm to 10 cm behind the
-/// tool point, grasps 1.5 cm clear of the faces' edges first.
+/// tool point, grasps feasible through 2 cm of sway and 1.5 cm clear of the
+/// faces' edges first.
 GraspPlannerConfig MissionPlannerDefaults();
 /// The servo as the mission sets it (gain 15/s, retry 0.1 s).
 ServoConfig MissionServoDefaults();
@@ -37,7 +39,9 @@ struct MissionConfig {
                                -2.2};  ///< waypoint near the object (NED), each [-100, 100] m
   double yaw_rad{0.0};                 ///< heading held through the mission, [-pi, pi] rad
   /// Where the object should sit in the body frame while the arms grasp it
-  /// (FRD: ahead, right, below), each [-1, 1] m.
+  /// (FRD: ahead, right, below), each [-1, 1] m: the centre of the placement
+  /// search (`placement`), which the mission replaces by the placement found
+  /// for its object and arms; the placement itself when the search is off.
   Eigen::Vector3d grasp_dto_m{0.075, 0.0, 0.47};
   double arrive_tolerance_m{0.15};  ///< a waypoint counts as reached within this, (0, 5] m
   /// Tracking never takes the vehicle farther than this from the approach
@@ -49,6 +53,10 @@ struct MissionConfig {
   double reevaluate_rate_hz{5.0};  ///< background grasp re-evaluation, (0, 100] Hz
   /// low-pass time constant of the tracked object position, (0, 10] s
   double object_filter_s{0.5};
+  /// The autopilot's lag from a position setpoint to the vehicle there (its
+  /// delay plus its response time), [0, 5] s: the tracking setpoint leads the
+  /// object by its estimated velocity times this plus object_filter_s.
+  double vehicle_lag_s{0.75};
   /// The estimate is moved on with its velocity to the present, at most this
   /// far ahead of its frame, [0, 1] s.
   double predict_max_s{0.2};
@@ -57,6 +65,7 @@ struct MissionConfig {
   double timeout_s{180.0};       ///< the whole mission, (0, 3600] s
   double servo_margin_m{0.005};  ///< arms' clearance to the safe volume and each other, [0, 0.05] m
 
+  PlacementConfig placement;                              ///< `placement`
   GraspPolicyConfig policy;                               ///< `policy`
   GraspPlannerConfig planner = MissionPlannerDefaults();  ///< `planner`
   /// `servo`; ik.tolerance is a 6-DoF arm's, servo_ik_tolerance_4dof a 4-DoF arm's.

@@ -24,6 +24,7 @@
 #include "core/thread_clock.h"
 #include "detection/object_tracker.h"
 #include "detection/perception_config.h"
+#include "grasp/placement.h"
 #include "grasp/planner.h"
 #include "hardware/hardware_factory.h"
 #include "hardware/sim/world.h"
@@ -189,6 +190,23 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
       ComputeContactPairs(object_->mesh_o, platform.config().gripper, planner_config.contacts);
   planner_ = std::make_unique<GraspPlanner>(platform, std::move(grasp_object), std::move(contacts),
                                             planner_config);
+  // Where the vehicle holds the object: searched once for this object and these arms.
+  if (config_.placement.Searches()) {
+    const Placement placement =
+        ChoosePlacement(*planner_, config_.grasp_dto_m, config_.placement,
+                        platform.home(Side::kLeft), platform.home(Side::kRight));
+    const Eigen::Vector3d& p = placement.dMo.translation();
+    Log(Now(),
+        fmt::format("placement: the object at [{:.3f}, {:.3f}, {:.3f}] m in the body frame ({} "
+                    "points searched around [{:.3f}, {:.3f}, {:.3f}] m): left {}, right {} "
+                    "grasps clear of its ends through the sway (at the centre: {}, {}); {} dual "
+                    "grasps of them ranked",
+                    p.x(), p.y(), p.z(), placement.points, config_.grasp_dto_m.x(),
+                    config_.grasp_dto_m.y(), config_.grasp_dto_m.z(), placement.robust_pairs[0],
+                    placement.robust_pairs[1], placement.nominal_robust_pairs[0],
+                    placement.nominal_robust_pairs[1], placement.dual_grasps));
+    config_.grasp_dto_m = p;
+  }
 
   collision_ = std::make_unique<PlatformCollision>(platform);
   for (int a = 0; a < 2; ++a) q_[a] = hw_->arms().JointPositions(kSides[a]);
@@ -393,6 +411,7 @@ void Mission::Vehicle() {
   view.a_gripper_holds = grasp_->a_gripper_holds();
   view.have_object_w = object_pose_->have_world_pose();
   view.object_w_m = object_pose_->object_w_filtered();
+  if (view.object_found) view.object_v_w_mps = object_pose_->estimate().v_f;
   if (!legs_->Step(t, view)) return;
   const bool idle = planner_sm_.state() == PlannerState::kIdle;
   if (idle && view.object_found &&

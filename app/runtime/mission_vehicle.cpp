@@ -6,10 +6,13 @@
 
 namespace aerograsp {
 
-Eigen::Vector3d TrackingSetpoint(const Eigen::Vector3d& object_w_m, const MissionConfig& config) {
+Eigen::Vector3d TrackingSetpoint(const Eigen::Vector3d& object_w_m,
+                                 const Eigen::Vector3d& object_v_w_mps,
+                                 const MissionConfig& config) {
   const Eigen::Matrix3d wRyaw =
       Eigen::AngleAxisd(config.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  const Eigen::Vector3d wanted = object_w_m - wRyaw * config.grasp_dto_m;
+  const Eigen::Vector3d lead_m = (config.object_filter_s + config.vehicle_lag_s) * object_v_w_mps;
+  const Eigen::Vector3d wanted = object_w_m + lead_m - wRyaw * config.grasp_dto_m;
   const Eigen::Vector3d off = wanted - config.approach_w_m;
   return off.norm() <= config.tracking_radius_m
              ? wanted
@@ -116,7 +119,7 @@ bool VehicleLegs::Step(double t, const VehicleView& view) {
       // vehicle would chase what it carries (and drag it off its pipe while
       // the other arm still tries).
       if (view.have_object_w && !view.a_gripper_holds)
-        setpoint_w_ = TrackingSetpoint(view.object_w_m, config_);
+        setpoint_w_ = TrackingSetpoint(view.object_w_m, view.object_v_w_mps, config_);
       tracking = true;
       break;
     case VehicleMode::kLanding:

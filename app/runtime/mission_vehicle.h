@@ -16,9 +16,14 @@
 namespace aerograsp {
 
 /// The tracking setpoint: the body where the object sits at grasp_dto_m under
-/// it (yaw held at yaw_rad), but never farther than tracking_radius_m from the
-/// approach waypoint (the geofence).
-Eigen::Vector3d TrackingSetpoint(const Eigen::Vector3d& object_w_m, const MissionConfig& config);
+/// it (yaw held at yaw_rad) once the vehicle gets there, but never farther
+/// than tracking_radius_m from the approach waypoint (the geofence). The
+/// object's filtered position object_w_m lags it by object_filter_s and the
+/// vehicle lags its setpoint by vehicle_lag_s: the setpoint leads by the
+/// object's velocity object_v_w_mps times both.
+Eigen::Vector3d TrackingSetpoint(const Eigen::Vector3d& object_w_m,
+                                 const Eigen::Vector3d& object_v_w_mps,
+                                 const MissionConfig& config);
 
 /// True when an object at object_w_m is beyond the tracking radius (plus the
 /// grasp point's offset) from the approach waypoint: it is not followed.
@@ -32,6 +37,8 @@ struct VehicleView {
   bool a_gripper_holds = false;      ///< the vehicle does not chase what it carries
   bool have_object_w = false;        ///< the object was seen within the tracking radius
   Eigen::Vector3d object_w_m = Eigen::Vector3d::Zero();  ///< its filtered position
+  /// Its estimated velocity (m/s, in w) while in view; zero when lost.
+  Eigen::Vector3d object_v_w_mps = Eigen::Vector3d::Zero();
 };
 
 class VehicleLegs {

@@ -14,6 +14,7 @@
 #include "app/runtime/mission_config.h"
 #include "app/runtime/mission_evaluator.h"
 #include "app/runtime/mission_runner.h"
+#include "app/runtime/mission_vehicle.h"
 #include "core/collision.h"
 #include "core/config.h"
 #include "detection/perception_config.h"
@@ -197,6 +198,9 @@ TEST(MissionConfigTest, TheShippedConfigLoadsAndBadFieldsAreNamed) {
   EXPECT_THAT(message("grasp_sequence:\n  grasp_tolerance:\n    position_m: 0\n"),
               ::testing::HasSubstr("grasp_sequence.grasp_tolerance.position_m"));
   EXPECT_THAT(message("servo:\n  gain: 15\n"), ::testing::HasSubstr("servo.gain: unknown key"));
+  EXPECT_THAT(message("placement:\n  step_m: 0\n"),
+              ::testing::HasSubstr("mission.yaml: placement.step_m"));
+  EXPECT_THAT(message("vehicle_lag_s: 9\n"), ::testing::HasSubstr("mission.yaml: vehicle_lag_s"));
   EXPECT_NE(message("perception: no_such_perception.yaml\n").find("no_such_perception.yaml"),
             std::string::npos);
   EXPECT_EQ(shipped.perception, DataDir() + "/config/perception_mission.yaml");
@@ -228,6 +232,22 @@ TEST(MissionConfigTest, TheShippedFileAndTheDefaultsRoundTripThroughYamlAndAgree
   EXPECT_EQ(reload(defaults).ToYaml(), defaults.ToYaml());
   EXPECT_EQ(defaults.ToYaml(), shipped.ToYaml());
   fs::remove_all(dir);
+}
+
+// The vehicle follows a crawling object ahead of its filtered position, by
+// the filter's and its own lag, and never leaves the geofence.
+TEST(MissionVehicleTest, TrackingSetpointLeadsAMovingObjectWithinTheGeofence) {
+  MissionConfig config;
+  config.yaw_rad = 0.0;
+  const Eigen::Vector3d object_w = config.approach_w_m + config.grasp_dto_m;
+  const Eigen::Vector3d still = TrackingSetpoint(object_w, Eigen::Vector3d::Zero(), config);
+  EXPECT_LT((still - config.approach_w_m).norm(), 1e-12);
+  const Eigen::Vector3d v_w(0.0, 0.03, 0.0);
+  const Eigen::Vector3d moving = TrackingSetpoint(object_w, v_w, config);
+  const double lead_s = config.object_filter_s + config.vehicle_lag_s;
+  EXPECT_LT((moving - (config.approach_w_m + lead_s * v_w)).norm(), 1e-12);
+  const Eigen::Vector3d far = TrackingSetpoint(object_w, Eigen::Vector3d(0.0, 10.0, 0.0), config);
+  EXPECT_NEAR((far - config.approach_w_m).norm(), config.tracking_radius_m, 1e-12);
 }
 
 TEST(MissionRunnerTest, ABadArmTypeOrObjectIsAClearError) {
