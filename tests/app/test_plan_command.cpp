@@ -81,6 +81,22 @@ TEST_F(PlanCommandTest, AnEarlierReportIsRefusedAndReplacedWithOverwrite) {
   EXPECT_TRUE(fs::exists(fs::path(options_.out_dir) / "grasps.png"));
 }
 
+TEST_F(PlanCommandTest, PlaceSearchesWhereTheMissionHoldsTheObjectAndPlansThere) {
+  options_.object = "crawler";
+  options_.object_xyz_m = Eigen::Vector3d(0.075, 0.0, 0.47);  // the mission's grasp_dto_m
+  options_.place = true;
+  const std::string out = Run();
+  EXPECT_THAT(out, HasSubstr("Placement (the mission's): the object's origin at ["));
+  const nlohmann::json j = Summary();
+  ASSERT_TRUE(j.contains("placement"));
+  EXPECT_GT(j["placement"]["dual_grasps"].get<int>(), 0);
+  // The plan is made where the placement put the object.
+  const std::vector<double> placed = j["placement"]["dMo_xyz_m"];
+  const std::vector<double> planned = j["dMo_xyz_m"];
+  EXPECT_EQ(placed, planned);
+  EXPECT_TRUE(j["feasible"].get<bool>());
+}
+
 TEST_F(PlanCommandTest, ObjectTooBigForTheGripperSaysSo) {
   const std::string path = (dir_ / "big_box.ply").string();
   SaveMeshPly(test::BoxMesh(Eigen::Vector3d(0.3, 0.3, 0.3)), path);
