@@ -22,6 +22,7 @@
 #include "core/data_dir.h"
 #include "core/object_model.h"
 #include "core/thread_clock.h"
+#include "detection/model_cloud.h"
 #include "detection/object_tracker.h"
 #include "detection/perception_config.h"
 #include "grasp/placement.h"
@@ -88,6 +89,7 @@ class Mission {
   std::unique_ptr<ObjectModel> object_;
   std::unique_ptr<ObjectTracker> tracker_;
   std::unique_ptr<GraspPlanner> planner_;
+  Eigen::Matrix3d placement_dRo_ = Eigen::Matrix3d::Identity();  // the object's, upright
   std::unique_ptr<PlatformCollision> collision_;
   Eigen::VectorXd q_[2];  // measured joints, read by the other arm's forbidden predicate
   std::unique_ptr<MissionEvaluator> evaluator_;  // simulation: compares with the truth
@@ -207,6 +209,7 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
                     placement.nominal_robust_pairs[1], placement.dual_grasps));
     config_.grasp_dto_m = p;
   }
+  placement_dRo_ = UprightDmo(config_.grasp_dto_m, config_.placement.object_yaw_rad).linear();
 
   collision_ = std::make_unique<PlatformCollision>(platform);
   for (int a = 0; a < 2; ++a) q_[a] = hw_->arms().JointPositions(kSides[a]);
@@ -293,7 +296,13 @@ Eigen::Isometry3d Mission::dMe(int a) const {
 }
 
 Eigen::Isometry3d Mission::dMoNow() const {
-  return object_pose_->dMo(Now(), hw_->autopilot().State().wMd);
+  // A symmetric object as its twin nearest the placement's orientation: its
+  // contact pairs then lie where the placement was searched (a pipe's turn
+  // about its own axis is not seen, and any estimate of it is as good).
+  const Eigen::Isometry3d dMo = object_pose_->dMo(Now(), hw_->autopilot().State().wMd);
+  const ObjectSymmetry& symmetry = tracker_->model().symmetry;
+  return WithSymmetricRotation(
+      dMo, ClosestSymmetricRotation(dMo.linear(), placement_dRo_, symmetry), symmetry);
 }
 
 // ---- Perception ---------------------------------------------------------------
