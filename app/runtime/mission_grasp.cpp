@@ -31,6 +31,7 @@ GraspScheduler::GraspScheduler(const MissionConfig& config, const Platform& plat
 GraspScheduler::~GraspScheduler() { Wait(); }
 
 void GraspScheduler::Wait() {
+  if (planning_.valid()) planning_.wait();
   if (reevaluating_.valid()) reevaluating_.wait();
 }
 
@@ -48,10 +49,29 @@ PlanQuery GraspScheduler::Query() const {
   return query;
 }
 
-bool GraspScheduler::AimFreeArm(double t, int holding) {
+std::optional<GraspScheduler::AskedPlan> GraspScheduler::DuePlan(double t, int purpose) {
+  plan_wanted_ = true;
+  if (planning_.valid() && planning_for_ != purpose) DropPlan();
+  if (!planning_.valid()) {
+    planning_query_ = Query();
+    planning_for_ = purpose;
+    planning_due_s_ = t + 1.0 / config_.reevaluate_rate_hz;
+    const GraspPlanner* planner = &planner_;
+    const PlanQuery query = planning_query_;
+    planning_ = std::async(std::launch::async, [planner, query] { return planner->Plan(query); });
+    return std::nullopt;
+  }
+  if (t + 1e-9 < planning_due_s_) return std::nullopt;
+  return AskedPlan{planning_query_, planning_.get()};
+}
+
+void GraspScheduler::DropPlan() {
+  if (planning_.valid()) planning_.get();
+}
+
+bool GraspScheduler::AimFreeArm(double t, int holding, const AskedPlan& asked) {
   const int free = 1 - holding;
-  const PlanQuery query = Query();
-  const PlanResult plan = planner_.Plan(query);
+  const PlanResult& plan = asked.result;
   const std::vector<ArmGrasp>& candidates = free == 0 ? plan.left : plan.right;
   const Eigen::VectorXd& q_held = q_[holding];
   const double margin = planner_.config().arms_margin_m;
@@ -71,7 +91,7 @@ bool GraspScheduler::AimFreeArm(double t, int holding) {
     return false;
   }
   const ArmGrasp& g = candidates[best];
-  object_->CarriedBy(holding, query.dMo);
+  object_->CarriedBy(holding, dMo_now_());
   (free == 0 ? policy_.followed.left_pair : policy_.followed.right_pair) = g.pair;
   // The holding arm's pair is not solved again.
   (holding == 0 ? policy_.followed.left_pair : policy_.followed.right_pair) = -1;
@@ -84,9 +104,9 @@ bool GraspScheduler::AimFreeArm(double t, int holding) {
   return true;
 }
 
-bool GraspScheduler::StartPlan(double t) {
-  const PlanQuery query = Query();
-  const PlanResult plan = planner_.Plan(query);
+bool GraspScheduler::StartPlan(double t, const AskedPlan& asked) {
+  const PlanQuery& query = asked.query;
+  const PlanResult& plan = asked.result;
   const DualGrasp* best = FirstChoice(plan);
   if (!best) {
     if (!logged_no_grasp_) {
@@ -127,12 +147,18 @@ void GraspScheduler::StopArms(double t, const std::string& cause) {
 }
 
 void GraspScheduler::Plan(double t) {
+  // A plan in flight that the last cycle did not ask for answers a question
+  // that is no longer asked.
+  if (!plan_wanted_) DropPlan();
+  plan_wanted_ = false;
   if (sm_.global->state() != GlobalState::kGrasping) return;
   const PlannerState state = sm_.planner->state();
   const bool found = sm_.vision->state() == VisionState::kFound;
   if (state == PlannerState::kPlanning) {
     if (planning_since_s_ < 0) planning_since_s_ = t;
-    if (found && StartPlan(t)) {
+    std::optional<AskedPlan> plan;
+    if (found) plan = DuePlan(t, kForDualGrasp);
+    if (plan && StartPlan(t, *plan)) {
       planning_since_s_ = -1.0;
     } else if (const auto cause = PlanningGiveUp(t - planning_since_s_, found, config_.policy)) {
       sm_.global->GiveUp(t, *cause);
@@ -161,7 +187,9 @@ void GraspScheduler::Plan(double t) {
   view.reaim_unavailable_for_s = reaim_failed_since_s_ < 0 ? -1.0 : t - reaim_failed_since_s_;
   AttemptDecision decision = DecideAttempt(view, policy_, config_.policy);
   if (decision.action == AttemptAction::kReaim) {
-    if (AimFreeArm(t, decision.holder)) {
+    const std::optional<AskedPlan> plan = DuePlan(t, decision.holder);
+    if (!plan) return;  // asked: the holder holds, the free arm waits
+    if (AimFreeArm(t, decision.holder, *plan)) {
       ++policy_.reaims;
       reaim_failed_since_s_ = -1.0;
       return;

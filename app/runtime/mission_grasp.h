@@ -1,15 +1,19 @@
 // The mission's grasp, scheduled: while the global machine is grasping, it
 // plans when the policy says so, has the arms follow the chosen dual grasp,
-// re-evaluates it on a background thread (its answer used one period later)
-// and switches when the policy says so, re-aims a free arm, ends failed
-// attempts and sends the arms home before the next plan. Every decision is
-// the grasp policy's (mission/grasp_policy.h); this class carries them out.
+// re-evaluates it and switches when the policy says so, re-aims a free arm,
+// ends failed attempts and sends the arms home before the next plan. Every
+// decision is the grasp policy's (mission/grasp_policy.h); this class carries
+// them out. The planner never runs inside the servo cycle: plans, re-aims and
+// re-evaluations are asked of it on a worker thread and their answers used one
+// re-evaluation period (of the mission's clock) after they were asked, so the
+// same seed flies the same mission however fast the worker is.
 #pragma once
 
 #include <Eigen/Geometry>
 #include <functional>
 #include <future>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "app/runtime/mission_arms.h"
@@ -50,12 +54,13 @@ class GraspScheduler {
   ~GraspScheduler();
 
   /// The planner machine's cycle: plan, advance or end the attempt, give up.
+  /// Asks the planner on a worker and uses its answer when it is due.
   void Plan(double t_s);
   /// The background re-evaluation at reevaluate_rate_hz and its switches.
   void Reevaluate(double t_s);
   /// The arms' cycle: following the grasp, or going home after a failed attempt.
   void Servo(double t_s, double dt_s);
-  /// Waits for a re-evaluation in flight (the mission ends).
+  /// Waits for a plan or re-evaluation in flight (the mission ends).
   void Wait();
 
   /// True while an attempt runs (servoing, at the pre-catch poses, grasping).
@@ -68,12 +73,28 @@ class GraspScheduler {
   bool a_gripper_holds() const { return a_gripper_holds_; }
 
  private:
+  /// A plan and what it was asked.
+  struct AskedPlan {
+    PlanQuery query;
+    PlanResult result;
+  };
+  /// What a plan is asked for: a dual grasp, or a re-aim while arm `holder` holds.
+  static constexpr int kForDualGrasp = -1;
+
   PlanQuery Query() const;
-  bool StartPlan(double t_s);
+  /// The plan for `purpose` (kForDualGrasp, or the holding arm of a re-aim)
+  /// once it is due: asks one on the worker (the object and the arms now) when
+  /// none is in flight for that purpose and returns nothing until one
+  /// re-evaluation period has passed; then waits for the worker if it is not
+  /// done yet and returns its answer.
+  std::optional<AskedPlan> DuePlan(double t_s, int purpose);
+  /// Drops a plan in flight (waits for the worker to finish it).
+  void DropPlan();
+  bool StartPlan(double t_s, const AskedPlan& plan);
   /// One gripper holds the object, the other closed on nothing: the free arm
-  /// aims at the pair the policy ranks first among those clearing the holding
-  /// arm. False when there is none.
-  bool AimFreeArm(double t_s, int holding);
+  /// aims at the pair the policy ranks first in `plan` among those clearing
+  /// the holding arm. False when there is none.
+  bool AimFreeArm(double t_s, int holding, const AskedPlan& plan);
   void StopArms(double t_s, const std::string& cause);
 
   const MissionConfig& config_;
@@ -90,6 +111,11 @@ class GraspScheduler {
   GraspArms arms_;
 
   GraspPolicyState policy_;
+  std::future<PlanResult> planning_;  // the plan in flight
+  PlanQuery planning_query_;          // ... what it was asked
+  int planning_for_ = kForDualGrasp;  // ... its purpose
+  double planning_due_s_ = 0.0;       // ... when its answer is used
+  bool plan_wanted_ = false;          // DuePlan was called in this cycle
   double next_reevaluate_s_ = 0.0;
   // The free arm's re-aim search: when it first found no pair (< 0: it has
   // not failed), and when it is due again.

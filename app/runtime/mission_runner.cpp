@@ -446,6 +446,8 @@ void Mission::Safety() {
 void Mission::ServoCycle() {
   const WallClock::time_point wall_start = WallClock::now();
   const double cpu_start_ms = ThreadCpuMs();
+  grasp_->Plan(Now());
+  grasp_->Reevaluate(Now());
   grasp_->Servo(Now(), dt_s_);
   const double cpu_ms = ThreadCpuMs() - cpu_start_ms;
   const double wall_ms =
@@ -511,8 +513,6 @@ MissionResult Mission::Run() {
       Safety();
       Perception();
       Vehicle();
-      grasp_->Plan(Now());
-      grasp_->Reevaluate(Now());
       ServoCycle();
       if (links_.telemetry) PublishCycle();
     } catch (const std::exception& e) {

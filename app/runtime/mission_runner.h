@@ -11,8 +11,8 @@
 //
 // Runtime: the servo loop at servo_rate_hz, perception at the camera's rate
 // on its own thread (a frame's result is used one camera period after it was
-// taken), grasp re-evaluation on another thread (its answer is used one
-// re-evaluation period after it was asked), position setpoints at
+// taken), grasp plans and re-evaluations on another thread (their answers are
+// used one re-evaluation period after they were asked), position setpoints at
 // setpoint_rate_hz. With simulated devices everything runs on the simulated
 // clock, as fast as the machine allows, and a seed gives the same mission
 // every time; with real devices, on the wall clock. Any exception becomes an
@@ -102,8 +102,9 @@ struct MissionResult {
   double render_ms_median = 0;      ///< simulated camera: wall time per frame
   /// Every gripper close with its truth (simulation only; empty on hardware).
   std::vector<GripperClose> closes;
-  /// The arms' servo cycle (the followed grasp solved again, both grasp
-  /// sequences and servos): the longest, wall time and thread CPU time, ms.
+  /// The arms' servo cycle (the planner's answers taken and its questions
+  /// asked, the followed grasp solved again, both grasp sequences and
+  /// servos): the longest, wall time and thread CPU time, ms.
   double servo_step_ms_max = 0;
   double servo_step_cpu_ms_max = 0;
 };
