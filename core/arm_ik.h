@@ -58,6 +58,10 @@ class ArmIk {
   const ArmModel& model() const { return model_; }
   /// True when a closed form applies (see the constructor).
   bool is_analytic() const { return kind_ != Kind::kNumeric; }
+  /// True when SolveClosedForm gives every joint vector within the limits that
+  /// reaches a full tool pose (the spherical-wrist chain): a numeric search
+  /// from other seeds can find no other.
+  bool closed_form_solves_pose() const { return kind_ == Kind::kSphericalWrist; }
 
   /// Position IK: every solution within the joint limits that puts the tool
   /// point at p_b, sorted by distance to q_seed (size dof()). The rotation about

@@ -155,10 +155,14 @@ void ArmServo::StartSearch(const Eigen::VectorXd& q) {
   s.active = true;
   s.q_start = q;
   s.seeds = ik_.ClosedFormSeeds(bMg_, q);
-  s.seeds.push_back(q);
-  if (has_goal_) s.seeds.push_back(q_goal_);
-  for (const Eigen::VectorXd& hint : hints_) {
-    if (hint.size() == q.size()) s.seeds.push_back(hint);
+  // An arm whose closed form gives every solution (the 6-DoF arm) tries only
+  // those: from other seeds the iterations end on one of them or nowhere.
+  if (!ik_.closed_form_complete()) {
+    s.seeds.push_back(q);
+    if (has_goal_) s.seeds.push_back(q_goal_);
+    for (const Eigen::VectorXd& hint : hints_) {
+      if (hint.size() == q.size()) s.seeds.push_back(hint);
+    }
   }
   s.rng.seed(1u);
   s.to_via.assign(via_.size(), -1);
@@ -167,7 +171,9 @@ void ArmServo::StartSearch(const Eigen::VectorXd& q) {
 bool ArmServo::ContinueSearch(int* budget) {
   Search& s = search_;
   const int n = arm_.dof();
-  const std::size_t total = s.seeds.size() + static_cast<std::size_t>(config_.ik.random_seeds);
+  const std::size_t total =
+      s.seeds.size() +
+      (ik_.closed_form_complete() ? 0 : static_cast<std::size_t>(config_.ik.random_seeds));
   const auto end = [&](bool found) {
     s.active = false;
     s.found = found;

@@ -156,8 +156,9 @@ class ArmServo {
   /// kUnreachable when the search found none.
   Goal UpdateJointGoal(const Eigen::VectorXd& q, double now_s);
   /// The search from joints q: its seeds are the closed-form solutions of
-  /// the target (ApproachIk::ClosedFormSeeds), q, the last goal and the
-  /// hints, then random ones.
+  /// the target (ApproachIk::ClosedFormSeeds), then, unless those are all
+  /// there are (ApproachIk::closed_form_complete), q, the last goal, the hints
+  /// and random ones.
   void StartSearch(const Eigen::VectorXd& q);
   /// Goes on with the search for at most *budget units (IK iterations and
   /// predicate checks; each spent is taken off *budget). True once it ended.

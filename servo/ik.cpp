@@ -64,6 +64,10 @@ std::vector<Eigen::VectorXd> ApproachIk::ClosedFormSeeds(const Eigen::Isometry3d
   return seeds;
 }
 
+bool ApproachIk::closed_form_complete() const {
+  return closed_form_.closed_form_solves_pose() && weights_.minCoeff() > 0.0;
+}
+
 bool ApproachIk::Converged(const ApproachError& error) const {
   const PoseTolerance& tol = options_.tolerance;
   if (error.position_b.norm() > tol.position_m) return false;
@@ -169,37 +173,6 @@ ApproachIkResult ApproachIk::SolveFrom(const Eigen::Isometry3d& bMg, const Eigen
   ApproachIkRun run = StartFrom(q_seed);
   while (!run.done) Iterate(bMg, max_iterations, &run);
   return run.best;
-}
-
-ApproachIkResult ApproachIk::Search(
-    const Eigen::Isometry3d& bMg, const std::vector<Eigen::VectorXd>& seeds, unsigned rng_seed,
-    const std::function<bool(const Eigen::VectorXd&)>& accept) const {
-  const int n = arm_.dof();
-  ApproachIkResult best;
-  best.q = seeds.empty() ? arm_.Clamp(Eigen::VectorXd::Zero(n)) : arm_.Clamp(seeds.front());
-  double best_badness = INFINITY;
-  int iterations = 0;
-  std::mt19937 rng(rng_seed);
-  const int total = static_cast<int>(seeds.size()) + options_.random_seeds;
-  for (int s = 0; s < total; ++s) {
-    const Eigen::VectorXd seed =
-        s < static_cast<int>(seeds.size()) ? seeds[s] : DrawJointsWithinLimits(arm_, &rng);
-    if (seed.size() != n || !seed.allFinite()) continue;
-    ApproachIkResult result = SolveFrom(bMg, seed, options_.iterations_per_seed);
-    iterations += result.iterations;
-    if (result.converged && (!accept || accept(result.q))) {
-      result.iterations = iterations;
-      return result;
-    }
-    const double badness = Badness(result.error) + (result.converged ? 0.0 : 1.0);
-    if (badness < best_badness) {
-      best_badness = badness;
-      best = result;
-      best.converged = false;  // a rejected solution is not a solution
-    }
-  }
-  best.iterations = iterations;
-  return best;
 }
 
 }  // namespace aerograsp

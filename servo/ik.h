@@ -6,7 +6,6 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
-#include <functional>
 #include <random>
 #include <string>
 #include <vector>
@@ -102,16 +101,13 @@ class ApproachIk {
   /// or reached max_iterations. Does nothing on a run that is done.
   void Iterate(const Eigen::Isometry3d& bMg, int max_iterations, ApproachIkRun* run) const;
 
-  /// Tries the `seeds` in order, then options.random_seeds seeds drawn uniformly
-  /// in the limits from a generator seeded with `rng_seed` (so the search is
-  /// repeatable). Returns the first converged solution q* that `accept(q*)`
-  /// takes (an empty accept takes any), or the best non-converged iterate.
-  ApproachIkResult Search(const Eigen::Isometry3d& bMg, const std::vector<Eigen::VectorXd>& seeds,
-                          unsigned rng_seed,
-                          const std::function<bool(const Eigen::VectorXd&)>& accept) const;
-
   /// The error the solver drives to zero, with weights applied (for tests).
   bool Converged(const ApproachError& error) const;
+
+  /// True when ClosedFormSeeds are every solution a search could find: the
+  /// arm's closed form solves the full pose and the error weighs every
+  /// orientation axis (the 6-DoF arm). Other seeds then only cost time.
+  bool closed_form_complete() const;
 
   /// Seeds from the arm's closed form (core/arm_ik.h, SolveClosedForm), the
   /// nearest q first: the 6-DoF arm's exact solutions of bMg (each converges

@@ -124,6 +124,29 @@ TEST(ArmServoTest, BeyondReachHoldsAsUnreachable) {
   EXPECT_EQ(cmd.q_target_rad, Home4());
 }
 
+TEST(ArmServoTest, TheSixDofArmKnowsATargetBeyondReachAtOnce) {
+  // Its closed form gives every solution: none, and the search ends in the
+  // Step it began, where the 4-DoF arm's goes on through random seeds.
+  const ArmModel arm6 = Arm("arm6.urdf");
+  ArmServo servo6(arm6, ServoConfig{});
+  Eigen::Isometry3d bMg = arm6.ForwardKinematics(Eigen::VectorXd::Zero(6));
+  bMg.translation().z() += 0.2;
+  servo6.SetTarget(bMg, 0.0);
+  ServoCommand cmd;
+  int steps6 = 0;
+  EXPECT_EQ(StepPastSearch(&servo6, Eigen::VectorXd::Zero(6), 0.0, &cmd, &steps6),
+            ServoStatus::kUnreachable);
+  EXPECT_EQ(steps6, 1);
+  const ArmModel arm4 = Arm("arm4.urdf");
+  ArmServo servo4(arm4, ServoConfig{});
+  bMg = arm4.ForwardKinematics(Eigen::VectorXd::Zero(4));
+  bMg.translation().z() += 0.2;
+  servo4.SetTarget(bMg, 0.0);
+  int steps4 = 0;
+  EXPECT_EQ(StepPastSearch(&servo4, Home4(), 0.0, &cmd, &steps4), ServoStatus::kUnreachable);
+  EXPECT_GT(steps4, 1);
+}
+
 // The joint-goal search does at most search_budget units of work per Step and
 // goes on in the next ones (holding meanwhile); spread or not, it finds the
 // same goal, so a mission's log does not depend on the budget's spread.

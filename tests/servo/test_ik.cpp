@@ -68,22 +68,24 @@ class ArmIkTest : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(ArmIkTest, SolvesTheForwardKinematicsOfRandomJointsFromFarSeeds) {
   const ArmModel arm = Arm(GetParam());
-  const ApproachIk ik(arm, ApproachIkOptions{});
-  std::mt19937 rng(3);
+  const ApproachIkOptions options;
+  const ApproachIk ik(arm, options);
+  std::mt19937 rng(3), seed_rng(7);
   int solved = 0;
   for (int trial = 0; trial < 200; ++trial) {
-    Eigen::VectorXd q_goal(arm.dof());
-    for (int i = 0; i < arm.dof(); ++i) {
-      q_goal[i] =
-          std::uniform_real_distribution<double>(arm.lower_limits()[i], arm.upper_limits()[i])(rng);
+    const Eigen::VectorXd q_goal = DrawJointsWithinLimits(arm, &rng);
+    const Eigen::Isometry3d bMg = arm.ForwardKinematics(q_goal);
+    // The zero pose, then random seeds, as the servo's search tries them
+    // after the closed-form ones.
+    ApproachIkResult r =
+        ik.SolveFrom(bMg, Eigen::VectorXd::Zero(arm.dof()), options.iterations_per_seed);
+    for (int k = 0; k < options.random_seeds && !r.converged; ++k) {
+      r = ik.SolveFrom(bMg, DrawJointsWithinLimits(arm, &seed_rng), options.iterations_per_seed);
     }
-    const ApproachIkResult r =
-        ik.Search(arm.ForwardKinematics(q_goal), {Eigen::VectorXd::Zero(arm.dof())}, 7u, nullptr);
     if (!r.converged) continue;
     ++solved;
     EXPECT_TRUE(arm.WithinLimits(r.q));
-    const ApproachError e =
-        ComputeApproachError(arm.ForwardKinematics(r.q), arm.ForwardKinematics(q_goal));
+    const ApproachError e = ComputeApproachError(arm.ForwardKinematics(r.q), bMg);
     EXPECT_LE(e.position_b.norm(), 1e-4);
     EXPECT_LE(e.approach_rad, 1e-3);
   }
@@ -91,6 +93,31 @@ TEST_P(ArmIkTest, SolvesTheForwardKinematicsOfRandomJointsFromFarSeeds) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Arms, ArmIkTest, ::testing::Values("arm4.urdf", "arm6.urdf"));
+
+TEST(ArmIkTest, TheSixDofArmsClosedFormSeedsAreSolutions) {
+  const ArmModel arm = Arm("arm6.urdf");
+  const ApproachIkOptions options;
+  const ApproachIk ik(arm, options);
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 200; ++trial) {
+    const Eigen::Isometry3d bMg = arm.ForwardKinematics(DrawJointsWithinLimits(arm, &rng));
+    const std::vector<Eigen::VectorXd> seeds = ik.ClosedFormSeeds(bMg, Eigen::VectorXd::Zero(6));
+    ASSERT_FALSE(seeds.empty()) << "trial " << trial;
+    for (const Eigen::VectorXd& seed : seeds) {
+      const ApproachIkResult r = ik.SolveFrom(bMg, seed, options.iterations_per_seed);
+      EXPECT_TRUE(r.converged) << "trial " << trial;
+      EXPECT_EQ(r.iterations, 1) << "trial " << trial;  // converged where it started
+    }
+  }
+}
+
+TEST(ArmIkTest, OnlyTheSixDofArmsClosedFormGivesEverySolution) {
+  EXPECT_TRUE(ApproachIk(Arm("arm6.urdf"), ApproachIkOptions{}).closed_form_complete());
+  EXPECT_FALSE(ApproachIk(Arm("arm4.urdf"), ApproachIkOptions{}).closed_form_complete());
+  // With the roll free, the closed form (one roll per branch) is not all there is.
+  EXPECT_FALSE(ApproachIk(Arm("arm6.urdf"), ApproachIkOptions{}, Eigen::Vector3d(1.0, 1.0, 0.0))
+                   .closed_form_complete());
+}
 
 TEST(ArmIkTest, AFourDofPoseWithAnUnreachableApproachAxisIsNotSolved) {
   const ArmModel arm = Arm("arm4.urdf");
@@ -101,27 +128,12 @@ TEST(ArmIkTest, AFourDofPoseWithAnUnreachableApproachAxisIsNotSolved) {
   // approach axis is set by its position, so no joints meet both.
   Eigen::Isometry3d bMg = arm.ForwardKinematics(q);
   bMg.linear() = bMg.linear() * Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  const ApproachIkResult r = ik.Search(bMg, {q}, 7u, nullptr);
+  const ApproachIkResult r = ik.SolveFrom(bMg, q, ApproachIkOptions{}.iterations_per_seed);
   EXPECT_FALSE(r.converged);
   EXPECT_TRUE(arm.WithinLimits(r.q));
   // With the approach and roll weights at zero only the position counts.
   const ApproachIk position_only(arm, ApproachIkOptions{}, Eigen::Vector3d::Zero());
-  EXPECT_TRUE(position_only.Search(bMg, {q}, 7u, nullptr).converged);
-}
-
-TEST(ArmIkTest, AcceptRejectsSolutionsAndTheSearchGoesOn) {
-  const ArmModel arm = Arm("arm4.urdf");
-  const ApproachIk ik(arm, ApproachIkOptions{});
-  Eigen::VectorXd q(4);
-  q << 0.2, -0.6, 1.4, 0.3;
-  int asked = 0;
-  const ApproachIkResult r =
-      ik.Search(arm.ForwardKinematics(q), {q}, 7u, [&](const Eigen::VectorXd&) {
-        ++asked;
-        return false;
-      });
-  EXPECT_FALSE(r.converged);
-  EXPECT_GT(asked, 1);
+  EXPECT_TRUE(position_only.SolveFrom(bMg, q, ApproachIkOptions{}.iterations_per_seed).converged);
 }
 
 }  // namespace
