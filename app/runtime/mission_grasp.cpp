@@ -35,6 +35,19 @@ void GraspScheduler::Wait() {
   if (reevaluating_.valid()) reevaluating_.wait();
 }
 
+void GraspScheduler::AwaitDue(double t) {
+  // Taken (or dropped: not asked for in the last cycle) by Plan.
+  if (planning_.valid() && (!plan_wanted_ || t + 1e-9 >= planning_due_s_)) planning_.wait();
+  // Taken (or dropped: the attempt ended) by Reevaluate.
+  if (reevaluating_.valid() && (!Reevaluating() || t + 1e-9 >= next_reevaluate_s_))
+    reevaluating_.wait();
+}
+
+bool GraspScheduler::Reevaluating() const {
+  // One arm holding: its pair is not switched.
+  return sm_.global->state() == GlobalState::kGrasping && active() && object_->holder() < 0;
+}
+
 bool GraspScheduler::active() const {
   const PlannerState s = sm_.planner->state();
   return s == PlannerState::kServoing || s == PlannerState::kApproachPose ||
@@ -239,8 +252,7 @@ void GraspScheduler::Plan(double t) {
 }
 
 void GraspScheduler::Reevaluate(double t) {
-  const bool running = sm_.global->state() == GlobalState::kGrasping && active();
-  if (!running || object_->holder() >= 0) {          // (one arm holding: its pair is not switched)
+  if (!Reevaluating()) {
     if (reevaluating_.valid()) reevaluating_.get();  // an answer for a plan that has ended
     return;
   }

@@ -60,6 +60,11 @@ class GraspScheduler {
   void Reevaluate(double t_s);
   /// The arms' cycle: following the grasp, or going home after a failed attempt.
   void Servo(double t_s, double dt_s);
+  /// Waits for the planner's answers due at t_s, before Plan and Reevaluate
+  /// take them: on the simulated clock the worker may lag behind (on the wall
+  /// clock they are long done), and the loop waits here, outside the servo
+  /// cycle, as it waits for perception.
+  void AwaitDue(double t_s);
   /// Waits for a plan or re-evaluation in flight (the mission ends).
   void Wait();
 
@@ -90,6 +95,8 @@ class GraspScheduler {
   std::optional<AskedPlan> DuePlan(double t_s, int purpose);
   /// Drops a plan in flight (waits for the worker to finish it).
   void DropPlan();
+  /// Re-evaluation runs: an attempt is active and no arm holds the object alone.
+  bool Reevaluating() const;
   bool StartPlan(double t_s, const AskedPlan& plan);
   /// One gripper holds the object, the other closed on nothing: the free arm
   /// aims at the pair the policy ranks first in `plan` among those clearing

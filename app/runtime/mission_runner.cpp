@@ -513,6 +513,7 @@ MissionResult Mission::Run() {
       Safety();
       Perception();
       Vehicle();
+      grasp_->AwaitDue(Now());
       ServoCycle();
       if (links_.telemetry) PublishCycle();
     } catch (const std::exception& e) {
