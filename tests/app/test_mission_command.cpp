@@ -80,10 +80,10 @@ TEST(MissionCommandTest, TakesOffFindsTheObjectAndWritesTheReport) {
   ASSERT_NE(at("global  approaching -> grasping"), std::string::npos);
   EXPECT_LT(at("vehicle idle -> take-off"), at("vehicle take-off -> hover"));
   EXPECT_LT(at("vehicle take-off -> hover"), at("global  approaching -> grasping"));
-  // The time limit ends in the safe state: arms stopped, vehicle holding.
-  EXPECT_NE(at("arms    idle -> emergency stop: the mission took longer than 12 s"),
-            std::string::npos)
-      << log;
+  // The time limit ends in the safe state: arms stopped (idle, or moving when
+  // a plan came before the limit), vehicle holding.
+  EXPECT_THAT(log, ::testing::ContainsRegex(
+                       "arms    [a-z]+ -> emergency stop: the mission took longer than 12 s"));
   fs::remove_all(dir);
 }
 
@@ -378,11 +378,11 @@ TEST(MissionEvaluatorTest, ArmsComingIntoContactCountOncePerContact) {
 }
 
 TEST(MissionRunnerTest, AGripperThatHoldsStaysClosedWhileTheOtherAimsAgain) {
-  // Seed 5001: on an attempt one gripper takes hold, the other does not; the
+  // Seed 5002: on an attempt one gripper takes hold, the other does not; the
   // holder keeps the object up while the free arm aims at another pair and
   // takes hold too, and the vehicle flies home with it.
   MissionOptions options;
-  options.seed = 5001;
+  options.seed = 5002;
   std::ostringstream log;
   MissionRecord record;
   const MissionResult result = RunMission(options, &record, &log);
