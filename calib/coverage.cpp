@@ -7,11 +7,11 @@
 
 namespace aerograsp {
 
-void CoverageConfig::Validate(const std::string& where) const {
-  CheckRange(where, "coverage.grid_cols", grid_cols, 1, 8, "");
-  CheckRange(where, "coverage.grid_rows", grid_rows, 1, 8, "");
-  CheckRange(where, "coverage.min_corners_per_cell", min_corners_per_cell, 1, 1000, "");
-  CheckRange(where, "coverage.min_tilt_deg", min_tilt_deg, 1.0, 80.0, "deg");
+void CoverageConfig::Validate(const std::string& source, const std::string& prefix) const {
+  CheckRange(source, prefix + "grid_cols", grid_cols, 1, 8, "");
+  CheckRange(source, prefix + "grid_rows", grid_rows, 1, 8, "");
+  CheckRange(source, prefix + "min_corners_per_cell", min_corners_per_cell, 1, 1000, "");
+  CheckRange(source, prefix + "min_tilt_deg", min_tilt_deg, 1.0, 80.0, "deg");
 }
 
 bool Coverage::Complete() const {

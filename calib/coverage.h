@@ -14,8 +14,9 @@ struct CoverageConfig {
   int grid_rows = 3;             ///< image cells down, [1, 8]
   int min_corners_per_cell = 4;  ///< corners of one sample that cover a cell, [1, 1000]
   double min_tilt_deg = 20.0;    ///< tilt about x or y (each sign) still missing below this, deg
-  /// @throws ConfigError "<where>: <field>: ..." out of range.
-  void Validate(const std::string& where) const;
+  /// `prefix` is the key path of this section in its file, ending in "." ("" at
+  /// the top). @throws ConfigError "<source>: <prefix><key>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 /// One sample of the board: its corners in the image (px) and its tilt about

@@ -21,13 +21,13 @@ double CameraIntrinsics::VerticalFovDeg() const {
   return 2.0 * std::atan2(0.5 * height, fy) * 180.0 / M_PI;
 }
 
-void CameraIntrinsics::Validate(const std::string& source) const {
-  CheckRange(source, "image_width", width, 1, 100000, "px");
-  CheckRange(source, "image_height", height, 1, 100000, "px");
-  CheckPositive(source, "px", fx, "px");
-  CheckPositive(source, "py", fy, "px");
-  CheckRange(source, "u0", cx, 0.0, width, "px");
-  CheckRange(source, "v0", cy, 0.0, height, "px");
+void CameraIntrinsics::Validate(const std::string& source, const std::string& prefix) const {
+  CheckRange(source, prefix + "width", width, 1, 100000, "px");
+  CheckRange(source, prefix + "height", height, 1, 100000, "px");
+  CheckPositive(source, prefix + "fx", fx, "px");
+  CheckPositive(source, prefix + "fy", fy, "px");
+  CheckRange(source, prefix + "cx", cx, 0.0, width, "px");
+  CheckRange(source, prefix + "cy", cy, 0.0, height, "px");
 }
 
 CameraIntrinsics LoadCameraXml(const std::string& path, const std::string& camera_name) {
@@ -55,7 +55,7 @@ CameraIntrinsics LoadCameraXml(const std::string& path, const std::string& camer
   K.fy = cam.get_py();
   K.cx = cam.get_u0();
   K.cy = cam.get_v0();
-  K.Validate(path);
+  K.Validate(path, "");
   return K;
 }
 

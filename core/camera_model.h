@@ -39,9 +39,11 @@ struct CameraIntrinsics {
   double HorizontalFovDeg() const;
   double VerticalFovDeg() const;
 
-  /// @throws ConfigError "<source>: <field>: ..." for a non-positive size or
-  /// focal length, or a principal point outside the image.
-  void Validate(const std::string& source) const;
+  /// `prefix` is the key path of these values in `source`, ending in "." (""
+  /// at the top); the keys are the fields' names (width, fx, cx, ...).
+  /// @throws ConfigError "<source>: <prefix><field>: ..." for a non-positive
+  /// size or focal length, or a principal point outside the image.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 /// Reads the camera named `camera_name` (any camera when empty) from a ViSP

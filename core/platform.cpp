@@ -56,24 +56,26 @@ PlatformConfig PlatformConfig::Load(const std::string& path) {
     c.gripper.finger_length_m = g.GetDouble("finger_length_m", c.gripper.finger_length_m);
     c.gripper.close_time_s = g.GetDouble("close_time_s", c.gripper.close_time_s);
   }
-  c.Validate();
+  c.Validate(c.source, "");
   return c;
 }
 
-void PlatformConfig::Validate() const {
-  CheckOneOf(source, "arm_type", arm_type, {"4dof", "6dof"});
-  CheckFileExists(source, "vehicle.urdf", vehicle_urdf);
-  CheckRange(source, "vehicle.mass_kg", vehicle_mass_kg, 1e-3, 50.0, "kg");
-  CheckFileExists(source, "camera.xml", camera_xml);
-  CheckFileExists(source, "arms.left.urdf", left.urdf);
-  CheckFileExists(source, "arms.right.urdf", right.urdf);
-  CheckRange(source, "gripper.max_aperture_m", gripper.max_aperture_m, 1e-3, 0.3, "m");
-  CheckRange(source, "gripper.finger_clearance_m", gripper.finger_clearance_m, 0.0, 0.05, "m");
-  CheckRange(source, "gripper.finger_width_m", gripper.finger_width_m, 1e-3, 0.1, "m");
-  CheckRange(source, "gripper.finger_length_m", gripper.finger_length_m, 1e-3, 0.3, "m");
-  CheckRange(source, "gripper.close_time_s", gripper.close_time_s, 1e-3, 10.0, "s");
+void PlatformConfig::Validate(const std::string& source, const std::string& prefix) const {
+  CheckOneOf(source, prefix + "arm_type", arm_type, {"4dof", "6dof"});
+  CheckFileExists(source, prefix + "vehicle.urdf", vehicle_urdf);
+  CheckRange(source, prefix + "vehicle.mass_kg", vehicle_mass_kg, 1e-3, 50.0, "kg");
+  CheckFileExists(source, prefix + "camera.xml", camera_xml);
+  CheckFileExists(source, prefix + "arms.left.urdf", left.urdf);
+  CheckFileExists(source, prefix + "arms.right.urdf", right.urdf);
+  CheckRange(source, prefix + "gripper.max_aperture_m", gripper.max_aperture_m, 1e-3, 0.3, "m");
+  CheckRange(source, prefix + "gripper.finger_clearance_m", gripper.finger_clearance_m, 0.0, 0.05,
+             "m");
+  CheckRange(source, prefix + "gripper.finger_width_m", gripper.finger_width_m, 1e-3, 0.1, "m");
+  CheckRange(source, prefix + "gripper.finger_length_m", gripper.finger_length_m, 1e-3,
+             kLongestFingerM, "m");
+  CheckRange(source, prefix + "gripper.close_time_s", gripper.close_time_s, 1e-3, 10.0, "s");
   if (2.0 * gripper.finger_clearance_m >= gripper.max_aperture_m) {
-    throw ConfigError(source + ": gripper.finger_clearance_m: twice the clearance (" +
+    throw ConfigError(source + ": " + prefix + "gripper.finger_clearance_m: twice the clearance (" +
                       std::to_string(2.0 * gripper.finger_clearance_m) +
                       " m) leaves no room within max_aperture_m");
   }
@@ -108,7 +110,7 @@ Platform Platform::WithArmBase(Side side, const Eigen::Isometry3d& dMb) const {
 }
 
 Platform Platform::FromConfig(const PlatformConfig& config) {
-  config.Validate();
+  config.Validate(config.source, "");
   Platform p;
   p.config_ = config;
   p.vehicle_ = ForKey(config, "vehicle.urdf",

@@ -21,6 +21,9 @@ struct ArmMountConfig {
   std::vector<double> home_rad;        ///< home joint positions (rad), one per joint, within limits
 };
 
+/// The longest finger pads a platform file may give, m (GripperConfig::finger_length_m's bound).
+inline constexpr double kLongestFingerM = 0.3;
+
 /// The two-finger gripper (docs/hardware.md: aperture not published; 0.10-0.15 m).
 struct GripperConfig {
   double max_aperture_m{0.12};  ///< opening between the finger pads when open, (0, 0.3] m
@@ -49,11 +52,13 @@ struct PlatformConfig {
 
   /// Reads a platform YAML; relative paths are resolved against its folder.
   /// @throws ConfigError "<file>: <key>: ..." for a missing file or key, a wrong
-  /// type, an unknown key, or any value Validate() rejects.
+  /// type, an unknown key, or any value Validate rejects.
   static PlatformConfig Load(const std::string& path);
-  /// Checks ranges and that the referenced files exist.
-  /// @throws ConfigError naming `source`, the key and the bound.
-  void Validate() const;
+  /// Checks ranges and that the referenced files exist. `source` is the file
+  /// (Load passes `this->source`), `prefix` the key path of this tree in it,
+  /// ending in "." ("" at the top). @throws ConfigError
+  /// "<source>: <prefix><key>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 /// Which arm. Left is at -y in the FRD body frame.

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/config.h"
 #include "core/random.h"
 
 namespace aerograsp {
@@ -301,21 +302,16 @@ double AngleOf(const Eigen::Matrix3d& R) {
 
 }  // namespace
 
-void SymmetryOptions::Validate() const {
-  const auto require = [](bool ok, const char* field, const char* range) {
-    if (!ok) throw std::invalid_argument(std::string("symmetry.") + field + ": must be " + range);
-  };
-  require(tolerance_ratio > 0.0 && tolerance_ratio <= 0.05, "tolerance_ratio", "in (0, 0.05]");
-  require(surface_samples >= 100 && surface_samples <= 100000, "surface_samples",
-          "in [100, 100000]");
-  require(max_vertices >= 0 && max_vertices <= 100000, "max_vertices", "in [0, 100000]");
-  require(max_outlier_fraction >= 0.0 && max_outlier_fraction <= 0.2, "max_outlier_fraction",
-          "in [0, 0.2]");
-  require(max_axis_order >= 2 && max_axis_order <= 1000, "max_axis_order", "in [2, 1000]");
+void SymmetryOptions::Validate(const std::string& source, const std::string& prefix) const {
+  CheckRange(source, prefix + "tolerance_ratio", tolerance_ratio, 1e-6, 0.05, "");
+  CheckRange(source, prefix + "surface_samples", surface_samples, 100, 100000, "");
+  CheckRange(source, prefix + "max_vertices", max_vertices, 0, 100000, "");
+  CheckRange(source, prefix + "max_outlier_fraction", max_outlier_fraction, 0.0, 0.2, "");
+  CheckRange(source, prefix + "max_axis_order", max_axis_order, 2, 1000, "");
 }
 
 ObjectSymmetry FindMeshSymmetries(const TriangleMesh& mesh, const SymmetryOptions& options) {
-  options.Validate();
+  options.Validate("symmetry options", "symmetry.");
   // Area centroid and second moment of the surface about it (per triangle:
   // A/12 (s s^T + a a^T + b b^T + c c^T), s = a + b + c).
   double area = 0.0;

@@ -41,8 +41,9 @@ struct SymmetryOptions {
   int max_axis_order = 64;
   std::uint64_t seed = 1;  ///< surface sampling seed
 
-  /// @throws std::invalid_argument naming the field out of range.
-  void Validate() const;
+  /// `prefix` is the key path of this section in its file, ending in "." ("" at
+  /// the top). @throws ConfigError "<source>: <prefix><key>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 /// The full group of proper rotations mapping the mesh onto itself. Candidates

@@ -53,22 +53,28 @@ std::string DescribeReasons(const ArmStats& stats) {
   return out;
 }
 
-void GraspPlannerConfig::Validate(const std::string& source, const GripperConfig& gripper) const {
-  contacts.Validate(source, "contacts.");
-  friction.Validate(source, "friction.");
-  CheckRange(source, "depth_min_m", depth_min_m, -0.02, 0.2, "m");
-  CheckRange(source, "depth_max_m", depth_max_m, depth_min_m, gripper.finger_length_m, "m");
-  CheckRange(source, "precatch_distance_m", precatch_distance_m, 0.0, 0.3, "m");
-  CheckRange(source, "safe_volume_margin_m", safe_volume_margin_m, 0.0, 0.1, "m");
-  CheckRange(source, "arms_margin_m", arms_margin_m, 0.0, 0.1, "m");
-  CheckRange(source, "object_margin_m", object_margin_m, 0.0, 0.05, "m");
-  CheckRange(source, "support_directions", support_directions, 12, 4096, "");
-  CheckRange(source, "exact_top_k", exact_top_k, 0, 10000, "");
-  CheckRange(source, "quality_weight", quality_weight, 0.0, 100.0, "");
-  CheckRange(source, "task_weight", task_weight, 0.0, 100.0, "");
-  CheckRange(source, "cost_weight_per_rad", cost_weight_per_rad, 0.0, 10.0, "");
-  CheckRange(source, "reach_margin_m", reach_margin_m, 0.0, 0.1, "m");
-  CheckRange(source, "edge_margin_m", edge_margin_m, 0.0, 0.05, "m");
+void GraspPlannerConfig::Validate(const std::string& source, const std::string& prefix) const {
+  contacts.Validate(source, prefix + "contacts.");
+  friction.Validate(source, prefix + "friction.");
+  CheckRange(source, prefix + "depth_min_m", depth_min_m, -0.02, 0.2, "m");
+  CheckRange(source, prefix + "depth_max_m", depth_max_m, depth_min_m, kLongestFingerM, "m");
+  CheckRange(source, prefix + "precatch_distance_m", precatch_distance_m, 0.0, 0.3, "m");
+  CheckRange(source, prefix + "safe_volume_margin_m", safe_volume_margin_m, 0.0, 0.1, "m");
+  CheckRange(source, prefix + "arms_margin_m", arms_margin_m, 0.0, 0.1, "m");
+  CheckRange(source, prefix + "object_margin_m", object_margin_m, 0.0, 0.05, "m");
+  CheckRange(source, prefix + "support_directions", support_directions, 12, 4096, "");
+  CheckRange(source, prefix + "exact_top_k", exact_top_k, 0, 10000, "");
+  CheckRange(source, prefix + "quality_weight", quality_weight, 0.0, 100.0, "");
+  CheckRange(source, prefix + "task_weight", task_weight, 0.0, 100.0, "");
+  CheckRange(source, prefix + "cost_weight_per_rad", cost_weight_per_rad, 0.0, 10.0, "");
+  CheckRange(source, prefix + "reach_margin_m", reach_margin_m, 0.0, 0.1, "m");
+  CheckRange(source, prefix + "edge_margin_m", edge_margin_m, 0.0, 0.05, "m");
+}
+
+void GraspPlannerConfig::CheckFingers(const GripperConfig& gripper, const std::string& source,
+                                      const std::string& prefix) const {
+  CheckRange(source, prefix + "depth_max_m", depth_max_m, depth_min_m, gripper.finger_length_m,
+             "m (the gripper's finger length)");
 }
 
 GraspPlanner::GraspPlanner(const Platform& platform, GraspObject object, ContactSet contacts,
@@ -79,7 +85,8 @@ GraspPlanner::GraspPlanner(const Platform& platform, GraspObject object, Contact
       config_(config),
       collision_(std::make_unique<PlatformCollision>(platform)),
       ik_{ArmIk(platform.arm(Side::kLeft)), ArmIk(platform.arm(Side::kRight))} {
-  config_.Validate(platform.config().source, platform.config().gripper);
+  config_.Validate("grasp planner config", "planner.");
+  config_.CheckFingers(platform.config().gripper, "grasp planner config", "planner.");
   if (object_.mesh_o.triangles.empty()) {
     throw std::invalid_argument("GraspPlanner: object '" + object_.name + "' has an empty mesh");
   }

@@ -60,9 +60,15 @@ struct GraspPlannerConfig {
   /// makes every pair clear.
   double edge_margin_m{0.0};
 
-  /// @throws ConfigError "<source>: <key>: ..." naming the bound; the depth
-  /// range is checked against the gripper's finger length.
-  void Validate(const std::string& source, const GripperConfig& gripper) const;
+  /// `prefix` is the key path of this section in its file, ending in "." ("" at
+  /// the top). @throws ConfigError "<source>: <prefix><key>: ..." naming the
+  /// bound; depth_max_m at most kLongestFingerM here, CheckFingers checks it
+  /// against the platform's gripper.
+  void Validate(const std::string& source, const std::string& prefix) const;
+  /// @throws ConfigError "<source>: <prefix>depth_max_m: ..." when the
+  /// contacts lie deeper than `gripper`'s fingers reach.
+  void CheckFingers(const GripperConfig& gripper, const std::string& source,
+                    const std::string& prefix) const;
 };
 
 /// The object as the planner needs it (from data/objects/NAME/object.yaml or a

@@ -8,19 +8,20 @@
 
 namespace aerograsp {
 
-void DeviceHealthLimits::Validate(const std::string& source) const {
+void DeviceHealthLimits::Validate(const std::string& source, const std::string& prefix) const {
   const std::string& f = source;
-  CheckRange(f, "health.servo_max_failed_reads", servo_max_failed_reads, 1, 100, "");
-  CheckRange(f, "health.servo_max_reading_age_s", servo_max_reading_age_s, 0.005, 10.0, "s");
-  CheckRange(f, "health.bus_max_error_rate", bus_max_error_rate, 0.0, 1.0, "");
-  CheckRange(f, "health.bus_error_window_s", bus_error_window_s, 0.01, 10.0, "s");
-  CheckRange(f, "health.bus_min_exchanges", bus_min_exchanges, 1, 10000, "");
-  CheckRange(f, "health.servo_min_voltage_v", servo_min_voltage_v, 0.0, 30.0, "V");
-  CheckRange(f, "health.servo_max_voltage_v", servo_max_voltage_v, servo_min_voltage_v, 30.0, "V");
-  CheckRange(f, "health.servo_max_temperature_c", servo_max_temperature_c, 0.0, 120.0, "C");
-  CheckRange(f, "health.autopilot_max_state_age_s", autopilot_max_state_age_s, 0.01, 60.0, "s");
-  CheckRange(f, "health.camera_max_frame_age_s", camera_max_frame_age_s, 0.01, 10.0, "s");
-  CheckRange(f, "health.camera_max_bad_depth_s", camera_max_bad_depth_s, 0.0, 10.0, "s");
+  CheckRange(f, prefix + "servo_max_failed_reads", servo_max_failed_reads, 1, 100, "");
+  CheckRange(f, prefix + "servo_max_reading_age_s", servo_max_reading_age_s, 0.005, 10.0, "s");
+  CheckRange(f, prefix + "bus_max_error_rate", bus_max_error_rate, 0.0, 1.0, "");
+  CheckRange(f, prefix + "bus_error_window_s", bus_error_window_s, 0.01, 10.0, "s");
+  CheckRange(f, prefix + "bus_min_exchanges", bus_min_exchanges, 1, 10000, "");
+  CheckRange(f, prefix + "servo_min_voltage_v", servo_min_voltage_v, 0.0, 30.0, "V");
+  CheckRange(f, prefix + "servo_max_voltage_v", servo_max_voltage_v, servo_min_voltage_v, 30.0,
+             "V");
+  CheckRange(f, prefix + "servo_max_temperature_c", servo_max_temperature_c, 0.0, 120.0, "C");
+  CheckRange(f, prefix + "autopilot_max_state_age_s", autopilot_max_state_age_s, 0.01, 60.0, "s");
+  CheckRange(f, prefix + "camera_max_frame_age_s", camera_max_frame_age_s, 0.01, 10.0, "s");
+  CheckRange(f, prefix + "camera_max_bad_depth_s", camera_max_bad_depth_s, 0.0, 10.0, "s");
 }
 
 const char* DeviceFaultKindName(DeviceFaultKind kind) {

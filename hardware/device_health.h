@@ -34,8 +34,10 @@ struct DeviceHealthLimits {
   double camera_max_frame_age_s{0.07};  ///< no new frame while the mission wants one, [0.01, 10] s
   double camera_max_bad_depth_s{0.05};  ///< frames without one valid depth pixel, [0, 10] s
 
-  /// @throws ConfigError "<source>: health.<key>: ..." naming the bound.
-  void Validate(const std::string& source) const;
+  /// `prefix` is the key path of this section in its file, ending in "."
+  /// ("health." in a hardware file). @throws ConfigError
+  /// "<source>: <prefix><key>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 enum class DeviceFaultKind {

@@ -217,31 +217,31 @@ HardwareConfig HardwareConfig::Load(const std::string& path) {
     h.camera_max_frame_age_s = n.GetDouble("camera_max_frame_age_s", h.camera_max_frame_age_s);
     h.camera_max_bad_depth_s = n.GetDouble("camera_max_bad_depth_s", h.camera_max_bad_depth_s);
   }
-  c.Validate();
+  c.Validate(c.source, "");
   return c;
 }
 
-void HardwareConfig::Validate() const {
+void HardwareConfig::Validate(const std::string& source, const std::string& prefix) const {
   const std::string& f = source;
-  CheckFileExists(f, "platform", platform);
-  if (NeedsWorld()) CheckFileExists(f, "world", world);
+  CheckFileExists(f, prefix + "platform", platform);
+  if (NeedsWorld()) CheckFileExists(f, prefix + "world", world);
 
-  CheckOneOf(f, "arms.backend", arms.backend, {"scs", "sim-bus", "sim"});
+  CheckOneOf(f, prefix + "arms.backend", arms.backend, {"scs", "sim-bus", "sim"});
   const ScsArmsConfig& s = arms.scs;
   if (BaudConstant(s.baud) == 0) {
-    throw ConfigError(f + ": arms.baud: " + std::to_string(s.baud) +
+    throw ConfigError(f + ": " + prefix + "arms.baud: " + std::to_string(s.baud) +
                       " is not a standard baud rate");
   }
-  CheckRange(f, "arms.reply_timeout_s", s.reply_timeout_s, 1e-4, 1.0, "s");
-  CheckRange(f, "arms.stale_after_s", s.stale_after_s, 0.01, 10.0, "s");
-  CheckRange(f, "arms.max_step_deg", s.max_step_rad / kDeg, 0.1, 180.0, "deg");
-  CheckRange(f, "arms.goal_time_ms", s.goal_time_ms, 0, 65535, "ms");
-  CheckRange(f, "arms.goal_speed", s.goal_speed, 0, 65535, "");
-  CheckRange(f, "arms.rate_hz", s.rate_hz, 1.0, 1000.0, "Hz");
+  CheckRange(f, prefix + "arms.reply_timeout_s", s.reply_timeout_s, 1e-4, 1.0, "s");
+  CheckRange(f, prefix + "arms.stale_after_s", s.stale_after_s, 0.01, 10.0, "s");
+  CheckRange(f, prefix + "arms.max_step_deg", s.max_step_rad / kDeg, 0.1, 180.0, "deg");
+  CheckRange(f, prefix + "arms.goal_time_ms", s.goal_time_ms, 0, 65535, "ms");
+  CheckRange(f, prefix + "arms.goal_speed", s.goal_speed, 0, 65535, "");
+  CheckRange(f, prefix + "arms.rate_hz", s.rate_hz, 1.0, 1000.0, "Hz");
   std::set<int> ids;
   for (Side side : {Side::kLeft, Side::kRight}) {
     const int k = static_cast<int>(side);
-    const std::string key = std::string("arms.servos.") + SideName(side);
+    const std::string key = prefix + "arms.servos." + SideName(side);
     if (arms.servos_given) {
       for (std::size_t i = 0; i < s.joints[k].size(); ++i) {
         const ServoCalibration& cal = s.joints[k][i];
@@ -264,51 +264,56 @@ void HardwareConfig::Validate() const {
         throw ConfigError(f + ": " + key + ".gripper: raw_open equals raw_closed");
     }
   }
-  CheckRange(f, "arms.sim_bus.byte_time_s", arms.sim_bus.byte_time_s, 0.0, 0.01, "s");
-  CheckRange(f, "arms.sim_bus.return_delay_s", arms.sim_bus.return_delay_s, 0.0, 0.1, "s");
-  CheckRange(f, "arms.sim_bus.corrupt_probability", arms.sim_bus.corrupt_probability, 0.0, 1.0, "");
-  CheckRange(f, "arms.sim_bus.slow_extra_s", arms.sim_bus.slow_extra_s, 0.0, 1.0, "s");
-  CheckRange(f, "arms.sim_bus.faults_from_s", arms.sim_bus.faults_from_s, 0.0, 1e6, "s");
-  CheckRange(f, "arms.sim_bus.hot_temperature_c", arms.sim_bus.hot_temperature_c, 0, 255, "C");
-  CheckRange(f, "arms.sim_bus.low_voltage_v", arms.sim_bus.low_voltage_v, 0.0, 25.0, "V");
-  CheckRange(f, "arms.sim_bus.offset_deg", arms.sim_bus.offset_deg, -220.0, 220.0, "deg");
-  CheckRange(f, "autopilot.sim_px4.faults_from_s", autopilot.sim_px4.faults_from_s, 0.0, 1e6, "s");
-  CheckRange(f, "camera.sim.faults_from_s", camera.sim.faults_from_s, 0.0, 1e6, "s");
-  health.Validate(f);
+  CheckRange(f, prefix + "arms.sim_bus.byte_time_s", arms.sim_bus.byte_time_s, 0.0, 0.01, "s");
+  CheckRange(f, prefix + "arms.sim_bus.return_delay_s", arms.sim_bus.return_delay_s, 0.0, 0.1, "s");
+  CheckRange(f, prefix + "arms.sim_bus.corrupt_probability", arms.sim_bus.corrupt_probability, 0.0,
+             1.0, "");
+  CheckRange(f, prefix + "arms.sim_bus.slow_extra_s", arms.sim_bus.slow_extra_s, 0.0, 1.0, "s");
+  CheckRange(f, prefix + "arms.sim_bus.faults_from_s", arms.sim_bus.faults_from_s, 0.0, 1e6, "s");
+  CheckRange(f, prefix + "arms.sim_bus.hot_temperature_c", arms.sim_bus.hot_temperature_c, 0, 255,
+             "C");
+  CheckRange(f, prefix + "arms.sim_bus.low_voltage_v", arms.sim_bus.low_voltage_v, 0.0, 25.0, "V");
+  CheckRange(f, prefix + "arms.sim_bus.offset_deg", arms.sim_bus.offset_deg, -220.0, 220.0, "deg");
+  CheckRange(f, prefix + "autopilot.sim_px4.faults_from_s", autopilot.sim_px4.faults_from_s, 0.0,
+             1e6, "s");
+  CheckRange(f, prefix + "camera.sim.faults_from_s", camera.sim.faults_from_s, 0.0, 1e6, "s");
+  health.Validate(f, prefix + "health.");
 
-  CheckOneOf(f, "autopilot.backend", autopilot.backend, {"px4", "sim-px4", "sim"});
+  CheckOneOf(f, prefix + "autopilot.backend", autopilot.backend, {"px4", "sim-px4", "sim"});
   const Px4Config& p = autopilot.px4;
-  CheckOneOf(f, "autopilot.link", p.link, {"udp", "serial"});
-  CheckRange(f, "autopilot.udp_local_port", p.udp_local_port, 0, 65535, "");
-  CheckRange(f, "autopilot.udp_remote_port", p.udp_remote_port, 0, 65535, "");
+  CheckOneOf(f, prefix + "autopilot.link", p.link, {"udp", "serial"});
+  CheckRange(f, prefix + "autopilot.udp_local_port", p.udp_local_port, 0, 65535, "");
+  CheckRange(f, prefix + "autopilot.udp_remote_port", p.udp_remote_port, 0, 65535, "");
   if (p.link == "serial" && BaudConstant(p.baud) == 0) {
-    throw ConfigError(f + ": autopilot.baud: " + std::to_string(p.baud) +
+    throw ConfigError(f + ": " + prefix + "autopilot.baud: " + std::to_string(p.baud) +
                       " is not a standard baud rate");
   }
-  CheckRange(f, "autopilot.system_id", p.system_id, 1, 255, "");
-  CheckRange(f, "autopilot.component_id", p.component_id, 1, 255, "");
-  CheckRange(f, "autopilot.target_system", p.target_system, 1, 255, "");
-  CheckRange(f, "autopilot.target_component", p.target_component, 1, 255, "");
-  CheckRange(f, "autopilot.heartbeat_hz", p.heartbeat_hz, 0.1, 50.0, "Hz");
-  CheckRange(f, "autopilot.setpoint_hz", p.setpoint_hz, 10.0, 200.0, "Hz");
-  CheckRange(f, "autopilot.prestream_s", p.prestream_s, 0.1, 5.0, "s");
-  CheckRange(f, "autopilot.command_timeout_s", p.command_timeout_s, 0.01, 10.0, "s");
-  CheckRange(f, "autopilot.command_attempts", p.command_attempts, 1, 10, "");
-  CheckRange(f, "autopilot.link_timeout_s", p.link_timeout_s, 0.1, 60.0, "s");
-  CheckRange(f, "autopilot.connect_timeout_s", p.connect_timeout_s, 0.1, 120.0, "s");
-  CheckRange(f, "autopilot.signing_link_id", p.signing_link_id, 0, 255, "");
+  CheckRange(f, prefix + "autopilot.system_id", p.system_id, 1, 255, "");
+  CheckRange(f, prefix + "autopilot.component_id", p.component_id, 1, 255, "");
+  CheckRange(f, prefix + "autopilot.target_system", p.target_system, 1, 255, "");
+  CheckRange(f, prefix + "autopilot.target_component", p.target_component, 1, 255, "");
+  CheckRange(f, prefix + "autopilot.heartbeat_hz", p.heartbeat_hz, 0.1, 50.0, "Hz");
+  CheckRange(f, prefix + "autopilot.setpoint_hz", p.setpoint_hz, 10.0, 200.0, "Hz");
+  CheckRange(f, prefix + "autopilot.prestream_s", p.prestream_s, 0.1, 5.0, "s");
+  CheckRange(f, prefix + "autopilot.command_timeout_s", p.command_timeout_s, 0.01, 10.0, "s");
+  CheckRange(f, prefix + "autopilot.command_attempts", p.command_attempts, 1, 10, "");
+  CheckRange(f, prefix + "autopilot.link_timeout_s", p.link_timeout_s, 0.1, 60.0, "s");
+  CheckRange(f, prefix + "autopilot.connect_timeout_s", p.connect_timeout_s, 0.1, 120.0, "s");
+  CheckRange(f, prefix + "autopilot.signing_link_id", p.signing_link_id, 0, 255, "");
   if (!p.signing_key_hex.empty() && !mavlink::ParseKeyHex(p.signing_key_hex)) {
-    throw ConfigError(f + ": autopilot.signing_key_hex: must be 64 hex digits (32 bytes)");
+    throw ConfigError(f + ": " + prefix +
+                      "autopilot.signing_key_hex: must be 64 hex digits (32 bytes)");
   }
 
-  CheckOneOf(f, "camera.backend", camera.backend, {"realsense", "replay", "sim"});
+  CheckOneOf(f, prefix + "camera.backend", camera.backend, {"realsense", "replay", "sim"});
   if (camera.backend == "replay") {
     if (camera.path.empty())
-      throw ConfigError(f + ": camera.path: a replay needs a sequence folder or .bag file");
+      throw ConfigError(f + ": " + prefix +
+                        "camera.path: a replay needs a sequence folder or .bag file");
   }
-  CheckRange(f, "camera.width", camera.width, 160, 1920, "px");
-  CheckRange(f, "camera.height", camera.height, 120, 1080, "px");
-  CheckRange(f, "camera.fps", camera.fps, 1, 90, "Hz");
+  CheckRange(f, prefix + "camera.width", camera.width, 160, 1920, "px");
+  CheckRange(f, prefix + "camera.height", camera.height, 120, 1080, "px");
+  CheckRange(f, prefix + "camera.fps", camera.fps, 1, 90, "Hz");
 }
 
 }  // namespace aerograsp

@@ -61,10 +61,12 @@ struct HardwareConfig {
   /// True when any device is simulated (a World is needed).
   bool NeedsWorld() const;
   /// @throws ConfigError "<file>: <key>: ..." for a missing file, unknown key,
-  /// wrong type, or a value Validate() rejects.
+  /// wrong type, or a value Validate rejects.
   static HardwareConfig Load(const std::string& path);
-  /// @throws ConfigError naming `source`, the key and the bound.
-  void Validate() const;
+  /// `source` is the file (Load passes `this->source`), `prefix` the key path
+  /// of this tree in it, ending in "." ("" at the top). @throws ConfigError
+  /// "<source>: <prefix><key>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 }  // namespace aerograsp

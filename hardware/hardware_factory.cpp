@@ -123,7 +123,7 @@ std::unique_ptr<Hardware> Hardware::Open(const HardwareConfig& config, std::uint
     world_config.platform = config.platform;
     if (adjust_world) {
       adjust_world(&world_config);
-      world_config.Validate();
+      world_config.Validate(world_config.source, "");
     }
     hw->world_ = std::make_unique<World>(world_config, seed);
     hw->platform_ = std::make_unique<Platform>(hw->world_->platform());

@@ -125,8 +125,7 @@ std::vector<std::vector<double>> ReadCsv(const std::string& path, std::int64_t f
 }
 
 /// width, height, fx, fy, cx, cy of a map (which may also hold `extra_keys`), validated.
-CameraIntrinsics ReadIntrinsics(const ConfigNode& k, const std::string& name,
-                                std::vector<std::string> extra_keys) {
+CameraIntrinsics ReadIntrinsics(const ConfigNode& k, std::vector<std::string> extra_keys) {
   for (const char* key : {"width", "height", "fx", "fy", "cx", "cy"}) extra_keys.push_back(key);
   k.RequireOnlyKeys(extra_keys);
   CameraIntrinsics K;
@@ -136,7 +135,7 @@ CameraIntrinsics ReadIntrinsics(const ConfigNode& k, const std::string& name,
   K.fy = k.GetDouble("fy");
   K.cx = k.GetDouble("cx");
   K.cy = k.GetDouble("cy");
-  K.Validate(k.source() + ": " + name);
+  K.Validate(k.source(), k.KeyPath(""));
   return K;
 }
 
@@ -160,8 +159,8 @@ void ReadLens(const ConfigNode& lens, DistortionModel* model, std::array<double,
 
 SequenceWriter::SequenceWriter(const std::string& folder, const SequenceInfo& info, bool overwrite)
     : folder_(folder), info_(info) {
-  info_.intrinsics.Validate(folder + " (intrinsics)");
-  if (info_.depth_camera) info_.depth_camera->intrinsics.Validate(folder + " (depth camera)");
+  info_.intrinsics.Validate(folder, "intrinsics.");
+  if (info_.depth_camera) info_.depth_camera->intrinsics.Validate(folder, "depth_camera.");
   const fs::path root(folder);
   if (fs::exists(root / "sequence.yaml") && !overwrite) {
     Fail(folder, "already holds a sequence (sequence.yaml); choose another folder or overwrite it");
@@ -355,7 +354,7 @@ SequenceInfo ReadSequenceInfo(const std::string& folder) {
   CheckRange(path.string(), "frame_rate_hz", info.frame_rate_hz, 0.01, 1000.0, "Hz");
   info.depth_scale_m = node.GetDouble("depth_scale_m");
   CheckRange(path.string(), "depth_scale_m", info.depth_scale_m, 1e-6, 1.0, "m");
-  info.intrinsics = ReadIntrinsics(node.Child("intrinsics"), "intrinsics", {});
+  info.intrinsics = ReadIntrinsics(node.Child("intrinsics"), {});
   if (node.Has("color_lens")) {
     const ConfigNode lens = node.Child("color_lens");
     lens.RequireOnlyKeys({"distortion_model", "distortion_coeffs"});
@@ -364,7 +363,7 @@ SequenceInfo ReadSequenceInfo(const std::string& folder) {
   if (node.Has("depth_camera")) {
     const ConfigNode d = node.Child("depth_camera");
     StreamCalibration depth;
-    depth.intrinsics = ReadIntrinsics(d, "depth_camera", {"distortion_model", "distortion_coeffs"});
+    depth.intrinsics = ReadIntrinsics(d, {"distortion_model", "distortion_coeffs"});
     ReadLens(d, &depth.model, &depth.coeffs);
     info.depth_camera = depth;
   }

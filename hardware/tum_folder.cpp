@@ -111,7 +111,7 @@ CameraIntrinsics LoadIntrinsicsFile(const std::string& path) {
   K.fy = k.GetDouble("fy");
   K.cx = k.GetDouble("cx");
   K.cy = k.GetDouble("cy");
-  K.Validate(path);
+  K.Validate(path, k.KeyPath(""));
   return K;
 }
 

@@ -42,34 +42,35 @@ TelemetryConfig TelemetryConfig::Load(const std::string& path) {
     o.publish_clock = r.GetBool("publish_clock", o.publish_clock);
     o.emergency_stop_wait_s = r.GetDouble("emergency_stop_wait_s", o.emergency_stop_wait_s);
   }
-  c.Validate();
+  c.Validate(c.source, "");
   return c;
 }
 
-void TelemetryConfig::Validate() const {
+void TelemetryConfig::Validate(const std::string& source, const std::string& prefix) const {
   const std::string& s = source;
-  CheckRange(s, "mcap.image_rate_hz", mcap.image_rate_hz, 1e-3, 60.0, "Hz");
-  CheckRange(s, "mcap.jpeg_quality", mcap.jpeg_quality, 10, 100, "");
-  CheckRange(s, "mcap.state_rate_hz", mcap.state_rate_hz, 1e-3, 1000.0, "Hz");
-  CheckOneOf(s, "mcap.compression", mcap.compression, {"none", "lz4", "zstd"});
-  CheckRange(s, "mcap.chunk_size_kib", mcap.chunk_size_kib, 16, 65536, "KiB");
-  CheckRange(s, "ros2.domain_id", ros2.domain_id, 0, 232, "");
+  CheckRange(s, prefix + "mcap.image_rate_hz", mcap.image_rate_hz, 1e-3, 60.0, "Hz");
+  CheckRange(s, prefix + "mcap.jpeg_quality", mcap.jpeg_quality, 10, 100, "");
+  CheckRange(s, prefix + "mcap.state_rate_hz", mcap.state_rate_hz, 1e-3, 1000.0, "Hz");
+  CheckOneOf(s, prefix + "mcap.compression", mcap.compression, {"none", "lz4", "zstd"});
+  CheckRange(s, prefix + "mcap.chunk_size_kib", mcap.chunk_size_kib, 16, 65536, "KiB");
+  CheckRange(s, prefix + "ros2.domain_id", ros2.domain_id, 0, 232, "");
   const std::string& ns = ros2.topic_namespace;
   for (const char ch : ns) {
     if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '/') {
-      throw ConfigError(s + ": ros2.topic_namespace: '" + ns +
+      throw ConfigError(s + ": " + prefix + "ros2.topic_namespace: '" + ns +
                         "' has a character that is not a letter, digit, '_' or '/'");
     }
   }
   if (!ns.empty() && (ns.front() == '/' || ns.back() == '/' ||
                       std::isdigit(static_cast<unsigned char>(ns.front())) ||
                       ns.find("//") != std::string::npos)) {
-    throw ConfigError(s + ": ros2.topic_namespace: '" + ns +
+    throw ConfigError(s + ": " + prefix + "ros2.topic_namespace: '" + ns +
                       "' must not start with '/' or a digit, end with '/' or hold '//'");
   }
-  CheckRange(s, "ros2.joint_states_rate_hz", ros2.joint_states_rate_hz, 1e-3, 1000.0, "Hz");
-  CheckRange(s, "ros2.image_rate_hz", ros2.image_rate_hz, 0.0, 60.0, "Hz");
-  CheckRange(s, "ros2.emergency_stop_wait_s", ros2.emergency_stop_wait_s, 0.0, 600.0, "s");
+  CheckRange(s, prefix + "ros2.joint_states_rate_hz", ros2.joint_states_rate_hz, 1e-3, 1000.0,
+             "Hz");
+  CheckRange(s, prefix + "ros2.image_rate_hz", ros2.image_rate_hz, 0.0, 60.0, "Hz");
+  CheckRange(s, prefix + "ros2.emergency_stop_wait_s", ros2.emergency_stop_wait_s, 0.0, 600.0, "s");
 }
 
 }  // namespace aerograsp

@@ -55,8 +55,10 @@ struct TelemetryConfig {
   /// Reads and validates `path`.
   /// @throws ConfigError naming the file, the key and the bound.
   static TelemetryConfig Load(const std::string& path);
-  /// @throws ConfigError naming `source`, the key and the bound.
-  void Validate() const;
+  /// `source` is the file (Load passes `this->source`), `prefix` the key path
+  /// of this tree in it, ending in "." ("" at the top). @throws ConfigError
+  /// "<source>: <prefix><key>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 }  // namespace aerograsp

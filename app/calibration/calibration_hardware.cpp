@@ -90,26 +90,25 @@ CalibrationRig CalibrationRig::Load(const std::string& hardware_path) {
   r.max_failed_reads = n.GetInt("max_failed_reads", r.max_failed_reads);
   r.still_px = n.GetDouble("still_px", r.still_px);
   r.max_missed_frames = n.GetInt("max_missed_frames", r.max_missed_frames);
-  r.Validate();
+  r.Validate(r.source, "calibration.");
   return r;
 }
 
-void CalibrationRig::Validate() const {
+void CalibrationRig::Validate(const std::string& source, const std::string& prefix) const {
   const std::string& f = source;
-  CheckOneOf(f, "calibration.mount", mount, {"gripper", "hand"});
-  board.Validate(f, "calibration.board.");
-  CheckRange(f, "calibration.board_in_tool_xyz_m", Eigen::Vector3d(eMt.translation()), -0.5, 0.5,
-             "m");
-  CheckRange(f, "calibration.joint_speed_deg_s", joint_speed_deg_s, 0.1, 180.0, "deg/s");
-  CheckRange(f, "calibration.settle_timeout_s", settle_timeout_s, 0.001, 60.0, "s");
-  CheckRange(f, "calibration.settle_tolerance_deg", settle_tolerance_deg, 0.01, 10.0, "deg");
-  CheckRange(f, "calibration.settle_window_s", settle_window_s, 0.0, 5.0, "s");
-  CheckRange(f, "calibration.min_voltage_v", min_voltage_v, 0.0, 30.0, "V");
-  CheckRange(f, "calibration.max_voltage_v", max_voltage_v, min_voltage_v, 30.0, "V");
-  CheckRange(f, "calibration.max_temperature_c", max_temperature_c, 0.0, 120.0, "C");
-  CheckRange(f, "calibration.max_failed_reads", max_failed_reads, 1, 100, "");
-  CheckRange(f, "calibration.still_px", still_px, 0.01, 20.0, "px");
-  CheckRange(f, "calibration.max_missed_frames", max_missed_frames, 1, 1000, "");
+  CheckOneOf(f, prefix + "mount", mount, {"gripper", "hand"});
+  board.Validate(f, prefix + "board.");
+  CheckRange(f, prefix + "board_in_tool_xyz_m", Eigen::Vector3d(eMt.translation()), -0.5, 0.5, "m");
+  CheckRange(f, prefix + "joint_speed_deg_s", joint_speed_deg_s, 0.1, 180.0, "deg/s");
+  CheckRange(f, prefix + "settle_timeout_s", settle_timeout_s, 0.001, 60.0, "s");
+  CheckRange(f, prefix + "settle_tolerance_deg", settle_tolerance_deg, 0.01, 10.0, "deg");
+  CheckRange(f, prefix + "settle_window_s", settle_window_s, 0.0, 5.0, "s");
+  CheckRange(f, prefix + "min_voltage_v", min_voltage_v, 0.0, 30.0, "V");
+  CheckRange(f, prefix + "max_voltage_v", max_voltage_v, min_voltage_v, 30.0, "V");
+  CheckRange(f, prefix + "max_temperature_c", max_temperature_c, 0.0, 120.0, "C");
+  CheckRange(f, prefix + "max_failed_reads", max_failed_reads, 1, 100, "");
+  CheckRange(f, prefix + "still_px", still_px, 0.01, 20.0, "px");
+  CheckRange(f, prefix + "max_missed_frames", max_missed_frames, 1, 1000, "");
 }
 
 HandEyeHardware::~HandEyeHardware() {

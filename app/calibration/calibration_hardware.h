@@ -58,7 +58,9 @@ struct CalibrationRig {
   /// The defaults when the file has no `calibration` section.
   /// @throws ConfigError "<file>: calibration.<key>: ..." for unknown keys and bounds.
   static CalibrationRig Load(const std::string& hardware_path);
-  void Validate() const;
+  /// `prefix` is the key path of this section in its file, ending in "." ("calibration." in
+  /// a hardware file). @throws ConfigError "<source>: <prefix><key>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 /// Opened devices of a hand-eye run. On the robot world() is null and time is

@@ -227,7 +227,7 @@ VispCamera LoadVispCameraXml(const std::string& path) {
     camera.kud = cam.get_kud();
     camera.kdu = cam.get_kdu();
   }
-  camera.K.Validate(path);
+  camera.K.Validate(path, "");
   return camera;
 }
 

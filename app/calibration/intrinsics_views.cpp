@@ -145,7 +145,7 @@ ViewsFile ReadViewsYaml(const std::string& folder) {
   file.factory.fy = factory.GetDouble("fy_px");
   file.factory.cx = factory.GetDouble("cx_px");
   file.factory.cy = factory.GetDouble("cy_px");
-  file.factory.Validate(path + ": factory");
+  file.factory.Validate(path, "factory.");
   file.board = TagBoardConfig::FromNode(root.Child("board"));
   file.board.Validate(path, "board.");
   const YAML::Node all = YAML::LoadFile(path)["views"];

@@ -167,7 +167,8 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
   const bool hover = options.hover_m > 0.0;
   GraspPlannerConfig planner_config = mission.planner;
   if (hover) planner_config.precatch_distance_m = options.hover_m;
-  planner_config.Validate(cli, platform.config().gripper);
+  planner_config.Validate(cli, "");
+  planner_config.CheckFingers(platform.config().gripper, mission.source, "planner.");
   GraspPlanner planner(
       platform, GraspObject{object.name, object.mesh_o, object.mass_kg, object.center_of_mass_o},
       ComputeContactPairs(object.mesh_o, platform.config().gripper, planner_config.contacts),

@@ -114,16 +114,12 @@ std::string SymmetryYaml(const ObjectSymmetry& symmetry) {
 
 }  // namespace
 
-void ObjectImportConfig::Validate(const std::string& source) const {
-  CheckRange(source, "min_extent_m", min_extent_m, 1e-6, max_extent_m, "m");
-  CheckRange(source, "max_extent_m", max_extent_m, min_extent_m, 100.0, "m");
-  CheckRange(source, "min_thickness_m", min_thickness_m, 0.0, min_extent_m, "m");
-  CheckRange(source, "merge_distance_ratio", merge_distance_ratio, 0.0, 1e-3, "");
-  try {
-    symmetry.Validate();
-  } catch (const std::invalid_argument& e) {
-    throw ConfigError(source + ": " + e.what());
-  }
+void ObjectImportConfig::Validate(const std::string& source, const std::string& prefix) const {
+  CheckRange(source, prefix + "min_extent_m", min_extent_m, 1e-6, max_extent_m, "m");
+  CheckRange(source, prefix + "max_extent_m", max_extent_m, min_extent_m, 100.0, "m");
+  CheckRange(source, prefix + "min_thickness_m", min_thickness_m, 0.0, min_extent_m, "m");
+  CheckRange(source, prefix + "merge_distance_ratio", merge_distance_ratio, 0.0, 1e-3, "");
+  symmetry.Validate(source, prefix + "symmetry.");
 }
 
 ObjectImportConfig ObjectImportConfig::Load(const std::string& path) {
@@ -149,7 +145,7 @@ ObjectImportConfig ObjectImportConfig::Load(const std::string& path) {
     CheckRange(path, "symmetry.seed", seed, 0, 2147483647, "");
     o.seed = static_cast<std::uint64_t>(seed);
   }
-  c.Validate(path);
+  c.Validate(path, "");
   return c;
 }
 

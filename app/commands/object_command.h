@@ -19,8 +19,9 @@ struct ObjectImportConfig {
   double merge_distance_ratio = 1e-6;
   SymmetryOptions symmetry;
 
-  /// @throws ConfigError naming the file and key of a value out of range.
-  void Validate(const std::string& source) const;
+  /// `prefix` is the key path of this tree in `source`, ending in "." ("" at
+  /// the top). @throws ConfigError "<source>: <prefix><key>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
   /// @throws ConfigError for an unreadable file, an unknown key or a bad value.
   static ObjectImportConfig Load(const std::string& path);
 };

@@ -137,7 +137,8 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
     mission = MissionConfig::Load(DataPath("config/mission_default.yaml"));
     config = mission->planner;
   }
-  config.Validate("command line", gripper);
+  config.Validate("command line", "");
+  config.CheckFingers(gripper, "command line", "");
 
   ReportFolder folder(options.out_dir, options.overwrite);
 

@@ -56,7 +56,7 @@ void RunRecordCommand(const RecordCommandOptions& options, std::ostream& out,
     config.occluder.duration_s = options.occlude_for_s;
     config.occluder.period_s = options.occlude_every_s;
   }
-  config.Validate();
+  config.Validate(config.source, "");
   if (options.frames < 1) throw HardwareError("--frames: must be at least 1");
   ReportFolder folder(options.out_dir, options.overwrite, "sequence.yaml");
 

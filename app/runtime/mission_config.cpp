@@ -231,7 +231,7 @@ MissionConfig MissionConfig::Load(const std::string& path) {
           root.GetPath(key);
     }
   }
-  c.Validate();
+  c.Validate(c.source, "");
   c.calibrated_cMb[0] =
       LoadCalibration(c.source, "calibration_left", c.calibration_left, Side::kLeft);
   c.calibrated_cMb[1] =
@@ -239,38 +239,36 @@ MissionConfig MissionConfig::Load(const std::string& path) {
   return c;
 }
 
-void MissionConfig::Validate() const {
+void MissionConfig::Validate(const std::string& source, const std::string& prefix) const {
   const std::string& s = source;
-  CheckFileExists(s, "world", world);
-  if (!perception.empty()) CheckFileExists(s, "perception", perception);
-  CheckRange(s, "takeoff_altitude_m", takeoff_altitude_m, 0.5, 20.0, "m");
-  CheckRange(s, "approach_w_m", approach_w_m, -100.0, 100.0, "m");
-  CheckRange(s, "yaw_rad", yaw_rad, -M_PI, M_PI, "rad");
-  CheckRange(s, "grasp_dto_m", grasp_dto_m, -1.0, 1.0, "m");
-  CheckRange(s, "arrive_tolerance_m", arrive_tolerance_m, 1e-6, 5.0, "m");
-  CheckRange(s, "tracking_radius_m", tracking_radius_m, 1e-6, 10.0, "m");
-  CheckRange(s, "lift_m", lift_m, 0.0, 10.0, "m");
-  CheckRange(s, "servo_rate_hz", servo_rate_hz, 10.0, 1000.0, "Hz");
-  CheckRange(s, "setpoint_rate_hz", setpoint_rate_hz, 2.0, 100.0, "Hz");
-  CheckRange(s, "reevaluate_rate_hz", reevaluate_rate_hz, 1e-6, 100.0, "Hz");
-  CheckRange(s, "object_filter_s", object_filter_s, 1e-6, 10.0, "s");
-  CheckRange(s, "vehicle_lag_s", vehicle_lag_s, 0.0, 5.0, "s");
-  CheckRange(s, "predict_max_s", predict_max_s, 0.0, 1.0, "s");
-  CheckRange(s, "search_timeout_s", search_timeout_s, 1e-6, 600.0, "s");
-  CheckRange(s, "timeout_s", timeout_s, 1e-6, 3600.0, "s");
-  CheckRange(s, "servo_margin_m", servo_margin_m, 0.0, 0.05, "m");
-  placement.Validate(s, "placement.");
-  policy.Validate(s, "policy.");
+  CheckFileExists(s, prefix + "world", world);
+  if (!perception.empty()) CheckFileExists(s, prefix + "perception", perception);
+  CheckRange(s, prefix + "takeoff_altitude_m", takeoff_altitude_m, 0.5, 20.0, "m");
+  CheckRange(s, prefix + "approach_w_m", approach_w_m, -100.0, 100.0, "m");
+  CheckRange(s, prefix + "yaw_rad", yaw_rad, -M_PI, M_PI, "rad");
+  CheckRange(s, prefix + "grasp_dto_m", grasp_dto_m, -1.0, 1.0, "m");
+  CheckRange(s, prefix + "arrive_tolerance_m", arrive_tolerance_m, 1e-6, 5.0, "m");
+  CheckRange(s, prefix + "tracking_radius_m", tracking_radius_m, 1e-6, 10.0, "m");
+  CheckRange(s, prefix + "lift_m", lift_m, 0.0, 10.0, "m");
+  CheckRange(s, prefix + "servo_rate_hz", servo_rate_hz, 10.0, 1000.0, "Hz");
+  CheckRange(s, prefix + "setpoint_rate_hz", setpoint_rate_hz, 2.0, 100.0, "Hz");
+  CheckRange(s, prefix + "reevaluate_rate_hz", reevaluate_rate_hz, 1e-6, 100.0, "Hz");
+  CheckRange(s, prefix + "object_filter_s", object_filter_s, 1e-6, 10.0, "s");
+  CheckRange(s, prefix + "vehicle_lag_s", vehicle_lag_s, 0.0, 5.0, "s");
+  CheckRange(s, prefix + "predict_max_s", predict_max_s, 0.0, 1.0, "s");
+  CheckRange(s, prefix + "search_timeout_s", search_timeout_s, 1e-6, 600.0, "s");
+  CheckRange(s, prefix + "timeout_s", timeout_s, 1e-6, 3600.0, "s");
+  CheckRange(s, prefix + "servo_margin_m", servo_margin_m, 0.0, 0.05, "m");
+  placement.Validate(s, prefix + "placement.");
+  policy.Validate(s, prefix + "policy.");
   // The depth range is checked against the gripper's fingers when the
-  // platform is known (GraspPlanner); here against the longest allowed.
-  GripperConfig longest;
-  longest.finger_length_m = 0.3;
-  planner.Validate(s + ": planner", longest);
-  servo.Validate(s, "servo.");
-  servo_ik_tolerance_4dof.Validate(s, "servo.ik_tolerance_4dof.");
-  grasp_sequence.Validate(s, "grasp_sequence.");
-  LoadCalibration(s, "calibration_left", calibration_left, Side::kLeft);
-  LoadCalibration(s, "calibration_right", calibration_right, Side::kRight);
+  // platform is known (GraspPlannerConfig::CheckFingers).
+  planner.Validate(s, prefix + "planner.");
+  servo.Validate(s, prefix + "servo.");
+  servo_ik_tolerance_4dof.Validate(s, prefix + "servo.ik_tolerance_4dof.");
+  grasp_sequence.Validate(s, prefix + "grasp_sequence.");
+  LoadCalibration(s, prefix + "calibration_left", calibration_left, Side::kLeft);
+  LoadCalibration(s, prefix + "calibration_right", calibration_right, Side::kRight);
 }
 
 std::string MissionConfig::ToYaml() const {

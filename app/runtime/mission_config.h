@@ -93,10 +93,12 @@ struct MissionConfig {
   /// Reads a mission YAML; absent keys keep their defaults.
   /// @throws ConfigError "<file>: <key>: ..." for unknown keys, wrong types or values out of range.
   static MissionConfig Load(const std::string& path);
-  /// @throws ConfigError naming `source`, the key and the bound; for a
-  /// calibration file "<file>: calibration_left: <calibration file>: <key>: ..."
-  /// (missing, malformed, not a rigid transform, or of the other arm).
-  void Validate() const;
+  /// `source` is the file (Load passes `this->source`), `prefix` the key path
+  /// of this tree in it, ending in "." ("" at the top). @throws ConfigError
+  /// "<source>: <prefix><key>: ..." naming the bound; for a calibration file
+  /// "<file>: calibration_left: <calibration file>: <key>: ..." (missing,
+  /// malformed, not a rigid transform, or of the other arm).
+  void Validate(const std::string& source, const std::string& prefix) const;
   /// Every setting as YAML that Load reads back to the same values (paths as they are).
   std::string ToYaml() const;
 };

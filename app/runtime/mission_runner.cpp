@@ -185,7 +185,7 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
   tracker_ = std::make_unique<ObjectTracker>(*object_, perception, std::move(detector));
 
   GraspPlannerConfig planner_config = config_.planner;
-  planner_config.Validate(config_.source + ": planner", platform.config().gripper);
+  planner_config.CheckFingers(platform.config().gripper, config_.source, "planner.");
   GraspObject grasp_object{object_->name, object_->mesh_o, object_->mass_kg,
                            object_->center_of_mass_o};
   ContactSet contacts =

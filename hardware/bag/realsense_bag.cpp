@@ -171,7 +171,7 @@ struct RealsenseBagCamera::Impl {
     s.intrinsics.cx = ci->K[2];
     s.intrinsics.cy = ci->K[5];
     try {
-      s.intrinsics.Validate(path + ": " + topic);
+      s.intrinsics.Validate(path, topic + ".");
     } catch (const std::exception& e) {
       throw HardwareError(e.what());
     }

@@ -106,77 +106,81 @@ WorldConfig WorldConfig::Load(const std::string& path) {
     h.distance_m = n.GetDouble("distance_m", h.distance_m);
     h.size_m = n.GetDouble("size_m", h.size_m);
   }
-  c.Validate();
+  c.Validate(c.source, "");
   return c;
 }
 
-void WorldConfig::Validate() const {
+void WorldConfig::Validate(const std::string& source, const std::string& prefix) const {
   const std::string& src = source;
-  CheckFileExists(src, "platform", platform);
-  CheckRange(src, "physics_step_s", physics_step_s, 1e-5, 0.05, "s");
+  CheckFileExists(src, prefix + "platform", platform);
+  CheckRange(src, prefix + "physics_step_s", physics_step_s, 1e-5, 0.05, "s");
 
-  CheckRange(src, "scene.pipe_center_w_m", scene.pipe_center_w_m, -100.0, 100.0, "m");
-  CheckRange(src, "scene.pipe_yaw_rad", scene.pipe_yaw_rad, -M_PI, M_PI, "rad");
-  CheckRange(src, "scene.pipe_radius_m", scene.pipe_radius_m, 1e-3, 1.0, "m");
-  CheckRange(src, "scene.pipe_length_m", scene.pipe_length_m, 0.01, 50.0, "m");
-  CheckRange(src, "scene.clutter_count", scene.clutter_count, 0, 200, "");
-  CheckRange(src, "scene.clutter_radius_m", scene.clutter_radius_m, 0.01, 50.0, "m");
-  CheckRange(src, "scene.ground_tile_m", scene.ground_tile_m, 1e-3, 10.0, "m");
+  CheckRange(src, prefix + "scene.pipe_center_w_m", scene.pipe_center_w_m, -100.0, 100.0, "m");
+  CheckRange(src, prefix + "scene.pipe_yaw_rad", scene.pipe_yaw_rad, -M_PI, M_PI, "rad");
+  CheckRange(src, prefix + "scene.pipe_radius_m", scene.pipe_radius_m, 1e-3, 1.0, "m");
+  CheckRange(src, prefix + "scene.pipe_length_m", scene.pipe_length_m, 0.01, 50.0, "m");
+  CheckRange(src, prefix + "scene.clutter_count", scene.clutter_count, 0, 200, "");
+  CheckRange(src, prefix + "scene.clutter_radius_m", scene.clutter_radius_m, 0.01, 50.0, "m");
+  CheckRange(src, prefix + "scene.ground_tile_m", scene.ground_tile_m, 1e-3, 10.0, "m");
   if (scene.pipe_center_w_m.z() + scene.pipe_radius_m >= 0.0) {
-    CheckRange(src, "scene.pipe_center_w_m[2]", scene.pipe_center_w_m.z(), -100.0,
+    CheckRange(src, prefix + "scene.pipe_center_w_m[2]", scene.pipe_center_w_m.z(), -100.0,
                -scene.pipe_radius_m, "m (the pipe must be above the ground, NED z < 0)");
   }
 
-  CheckOneOf(src, "object.motion", object.motion, {"static", "crawl"});
-  CheckRange(src, "object.start_along_pipe_m", object.start_along_pipe_m,
+  CheckOneOf(src, prefix + "object.motion", object.motion, {"static", "crawl"});
+  CheckRange(src, prefix + "object.start_along_pipe_m", object.start_along_pipe_m,
              -0.5 * scene.pipe_length_m, 0.5 * scene.pipe_length_m, "m");
-  CheckRange(src, "object.speed_mps", object.speed_mps, 0.0, 1.0, "m/s");
-  CheckRange(src, "object.travel_m", object.travel_m, 0.0,
+  CheckRange(src, prefix + "object.speed_mps", object.speed_mps, 0.0, 1.0, "m/s");
+  CheckRange(src, prefix + "object.travel_m", object.travel_m, 0.0,
              0.5 * scene.pipe_length_m - object.start_along_pipe_m, "m");
-  CheckRange(src, "object.yaw_on_pipe_rad", object.yaw_on_pipe_rad, -M_PI, M_PI, "rad");
-  CheckRange(src, "object.knocked_off_at_s", object.knocked_off_at_s, -1.0, 1e6, "s");
+  CheckRange(src, prefix + "object.yaw_on_pipe_rad", object.yaw_on_pipe_rad, -M_PI, M_PI, "rad");
+  CheckRange(src, prefix + "object.knocked_off_at_s", object.knocked_off_at_s, -1.0, 1e6, "s");
 
-  CheckOneOf(src, "vehicle.start", vehicle.start, {"hover", "ground"});
-  CheckRange(src, "vehicle.start_w_m", vehicle.start_w_m, -1000.0, 1000.0, "m");
-  CheckRange(src, "vehicle.start_yaw_rad", vehicle.start_yaw_rad, -M_PI, M_PI, "rad");
-  CheckRange(src, "vehicle.sway_amplitude_m", vehicle.sway_amplitude_m, 0.0, 1.0, "m");
-  CheckRange(src, "vehicle.sway_frequency_hz", vehicle.sway_frequency_hz, 0.0, 5.0, "Hz");
-  CheckRange(src, "vehicle.tilt_amplitude_rad", vehicle.tilt_amplitude_rad, 0.0, 0.3, "rad");
-  CheckRange(src, "vehicle.gust_rate_hz", vehicle.gust_rate_hz, 0.0, 10.0, "Hz");
-  CheckRange(src, "vehicle.gust_speed_mps", vehicle.gust_speed_mps, 0.0, 5.0, "m/s");
-  CheckRange(src, "vehicle.drift_std_m", vehicle.drift_std_m, 0.0, 1.0, "m");
-  CheckRange(src, "vehicle.drift_time_constant_s", vehicle.drift_time_constant_s, 1e-3, 1000.0,
+  CheckOneOf(src, prefix + "vehicle.start", vehicle.start, {"hover", "ground"});
+  CheckRange(src, prefix + "vehicle.start_w_m", vehicle.start_w_m, -1000.0, 1000.0, "m");
+  CheckRange(src, prefix + "vehicle.start_yaw_rad", vehicle.start_yaw_rad, -M_PI, M_PI, "rad");
+  CheckRange(src, prefix + "vehicle.sway_amplitude_m", vehicle.sway_amplitude_m, 0.0, 1.0, "m");
+  CheckRange(src, prefix + "vehicle.sway_frequency_hz", vehicle.sway_frequency_hz, 0.0, 5.0, "Hz");
+  CheckRange(src, prefix + "vehicle.tilt_amplitude_rad", vehicle.tilt_amplitude_rad, 0.0, 0.3,
+             "rad");
+  CheckRange(src, prefix + "vehicle.gust_rate_hz", vehicle.gust_rate_hz, 0.0, 10.0, "Hz");
+  CheckRange(src, prefix + "vehicle.gust_speed_mps", vehicle.gust_speed_mps, 0.0, 5.0, "m/s");
+  CheckRange(src, prefix + "vehicle.drift_std_m", vehicle.drift_std_m, 0.0, 1.0, "m");
+  CheckRange(src, prefix + "vehicle.drift_time_constant_s", vehicle.drift_time_constant_s, 1e-3,
+             1000.0, "s");
+  CheckRange(src, prefix + "vehicle.response_time_s", vehicle.response_time_s, 1e-3, 10.0, "s");
+  CheckRange(src, prefix + "vehicle.delay_s", vehicle.delay_s, 0.0, 2.0, "s");
+  CheckRange(src, prefix + "vehicle.max_speed_mps", vehicle.max_speed_mps, 1e-3, 20.0, "m/s");
+  CheckRange(src, prefix + "vehicle.offboard_timeout_s", vehicle.offboard_timeout_s, 1e-3, 10.0,
              "s");
-  CheckRange(src, "vehicle.response_time_s", vehicle.response_time_s, 1e-3, 10.0, "s");
-  CheckRange(src, "vehicle.delay_s", vehicle.delay_s, 0.0, 2.0, "s");
-  CheckRange(src, "vehicle.max_speed_mps", vehicle.max_speed_mps, 1e-3, 20.0, "m/s");
-  CheckRange(src, "vehicle.offboard_timeout_s", vehicle.offboard_timeout_s, 1e-3, 10.0, "s");
-  CheckRange(src, "vehicle.landed_height_m", vehicle.landed_height_m, 0.0, 2.0, "m");
+  CheckRange(src, prefix + "vehicle.landed_height_m", vehicle.landed_height_m, 0.0, 2.0, "m");
 
-  CheckRange(src, "arms.lag_s", arms.lag_s, 1e-4, 2.0, "s");
-  CheckRange(src, "arms.speed_scale", arms.speed_scale, 1e-3, 2.0, "");
-  CheckRange(src, "arms.position_counts", arms.position_counts, 2, 65536, "");
-  CheckRange(src, "arms.position_range_deg", arms.position_range_deg, 1.0, 360.0, "deg");
+  CheckRange(src, prefix + "arms.lag_s", arms.lag_s, 1e-4, 2.0, "s");
+  CheckRange(src, prefix + "arms.speed_scale", arms.speed_scale, 1e-3, 2.0, "");
+  CheckRange(src, prefix + "arms.position_counts", arms.position_counts, 2, 65536, "");
+  CheckRange(src, prefix + "arms.position_range_deg", arms.position_range_deg, 1.0, 360.0, "deg");
 
-  CheckRange(src, "camera.frame_rate_hz", camera.frame_rate_hz, 0.1, 300.0, "Hz");
+  CheckRange(src, prefix + "camera.frame_rate_hz", camera.frame_rate_hz, 0.1, 300.0, "Hz");
   if (camera.image_scale != 1.0 && camera.image_scale != 0.5) {
-    throw ConfigError(src + ": camera.image_scale: " + std::to_string(camera.image_scale) +
+    throw ConfigError(src + ": " + prefix +
+                      "camera.image_scale: " + std::to_string(camera.image_scale) +
                       " is not 1 or 0.5 (the D435 streams 640x480 and 320x240)");
   }
-  camera.d435.Validate(src, "camera.d435.");
-  CheckRange(src, "camera.light_elevation_deg", camera.light_elevation_deg, 1.0, 90.0, "deg");
-  CheckRange(src, "camera.light_intensity", camera.light_intensity, 0.0, 2.0, "");
-  CheckRange(src, "camera.ambient", camera.ambient, 0.0, 1.0, "");
-  CheckRange(src, "camera.light_variation", camera.light_variation, 0.0, 0.5, "");
+  camera.d435.Validate(src, prefix + "camera.d435.");
+  CheckRange(src, prefix + "camera.light_elevation_deg", camera.light_elevation_deg, 1.0, 90.0,
+             "deg");
+  CheckRange(src, prefix + "camera.light_intensity", camera.light_intensity, 0.0, 2.0, "");
+  CheckRange(src, prefix + "camera.ambient", camera.ambient, 0.0, 1.0, "");
+  CheckRange(src, prefix + "camera.light_variation", camera.light_variation, 0.0, 0.5, "");
 
-  CheckRange(src, "occluder.start_s", occluder.start_s, 0.0, 1e6, "s");
-  CheckRange(src, "occluder.duration_s", occluder.duration_s, 1e-3, 1e6, "s");
+  CheckRange(src, prefix + "occluder.start_s", occluder.start_s, 0.0, 1e6, "s");
+  CheckRange(src, prefix + "occluder.duration_s", occluder.duration_s, 1e-3, 1e6, "s");
   if (occluder.period_s != 0.0) {
-    CheckRange(src, "occluder.period_s", occluder.period_s, occluder.duration_s + 1e-3, 1e6,
-               "s (0 hides once; else longer than duration_s)");
+    CheckRange(src, prefix + "occluder.period_s", occluder.period_s, occluder.duration_s + 1e-3,
+               1e6, "s (0 hides once; else longer than duration_s)");
   }
-  CheckRange(src, "occluder.distance_m", occluder.distance_m, 0.2, 2.0, "m");
-  CheckRange(src, "occluder.size_m", occluder.size_m, 1e-3, 5.0, "m");
+  CheckRange(src, prefix + "occluder.distance_m", occluder.distance_m, 0.2, 2.0, "m");
+  CheckRange(src, prefix + "occluder.size_m", occluder.size_m, 1e-3, 5.0, "m");
 }
 
 }  // namespace aerograsp

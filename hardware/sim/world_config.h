@@ -104,8 +104,10 @@ struct WorldConfig {
   /// @throws ConfigError "<file>: <key>: ..." for a missing file, an unknown
   /// key, a wrong type or a value out of range.
   static WorldConfig Load(const std::string& path);
-  /// @throws ConfigError naming `source`, the key and the bound.
-  void Validate() const;
+  /// `source` is the file (Load passes `this->source`), `prefix` the key path
+  /// of this tree in it, ending in "." ("" at the top). @throws ConfigError
+  /// "<source>: <prefix><key>: ..." naming the bound.
+  void Validate(const std::string& source, const std::string& prefix) const;
 };
 
 }  // namespace aerograsp

@@ -18,6 +18,7 @@
 #include "core/transforms.h"
 #include "hardware/sim/world.h"
 #include "tests/common/output_folder_test.h"
+#include "tests/common/validation_message.h"
 
 namespace aerograsp {
 namespace {
@@ -411,6 +412,19 @@ TEST_F(CalibrateCommandTest, ANanJointReadingIsNamedAsSuch) {
     EXPECT_THAT(e.what(),
                 HasSubstr("samples.yaml: samples[0].q_rad[1]: nan is not a finite number"));
   }
+}
+
+TEST(CalibrationRigTest, ValidateNamesTheFileAndTheFullKeyPath) {
+  CalibrationRig rig = CalibrationRig::Load("");
+  rig.joint_speed_deg_s = 200.0;
+  EXPECT_THAT(
+      testing::ValidationMessage(rig, "hw.yaml", "calibration."),
+      HasSubstr(
+          "hw.yaml: calibration.joint_speed_deg_s: 200 deg/s is above the upper bound 180 deg/s"));
+  rig = CalibrationRig::Load("");
+  rig.mount = "wrist";
+  EXPECT_THAT(testing::ValidationMessage(rig, "hw.yaml", "calibration."),
+              HasSubstr("hw.yaml: calibration.mount: 'wrist' is not one of: gripper, hand"));
 }
 
 }  // namespace

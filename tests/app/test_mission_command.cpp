@@ -23,6 +23,7 @@
 #include "hardware/sim/world_config.h"
 #include "servo/ik.h"
 #include "tests/common/earlier_report.h"
+#include "tests/common/validation_message.h"
 
 namespace aerograsp {
 namespace {
@@ -228,7 +229,7 @@ TEST(MissionConfigTest, TheShippedFileAndTheDefaultsRoundTripThroughYamlAndAgree
   defaults.source = "defaults";
   defaults.world = shipped.world;  // the paths as the file resolves them
   defaults.perception = shipped.perception;
-  EXPECT_NO_THROW(defaults.Validate());
+  EXPECT_NO_THROW(defaults.Validate(defaults.source, ""));
   EXPECT_EQ(reload(defaults).ToYaml(), defaults.ToYaml());
   EXPECT_EQ(defaults.ToYaml(), shipped.ToYaml());
   fs::remove_all(dir);
@@ -395,6 +396,26 @@ TEST(MissionRunnerTest, AGripperThatHoldsStaysClosedWhileTheOtherAimsAgain) {
                                    [](const GripperClose& c) { return c.holds; });
   EXPECT_GE(holds, 2);
   EXPECT_GT(result.servo_step_cpu_ms_max, 0.0);
+}
+
+TEST(MissionConfigTest, ValidateNamesTheFileAndTheFullKeyPath) {
+  const MissionConfig shipped = MissionConfig::Load(DataDir() + "/config/mission_default.yaml");
+  MissionConfig c = shipped;
+  c.takeoff_altitude_m = 30.0;
+  EXPECT_THAT(testing::ValidationMessage(c, "m.yaml", ""),
+              HasSubstr("m.yaml: takeoff_altitude_m: 30 m is above the upper bound 20 m"));
+  EXPECT_THAT(testing::ValidationMessage(c, "m.yaml", "mission."),
+              HasSubstr("m.yaml: mission.takeoff_altitude_m: 30 m is above the upper bound 20 m"));
+  c = shipped;
+  c.planner.depth_max_m = 0.35;
+  EXPECT_THAT(
+      testing::ValidationMessage(c, "m.yaml", "mission."),
+      HasSubstr("m.yaml: mission.planner.depth_max_m: 0.35 m is above the upper bound 0.3 m"));
+  c = shipped;
+  c.servo.gain_per_s = 60.0;
+  EXPECT_THAT(
+      testing::ValidationMessage(c, "m.yaml", "mission."),
+      HasSubstr("m.yaml: mission.servo.gain_per_s: 60 1/s is above the upper bound 50 1/s"));
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "core/shape_mesh.h"
 #include "tests/common/output_folder_test.h"
 #include "tests/common/test_meshes.h"
+#include "tests/common/validation_message.h"
 
 namespace aerograsp {
 namespace {
@@ -222,6 +223,18 @@ TEST_F(ObjectCommandTest, AFlatMeshIsRefusedAsASheet) {
   options_.mesh_path = Path("sheet.obj");
   options_.name = "sheet";
   EXPECT_THAT(Error(), HasSubstr("m thin along its thinnest side"));
+}
+
+TEST(ObjectImportConfigTest, ValidateNamesTheFileAndTheFullKeyPath) {
+  ObjectImportConfig c;
+  c.max_extent_m = 200.0;
+  EXPECT_THAT(testing::ValidationMessage(c, "import.yaml", ""),
+              HasSubstr("import.yaml: max_extent_m: 200 m is above the upper bound 100 m"));
+  c = ObjectImportConfig{};
+  c.symmetry.max_axis_order = 1;
+  EXPECT_THAT(
+      testing::ValidationMessage(c, "import.yaml", "import."),
+      HasSubstr("import.yaml: import.symmetry.max_axis_order: 1 is below the lower bound 2"));
 }
 
 }  // namespace

@@ -166,7 +166,7 @@ TEST(CoverageTest, ABadConfigNamesTheField) {
   CoverageConfig config;
   config.grid_cols = 0;
   try {
-    config.Validate("hw.yaml");
+    config.Validate("hw.yaml", "coverage.");
     FAIL() << "expected a ConfigError";
   } catch (const ConfigError& e) {
     EXPECT_THAT(e.what(), HasSubstr("hw.yaml: coverage.grid_cols"));

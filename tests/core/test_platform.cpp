@@ -5,8 +5,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/camera_model.h"
 #include "core/config.h"
 #include "core/platform.h"
+#include "tests/common/validation_message.h"
 
 namespace aerograsp {
 namespace {
@@ -20,7 +22,7 @@ std::string Config(const std::string& name) {
 TEST(PlatformTest, DefaultGripperConfigIsValid) {
   PlatformConfig c = PlatformConfig::Load(Config("platform_4dof.yaml"));
   c.gripper = GripperConfig{};
-  EXPECT_NO_THROW(c.Validate());
+  EXPECT_NO_THROW(c.Validate(c.source, ""));
 }
 
 class ShippedPlatformTest : public ::testing::TestWithParam<const char*> {};
@@ -136,6 +138,33 @@ INSTANTIATE_TEST_SUITE_P(
         BadConfigCase{"CameraXmlNotACamera", "xml: ../camera/d435_color_640x480.xml",
                       "xml: ../robots/vehicle.urdf", "camera.xml", "no camera named 'd435_color'"}),
     [](const ::testing::TestParamInfo<BadConfigCase>& info) { return info.param.name; });
+
+TEST(PlatformConfigTest, ValidateNamesTheFileAndTheFullKeyPath) {
+  PlatformConfig c = PlatformConfig::Load(Config("platform_4dof.yaml"));
+  c.vehicle_mass_kg = 60.0;
+  EXPECT_THAT(testing::ValidationMessage(c, "p.yaml", ""),
+              HasSubstr("p.yaml: vehicle.mass_kg: 60 kg is above the upper bound 50 kg"));
+  EXPECT_THAT(testing::ValidationMessage(c, "p.yaml", "platform."),
+              HasSubstr("p.yaml: platform.vehicle.mass_kg: 60 kg is above the upper bound 50 kg"));
+  c = PlatformConfig::Load(Config("platform_4dof.yaml"));
+  c.gripper.finger_clearance_m = 0.04;
+  c.gripper.max_aperture_m = 0.05;
+  EXPECT_THAT(testing::ValidationMessage(c, "p.yaml", "platform."),
+              HasSubstr("p.yaml: platform.gripper.finger_clearance_m: twice the clearance"));
+}
+
+TEST(CameraIntrinsicsTest, ValidateNamesTheFileAndTheFullKeyPath) {
+  CameraIntrinsics K;
+  K.cx = 700.0;  // right of the 640 px wide image
+  EXPECT_THAT(testing::ValidationMessage(K, "cam.yaml", ""),
+              HasSubstr("cam.yaml: cx: 700 px is above the upper bound 640 px"));
+  EXPECT_THAT(testing::ValidationMessage(K, "cam.yaml", "intrinsics."),
+              HasSubstr("cam.yaml: intrinsics.cx: 700 px is above the upper bound 640 px"));
+  K = CameraIntrinsics{};
+  K.fy = 0.0;
+  EXPECT_THAT(testing::ValidationMessage(K, "cam.yaml", "intrinsics."),
+              HasSubstr("cam.yaml: intrinsics.fy: 0 px must be positive"));
+}
 
 }  // namespace
 }  // namespace aerograsp

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include "core/config.h"
 #include "core/object_model.h"
 #include "core/shape_mesh.h"
 #include "core/symmetry.h"
@@ -187,8 +188,12 @@ TEST(SymmetryTest, ColoursBreakSymmetry) {
 TEST(SymmetryTest, BadOptionsAndEmptyMeshesAreRefused) {
   SymmetryOptions bad;
   bad.tolerance_ratio = 0.0;
-  EXPECT_THROW(FindMeshSymmetries(MakeBoxMesh(Eigen::Vector3d::Ones()), bad),
-               std::invalid_argument);
+  try {
+    FindMeshSymmetries(MakeBoxMesh(Eigen::Vector3d::Ones()), bad);
+    FAIL() << "accepted a zero tolerance";
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("symmetry.tolerance_ratio: 0 is below the lower bound"));
+  }
   TriangleMesh flat;
   flat.vertices = {Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), 2 * Eigen::Vector3d::UnitX()};
   flat.triangles = {Eigen::Vector3i(0, 1, 2)};

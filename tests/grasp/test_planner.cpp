@@ -289,18 +289,33 @@ TEST_F(ShippedPlanTest, GraspsClearOfEdgesRankFirstAndGetTheExactEpsilon) {
 
 TEST(GraspPlannerConfigTest, DefaultsAreValidAndBadDepthNamesItsKey) {
   GraspPlannerConfig c;
-  EXPECT_NO_THROW(c.Validate("plan.yaml", GripperConfig{}));
+  EXPECT_NO_THROW(c.Validate("plan.yaml", "planner."));
+  EXPECT_NO_THROW(c.CheckFingers(GripperConfig{}, "plan.yaml", "planner."));
   c.depth_max_m = 0.2;  // longer than the 0.12 m fingers
+  EXPECT_NO_THROW(c.Validate("plan.yaml", "planner."));
   try {
-    c.Validate("plan.yaml", GripperConfig{});
+    c.CheckFingers(GripperConfig{}, "plan.yaml", "planner.");
     FAIL();
   } catch (const ConfigError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("plan.yaml: depth_max_m"));
+    EXPECT_THAT(e.what(), HasSubstr("plan.yaml: planner.depth_max_m"));
     EXPECT_THAT(e.what(), HasSubstr("above the upper bound 0.12 m"));
+  }
+  c.depth_max_m = 0.35;  // longer than any platform's fingers
+  try {
+    c.Validate("plan.yaml", "planner.");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(),
+                HasSubstr("plan.yaml: planner.depth_max_m: 0.35 m is above the upper bound 0.3 m"));
   }
   c = GraspPlannerConfig{};
   c.reach_margin_m = 0.5;
-  EXPECT_THROW(c.Validate("plan.yaml", GripperConfig{}), ConfigError);
+  try {
+    c.Validate("plan.yaml", "planner.");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("plan.yaml: planner.reach_margin_m: 0.5 m is above"));
+  }
 }
 
 }  // namespace

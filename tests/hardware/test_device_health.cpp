@@ -158,17 +158,17 @@ TEST(DeviceHealthTest, MonitorRestartsTheFrameAgeAfterIdle) {
 
 TEST(DeviceHealthTest, LimitsRefuseBadValuesByKey) {
   DeviceHealthLimits limits;
-  EXPECT_NO_THROW(limits.Validate("hw.yaml"));
+  EXPECT_NO_THROW(limits.Validate("hw.yaml", "health."));
   limits.servo_max_failed_reads = 0;
   try {
-    limits.Validate("hw.yaml");
+    limits.Validate("hw.yaml", "health.");
     FAIL() << "accepted 0 failed reads";
   } catch (const ConfigError& e) {
     EXPECT_THAT(e.what(), HasSubstr("hw.yaml: health.servo_max_failed_reads"));
   }
   limits = {};
   limits.servo_max_voltage_v = 5.0;  // below the minimum
-  EXPECT_THROW(limits.Validate("hw.yaml"), ConfigError);
+  EXPECT_THROW(limits.Validate("hw.yaml", "health."), ConfigError);
 }
 
 }  // namespace

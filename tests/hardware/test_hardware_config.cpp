@@ -8,6 +8,7 @@
 #include "hardware/hardware_factory.h"
 #include "hardware/scs/scs_arms_driver.h"
 #include "hardware/sim/world.h"
+#include "tests/common/validation_message.h"
 
 namespace aerograsp {
 namespace {
@@ -118,6 +119,30 @@ TEST(HardwareFactoryTest, TheSimulatedRunGoesThroughTheRealDrivers) {
   EXPECT_TRUE(hw->autopilot().State().link_ok);
   EXPECT_EQ(hw->autopilot().State().mode, FlightMode::kHold);  // the default world starts hovering
   EXPECT_TRUE(hw->autopilot().Hold().accepted);
+}
+
+TEST(HardwareConfigTest, ValidateNamesTheFileAndTheFullKeyPath) {
+  const HardwareConfig shipped = HardwareConfig::Load(DataPath("config/hardware_sim.yaml"));
+  HardwareConfig c = shipped;
+  c.autopilot.px4.setpoint_hz = 5.0;
+  EXPECT_NE(testing::ValidationMessage(c, "h.yaml", "")
+                .find("h.yaml: autopilot.setpoint_hz: 5 Hz is below the lower bound 10 Hz"),
+            std::string::npos);
+  EXPECT_NE(
+      testing::ValidationMessage(c, "h.yaml", "hardware.")
+          .find("h.yaml: hardware.autopilot.setpoint_hz: 5 Hz is below the lower bound 10 Hz"),
+      std::string::npos);
+  c = shipped;
+  c.health.servo_max_failed_reads = 0;
+  EXPECT_NE(
+      testing::ValidationMessage(c, "h.yaml", "hardware.")
+          .find("h.yaml: hardware.health.servo_max_failed_reads: 0 is below the lower bound 1"),
+      std::string::npos);
+  c = shipped;
+  c.arms.scs.baud = 1234;
+  EXPECT_NE(testing::ValidationMessage(c, "h.yaml", "hardware.")
+                .find("h.yaml: hardware.arms.baud: 1234 is not a standard baud rate"),
+            std::string::npos);
 }
 
 }  // namespace

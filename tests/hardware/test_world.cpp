@@ -9,6 +9,7 @@
 #include "core/transforms.h"
 #include "hardware/sim/sim_devices.h"
 #include "hardware/sim/world.h"
+#include "tests/common/validation_message.h"
 
 namespace aerograsp {
 namespace {
@@ -29,7 +30,7 @@ TEST(WorldConfigTest, DefaultsAndTheShippedFileAreValid) {
   WorldConfig defaults;
   defaults.source = "defaults";
   defaults.platform = DataPath("config/platform_4dof.yaml");
-  EXPECT_NO_THROW(defaults.Validate());
+  EXPECT_NO_THROW(defaults.Validate(defaults.source, ""));
   EXPECT_NO_THROW(DefaultConfig());
 }
 
@@ -37,7 +38,7 @@ TEST(WorldConfigTest, BadValuesNameFileKeyAndBound) {
   WorldConfig c = DefaultConfig();
   c.vehicle.delay_s = -0.1;
   try {
-    c.Validate();
+    c.Validate(c.source, "");
     FAIL() << "expected a ConfigError";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("world_default.yaml: vehicle.delay_s"), std::string::npos)
@@ -45,12 +46,12 @@ TEST(WorldConfigTest, BadValuesNameFileKeyAndBound) {
   }
   c = DefaultConfig();
   c.object.motion = "fly";
-  EXPECT_THROW(c.Validate(), ConfigError);
+  EXPECT_THROW(c.Validate(c.source, ""), ConfigError);
   c = DefaultConfig();
   c.camera.d435.min_range_m = 1.0;
   c.camera.d435.max_range_m = 0.5;
   try {
-    c.Validate();
+    c.Validate(c.source, "");
     FAIL() << "expected a ConfigError";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("camera.d435.max_range_m"), std::string::npos) << e.what();
@@ -394,7 +395,7 @@ TEST(SimCameraTest, TheOccluderHidesTheObjectFullyOnlyInItsWindows) {
   config.occluder.start_s = 0.5;
   config.occluder.duration_s = 0.3;
   config.occluder.period_s = 1.0;
-  config.Validate();
+  config.Validate(config.source, "");
   World world(config, 3);
   SimCamera camera(&world);
   RgbdFrame frame;
@@ -418,7 +419,28 @@ TEST(SimCameraTest, TheOccluderHidesTheObjectFullyOnlyInItsWindows) {
     }
   }
   config.occluder.period_s = 0.2;  // shorter than the hide: it would never end
-  EXPECT_THROW(config.Validate(), ConfigError);
+  EXPECT_THROW(config.Validate(config.source, ""), ConfigError);
+}
+
+TEST(WorldConfigTest, ValidateNamesTheFileAndTheFullKeyPath) {
+  WorldConfig c = DefaultConfig();
+  c.vehicle.delay_s = 3.0;
+  EXPECT_NE(testing::ValidationMessage(c, "w.yaml", "")
+                .find("w.yaml: vehicle.delay_s: 3 s is above the upper bound 2 s"),
+            std::string::npos);
+  EXPECT_NE(testing::ValidationMessage(c, "w.yaml", "world.")
+                .find("w.yaml: world.vehicle.delay_s: 3 s is above the upper bound 2 s"),
+            std::string::npos);
+  c = DefaultConfig();
+  c.camera.image_scale = 0.7;
+  EXPECT_NE(
+      testing::ValidationMessage(c, "w.yaml", "world.").find("w.yaml: world.camera.image_scale: "),
+      std::string::npos);
+  c = DefaultConfig();
+  c.camera.d435.baseline_m = 0.5;
+  EXPECT_NE(testing::ValidationMessage(c, "w.yaml", "world.")
+                .find("w.yaml: world.camera.d435.baseline_m: 0.5 m is above the upper bound 0.2 m"),
+            std::string::npos);
 }
 
 }  // namespace

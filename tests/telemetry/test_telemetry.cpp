@@ -8,6 +8,7 @@
 #include "core/config.h"
 #include "telemetry/telemetry.h"
 #include "telemetry/telemetry_config.h"
+#include "tests/common/validation_message.h"
 
 namespace aerograsp {
 namespace {
@@ -118,6 +119,20 @@ TEST(TelemetryConfigTest, BadValuesAreNamedWithTheirBound) {
   EXPECT_THAT(LoadError("mcap:\n  compression: gzip\n"), ::testing::HasSubstr("mcap.compression"));
   EXPECT_THAT(LoadError("mcap:\n  image_rate_hz: 0\n"), ::testing::HasSubstr("image_rate_hz"));
   EXPECT_THAT(LoadError("mcap:\n  imge_rate_hz: 2\n"), ::testing::HasSubstr("imge_rate_hz"));
+}
+
+TEST(TelemetryConfigTest, ValidateNamesTheFileAndTheFullKeyPath) {
+  TelemetryConfig c;
+  c.mcap.jpeg_quality = 5;
+  EXPECT_THAT(testing::ValidationMessage(c, "t.yaml", ""),
+              ::testing::HasSubstr("t.yaml: mcap.jpeg_quality: 5 is below the lower bound 10"));
+  EXPECT_THAT(
+      testing::ValidationMessage(c, "t.yaml", "telemetry."),
+      ::testing::HasSubstr("t.yaml: telemetry.mcap.jpeg_quality: 5 is below the lower bound 10"));
+  c = TelemetryConfig{};
+  c.ros2.topic_namespace = "/robot";
+  EXPECT_THAT(testing::ValidationMessage(c, "t.yaml", "telemetry."),
+              ::testing::HasSubstr("t.yaml: telemetry.ros2.topic_namespace: '/robot' must not"));
 }
 
 }  // namespace
