@@ -195,7 +195,7 @@ TEST(MissionConfigTest, TheShippedConfigLoadsAndBadFieldsAreNamed) {
   EXPECT_THAT(gain, ::testing::HasSubstr("mission.yaml: servo.gain_per_s"));
   EXPECT_THAT(gain, ::testing::HasSubstr("50"));
   EXPECT_THAT(message("planner:\n  depth_max_m: 0.5\n"),
-              ::testing::HasSubstr("mission.yaml: planner: depth_max_m"));
+              ::testing::HasSubstr("mission.yaml: planner.depth_max_m: 0.5 m is above"));
   EXPECT_THAT(message("grasp_sequence:\n  grasp_tolerance:\n    position_m: 0\n"),
               ::testing::HasSubstr("grasp_sequence.grasp_tolerance.position_m"));
   EXPECT_THAT(message("servo:\n  gain: 15\n"), ::testing::HasSubstr("servo.gain: unknown key"));
@@ -402,10 +402,12 @@ TEST(MissionConfigTest, ValidateNamesTheFileAndTheFullKeyPath) {
   const MissionConfig shipped = MissionConfig::Load(DataDir() + "/config/mission_default.yaml");
   MissionConfig c = shipped;
   c.takeoff_altitude_m = 30.0;
-  EXPECT_THAT(testing::ValidationMessage(c, "m.yaml", ""),
-              HasSubstr("m.yaml: takeoff_altitude_m: 30 m is above the upper bound 20 m"));
+  EXPECT_THAT(
+      testing::ValidationMessage(c, "m.yaml", ""),
+      ::testing::HasSubstr("m.yaml: takeoff_altitude_m: 30 m is above the upper bound 20 m"));
   EXPECT_THAT(testing::ValidationMessage(c, "m.yaml", "mission."),
-              HasSubstr("m.yaml: mission.takeoff_altitude_m: 30 m is above the upper bound 20 m"));
+              ::testing::HasSubstr(
+                  "m.yaml: mission.takeoff_altitude_m: 30 m is above the upper bound 20 m"));
   c = shipped;
   c.planner.depth_max_m = 0.35;
   EXPECT_THAT(
