@@ -410,14 +410,14 @@ TEST(MissionConfigTest, ValidateNamesTheFileAndTheFullKeyPath) {
                   "m.yaml: mission.takeoff_altitude_m: 30 m is above the upper bound 20 m"));
   c = shipped;
   c.planner.depth_max_m = 0.35;
-  EXPECT_THAT(
-      testing::ValidationMessage(c, "m.yaml", "mission."),
-      HasSubstr("m.yaml: mission.planner.depth_max_m: 0.35 m is above the upper bound 0.3 m"));
+  EXPECT_THAT(testing::ValidationMessage(c, "m.yaml", "mission."),
+              ::testing::HasSubstr(
+                  "m.yaml: mission.planner.depth_max_m: 0.35 m is above the upper bound 0.3 m"));
   c = shipped;
   c.servo.gain_per_s = 60.0;
-  EXPECT_THAT(
-      testing::ValidationMessage(c, "m.yaml", "mission."),
-      HasSubstr("m.yaml: mission.servo.gain_per_s: 60 1/s is above the upper bound 50 1/s"));
+  EXPECT_THAT(testing::ValidationMessage(c, "m.yaml", "mission."),
+              ::testing::HasSubstr(
+                  "m.yaml: mission.servo.gain_per_s: 60 1/s is above the upper bound 50 1/s"));
 }
 
 }  // namespace
