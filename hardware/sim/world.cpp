@@ -241,6 +241,7 @@ void World::UpdateGripper(Side side, double dt_s) {
     g.state.moving = g.state.aperture_m < gc.max_aperture_m;
     g.state.closed = false;
     g.state.holding = false;
+    g.last_contact_m = -1.0;
     return;
   }
   if (g.state.holding) {  // fingers rest on the object
@@ -250,7 +251,15 @@ void World::UpdateGripper(Side side, double dt_s) {
   bool spans = false;
   const double contact = ClosingWidth(side, &spans);
   const double next = std::max(0.0, g.state.aperture_m - rate * dt_s);
-  if (spans && next <= contact && g.state.aperture_m >= contact) {
+  // The pads touch the object when, during this step, the gap between them
+  // narrows past its width: they were clear of it at the start of the step
+  // (the width where the object was then) and meet it at its end. Relative
+  // motion widens the width as the pads close, so comparing both ends with
+  // one width would let a pad pass through the object between two steps.
+  const bool clear_before = g.state.aperture_m >= contact ||
+                            (g.last_contact_m >= 0.0 && g.state.aperture_m >= g.last_contact_m);
+  g.last_contact_m = spans ? contact : -1.0;
+  if (spans && next <= contact && clear_before) {
     g.eMo = wMe(side).inverse() * wMo_;
     object_free_ = true;
     g.state = {contact, false, true, true};

@@ -136,6 +136,9 @@ class World {
     GripperCommand command = GripperCommand::kOpen;
     GripperState state;
     Eigen::Isometry3d eMo = Eigen::Isometry3d::Identity();
+    /// The object's width between the pads at the end of the last step, m;
+    /// negative when the pads did not span it then.
+    double last_contact_m = -1.0;
   };
   void PhysicsStep(double dt_s);
   void UpdateGripper(Side side, double dt_s);

@@ -197,20 +197,22 @@ TEST(WorldTest, NaNJointTargetsAreIgnored) {
 /// object's z (the track's 0.08 m height fits the 0.12 m opening;
 /// tools/make_objects.py draws the crawler).
 constexpr double kTrackCentre_m = 0.0375;
+/// The object placed at offset_e from the left tool point: tool x (closing)
+/// along object z, tool z (approach) along object x.
+void PlaceAtLeftTool(World* world, const Eigen::Vector3d& offset_e) {
+  Eigen::Matrix3d eRo;
+  eRo.col(0) = Eigen::Vector3d(0, 0, 1);   // o x in e = e z
+  eRo.col(1) = Eigen::Vector3d(0, 1, 0);   // o y in e
+  eRo.col(2) = Eigen::Vector3d(-1, 0, 0);  // o z in e = -e x
+  Eigen::Isometry3d eMo = Eigen::Isometry3d::Identity();
+  eMo.linear() = eRo;
+  eMo.translation() = offset_e;
+  world->PlaceObject(world->wMe(Side::kLeft) * eMo);
+}
 class GripperTest : public ::testing::Test {
  protected:
   GripperTest() : world_(CalmConfig(), 1), arms_(&world_) {}
-  void PlaceAtTool(const Eigen::Vector3d& offset_e) {
-    // Tool x (closing) along object z; tool z (approach) along object x.
-    Eigen::Matrix3d eRo;
-    eRo.col(0) = Eigen::Vector3d(0, 0, 1);   // o x in e = e z
-    eRo.col(1) = Eigen::Vector3d(0, 1, 0);   // o y in e
-    eRo.col(2) = Eigen::Vector3d(-1, 0, 0);  // o z in e = -e x
-    Eigen::Isometry3d eMo = Eigen::Isometry3d::Identity();
-    eMo.linear() = eRo;
-    eMo.translation() = offset_e;
-    world_.PlaceObject(world_.wMe(Side::kLeft) * eMo);
-  }
+  void PlaceAtTool(const Eigen::Vector3d& offset_e) { PlaceAtLeftTool(&world_, offset_e); }
   World world_;
   SimArmsDriver arms_;
 };
@@ -279,6 +281,29 @@ TEST_F(GripperTest, OffCentreWithinTheOpeningStillHolds) {
   world_.Step(1.0);
   EXPECT_TRUE(arms_.Gripper(Side::kLeft).holding);
   EXPECT_NEAR(arms_.Gripper(Side::kLeft).aperture_m, world_.object().dimensions_m.z() + 0.01, 1e-6);
+}
+
+// The object slides toward one pad while the pads close (a swaying vehicle
+// moves the tool against the object at up to about 0.1 m/s): the width
+// between the pads then grows as the gap narrows and the two meet between
+// two physics steps; the pads hold it where they meet, not pass through it.
+TEST(GripperSlidingTest, PadsMeetAnObjectSlidingTowardOneOfThemAndHoldIt) {
+  constexpr double kStep_s = 0.002;
+  for (double speed_mps = 0.02; speed_mps <= 0.12 + 1e-9; speed_mps += 0.01) {
+    World world(CalmConfig(), 1);
+    SimArmsDriver arms(&world);
+    arms.SetGripper(Side::kLeft, GripperCommand::kClose);
+    for (double t = 0.0; t < 0.3 && !arms.Gripper(Side::kLeft).holding; t += kStep_s) {
+      PlaceAtLeftTool(&world, Eigen::Vector3d(speed_mps * t, kTrackCentre_m, 0.0));
+      world.Step(kStep_s);
+    }
+    const GripperState g = arms.Gripper(Side::kLeft);
+    EXPECT_TRUE(g.holding) << speed_mps << " m/s";
+    // They meet where the 0.08 m track, off centre by d = v t, spans 0.08 + 2 d
+    // of the gap 0.12 - 0.15 t.
+    const double meet_s = 0.04 / (0.15 + 2.0 * speed_mps);
+    EXPECT_NEAR(g.aperture_m, 0.12 - 0.15 * meet_s, 0.002) << speed_mps << " m/s";
+  }
 }
 
 TEST_F(GripperTest, ClosingOnNothingClosesFully) {
