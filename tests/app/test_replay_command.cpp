@@ -144,6 +144,7 @@ TEST_F(ReplayCommandTest, TheFilterRunsInTheWorldWithTheRecordedVehicleStates) {
   fs::copy(sequence_, copy, fs::copy_options::recursive);
   fs::remove(fs::path(copy) / "vehicle.csv");
   options_.sequence = copy;
+  options_.overwrite = true;  // the report above
   EXPECT_THAT([&] { Run(); },
               ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("vehicle.csv")));
   options_.filter_frame = "body";
