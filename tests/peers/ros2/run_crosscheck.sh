@@ -15,9 +15,15 @@ work="$(mktemp -d)"
 peer_pid=""
 cleanup() { [ -n "$peer_pid" ] && kill "$peer_pid" 2>/dev/null; rm -rf "$work"; }
 trap cleanup EXIT
-"$peer" listen "$domain" aerograsp "$work/received.jsonl" --timeout-s 60 --ready-file "$work/ready" &
-peer_pid=$!
-"$tool" "$domain" aerograsp "$dds_config" "$work/expected.json" "$work/ready"
-wait "$peer_pid"
-peer_pid=""
-node "$here/crosscheck.js" "$work/received.jsonl" "$work/expected.json"
+exchange() {
+  rm -f "$work/ready" "$work/received.jsonl" "$work/expected.json"
+  "$peer" listen "$domain" aerograsp "$work/received.jsonl" --timeout-s 60 --ready-file "$work/ready" &
+  peer_pid=$!
+  "$tool" "$domain" aerograsp "$dds_config" "$work/expected.json" "$work/ready"
+  wait "$peer_pid"
+  peer_pid=""
+  node "$here/crosscheck.js" "$work/received.jsonl" "$work/expected.json"
+}
+# A second exchange when the first fails: about one exchange in ten loses every sample of a
+# few topics in transit (best-effort and reliable alike), while a wrong encoding fails both.
+exchange || { echo "run_crosscheck: the first exchange failed; a second one decides"; exchange; }
