@@ -16,6 +16,8 @@
 
 namespace aerograsp {
 
+struct FrameReport;
+
 /// One log row (the runner writes one per camera frame).
 struct MissionSample {
   double t_s = 0.0;  ///< simulated (or wall) mission time
@@ -68,5 +70,10 @@ struct MissionRecord {
   std::vector<MissionGraspSwitch> switches;
   std::optional<MissionSnapshot> snapshot;
 };
+
+/// The report's camera frame: `color`, taken at `t_s` through `K`, with the
+/// tracker's detector box and pose estimate of it (`report`).
+MissionSnapshot FrameSnapshot(double t_s, const ColorImage& color, const CameraIntrinsics& K,
+                              const FrameReport& report);
 
 }  // namespace aerograsp

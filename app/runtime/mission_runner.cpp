@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <future>
 #include <memory>
 #include <thread>
@@ -16,27 +15,24 @@
 #include "app/runtime/mission_grasp.h"
 #include "app/runtime/mission_health.h"
 #include "app/runtime/mission_object.h"
+#include "app/runtime/mission_startup.h"
 #include "app/runtime/mission_vehicle.h"
 #include "app/runtime/telemetry_frames.h"
 #include "core/collision.h"
-#include "core/data_dir.h"
 #include "core/object_model.h"
 #include "core/thread_clock.h"
 #include "detection/model_cloud.h"
 #include "detection/object_tracker.h"
-#include "detection/perception_config.h"
 #include "grasp/placement.h"
 #include "grasp/planner.h"
 #include "hardware/hardware_factory.h"
 #include "hardware/sim/world.h"
-#include "hardware/sim/world_config.h"
 #include "mission/grasp_policy.h"
 #include "mission/state_machines.h"
 
 namespace aerograsp {
 namespace {
 
-namespace fs = std::filesystem;
 using WallClock = std::chrono::steady_clock;
 
 /// One frame's result.
@@ -134,37 +130,12 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
       vision_([this](const StateTransition& t) { OnTransition(t); }),
       planner_sm_(1, {}),
       arms_([this](const StateTransition& t) { OnTransition(t); }) {
-  const std::string config_path =
-      options.config_path.empty() ? DataPath("config/mission_default.yaml") : options.config_path;
-  config_ = MissionConfig::Load(config_path);
-  if (options.timeout_s > 0) config_.timeout_s = options.timeout_s;
+  config_ = LoadMissionConfig(options);
   planner_sm_ = PlannerMachine(config_.policy.max_attempts,
                                [this](const StateTransition& t) { OnTransition(t); });
-  if (options.arm_type != "4dof" && options.arm_type != "6dof") {
-    throw ConfigError("--arm: '" + options.arm_type + "' is not one of 4dof, 6dof");
-  }
-  const std::string platform_path = DataPath("config/platform_" + options.arm_type + ".yaml");
-  HardwareConfig hw_config;
-  if (options.hardware_path.empty()) {
-    hw_config = HardwareConfig::InProcessSimulation(platform_path, config_.world);
-  } else {
-    hw_config = HardwareConfig::Load(options.hardware_path);
-    hw_config.world = config_.world;  // simulated devices fly the mission's world
-  }
-  const auto adjust = [&](WorldConfig* w) {
-    if (!options.object.empty()) w->object.name = options.object;
-    if (!options.motion.empty()) w->object.motion = options.motion;
-    if (options.object_speed_mps >= 0) w->object.speed_mps = options.object_speed_mps;
-    if (options.sway_amplitude_m >= 0) {
-      w->vehicle.sway_amplitude_m = Eigen::Vector3d(1.0, 1.0, 2.0 / 3.0) * options.sway_amplitude_m;
-    }
-    if (options.sway_frequency_hz >= 0)
-      w->vehicle.sway_frequency_hz.setConstant(options.sway_frequency_hz);
-    if (options.adjust_world) options.adjust_world(w);
-  };
-  if (options.adjust_hardware) options.adjust_hardware(&hw_config);
-  hw_ = Hardware::Open(hw_config, options.seed, adjust);
-  health_ = std::make_unique<MissionHealth>(hw_.get(), hw_config.health);
+  DeviceHealthLimits health;
+  hw_ = OpenMissionHardware(options, config_, &health);
+  health_ = std::make_unique<MissionHealth>(hw_.get(), health);
   for (int a = 0; a < 2; ++a) {  // camera-to-arm calibrations: dMb = dMc * cMb
     if (config_.calibrated_cMb[a])
       hw_->SetArmBase(kSides[a], hw_->platform().dMc() * *config_.calibrated_cMb[a]);
@@ -174,41 +145,11 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
   if (!world) hw_->StartDriverThreads();  // else Tick() steps the drivers with the world
   const Platform& platform = hw_->platform();
 
-  object_ = std::make_unique<ObjectModel>(
-      world ? world->object()
-            : ObjectModel::Load(options.object.empty() ? "crawler" : options.object));
-  std::unique_ptr<BoxDetector> detector;
-  const fs::path onnx = fs::path(object_->source).parent_path() / "detector.onnx";
-  if (fs::exists(onnx)) detector = std::make_unique<BoxDetector>(onnx.string());
-  const PerceptionOptions perception =
-      config_.perception.empty() ? PerceptionOptions{} : LoadPerceptionOptions(config_.perception);
-  tracker_ = std::make_unique<ObjectTracker>(*object_, perception, std::move(detector));
-
-  GraspPlannerConfig planner_config = config_.planner;
-  planner_config.CheckFingers(platform.config().gripper, config_.source, "planner.");
-  GraspObject grasp_object{object_->name, object_->mesh_o, object_->mass_kg,
-                           object_->center_of_mass_o};
-  ContactSet contacts =
-      ComputeContactPairs(object_->mesh_o, platform.config().gripper, planner_config.contacts);
-  planner_ = std::make_unique<GraspPlanner>(platform, std::move(grasp_object), std::move(contacts),
-                                            planner_config);
-  // Where the vehicle holds the object: searched once for this object and these arms.
-  if (config_.placement.Searches()) {
-    const Placement placement =
-        ChoosePlacement(*planner_, config_.grasp_dto_m, config_.placement,
-                        platform.home(Side::kLeft), platform.home(Side::kRight));
-    const Eigen::Vector3d& p = placement.dMo.translation();
-    Log(Now(),
-        fmt::format("placement: the object at [{:.3f}, {:.3f}, {:.3f}] m in the body frame ({} "
-                    "points searched around [{:.3f}, {:.3f}, {:.3f}] m): left {}, right {} "
-                    "grasps clear of its ends through the sway (at the centre: {}, {}); {} dual "
-                    "grasps of them ranked",
-                    p.x(), p.y(), p.z(), placement.points, config_.grasp_dto_m.x(),
-                    config_.grasp_dto_m.y(), config_.grasp_dto_m.z(), placement.robust_pairs[0],
-                    placement.robust_pairs[1], placement.nominal_robust_pairs[0],
-                    placement.nominal_robust_pairs[1], placement.dual_grasps));
-    config_.grasp_dto_m = p;
-  }
+  object_ = std::make_unique<ObjectModel>(LoadMissionObject(options, world));
+  tracker_ = MakeMissionTracker(*object_, config_);
+  planner_ = MakeMissionPlanner(platform, *object_, config_);
+  const std::string placement = PlaceMissionObject(*planner_, platform, &config_);
+  if (!placement.empty()) Log(Now(), placement);
   placement_dRo_ = UprightDmo(config_.grasp_dto_m, config_.placement.object_yaw_rad).linear();
 
   collision_ = std::make_unique<PlatformCollision>(platform);
@@ -392,20 +333,8 @@ void Mission::HandlePerceived(Perceived p) {
   const int priority = !found ? 0 : grasp_->active() ? 2 : 1;
   if (priority > 0 && priority >= snapshot_priority_ && !grasp_->holding()) {
     snapshot_priority_ = priority;
-    MissionSnapshot snap;
-    snap.t_s = p.frame->stamp_s;
-    snap.color = p.frame->color;
-    snap.K = hw_->camera().intrinsics();
-    if (p.report.detection) {
-      snap.has_box = true;
-      snap.box_x0 = p.report.detection->box.x0;
-      snap.box_y0 = p.report.detection->box.y0;
-      snap.box_x1 = p.report.detection->box.x1;
-      snap.box_y1 = p.report.detection->box.y1;
-    }
-    snap.has_pose = estimate.valid;
-    snap.cMo = estimate.cMo;
-    record_->snapshot = std::move(snap);
+    record_->snapshot =
+        FrameSnapshot(p.frame->stamp_s, p.frame->color, hw_->camera().intrinsics(), p.report);
   }
 }
 

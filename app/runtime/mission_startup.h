@@ -1,0 +1,57 @@
+// The mission's start-up: its config, devices, object, tracker, planner and
+// the object's placement, built from the command's options before take-off.
+// app/runtime/mission_runner.cpp wires them together and runs the loop.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "app/runtime/mission_config.h"
+#include "app/runtime/mission_runner.h"
+#include "core/object_model.h"
+
+namespace aerograsp {
+
+class GraspPlanner;
+class Hardware;
+class ObjectTracker;
+class Platform;
+class World;
+struct DeviceHealthLimits;
+
+/// The mission config `options` names (data/config/mission_default.yaml when
+/// none), with the options' timeout.
+/// @throws ConfigError on a bad file
+MissionConfig LoadMissionConfig(const MissionOptions& options);
+
+/// The devices: every one simulated in-process, or the options' hardware file's
+/// (its simulated devices fly the config's world), the world changed by the
+/// options' object, motion, speed and sway. `health` receives what the
+/// hardware file treats as a device fault.
+/// @throws ConfigError on an unknown arm type or a bad file
+std::unique_ptr<Hardware> OpenMissionHardware(const MissionOptions& options,
+                                              const MissionConfig& config,
+                                              DeviceHealthLimits* health);
+
+/// The object to grasp: the simulated world's, else the options' (the crawler
+/// when none).
+ObjectModel LoadMissionObject(const MissionOptions& options, const World* world);
+
+/// The tracker of `object` with the config's perception settings and the
+/// object's detector when it has one (detector.onnx beside its model).
+std::unique_ptr<ObjectTracker> MakeMissionTracker(const ObjectModel& object,
+                                                  const MissionConfig& config);
+
+/// The dual-grasp planner of `object` on `platform` with the config's settings.
+/// @throws ConfigError when the planner's fingers do not fit the gripper
+std::unique_ptr<GraspPlanner> MakeMissionPlanner(const Platform& platform,
+                                                 const ObjectModel& object,
+                                                 const MissionConfig& config);
+
+/// Where the vehicle holds the object, searched once for this object and these
+/// arms when the config's placement asks for it: `config->grasp_dto_m` moves
+/// there. Returns the line to log (empty: no search).
+std::string PlaceMissionObject(const GraspPlanner& planner, const Platform& platform,
+                               MissionConfig* config);
+
+}  // namespace aerograsp
