@@ -264,6 +264,7 @@ int main(int argc, char** argv) {
       "are still missing");
   calibrate_cmd->add_option("--out", calibrate.out_dir,
                             "Folder for the samples, the calibration and the report");
+  calibrate_cmd->add_flag("--overwrite", calibrate.overwrite, "Replace a report already in --out");
   calibrate_cmd
       ->add_option("--resolve", calibrate.resolve_dir,
                    "Solve again from the samples saved in this folder (ours, or a data set "

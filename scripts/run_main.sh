@@ -15,7 +15,7 @@ OUT_DIR=${OUT_DIR:-$BUILD_DIR/main_job}
 "$BUILD_DIR/app/aerograsp" mission --seed 1 --out "$OUT_DIR/mission" --overwrite
 "$BUILD_DIR/app/aerograsp" record --out "$OUT_DIR/sequence" --frames 90 --seed 1 --motion crawl --overwrite
 "$BUILD_DIR/app/aerograsp" replay "$OUT_DIR/sequence" --out "$OUT_DIR/replay" --filter-frame world --overwrite
-"$BUILD_DIR/app/aerograsp" calibrate --arm left --out "$OUT_DIR/calibration"
+"$BUILD_DIR/app/aerograsp" calibrate --arm left --out "$OUT_DIR/calibration" --overwrite
 # The mission's MCAP log opened by an independent reader (@mcap/core, CRCs checked) and every
 # message decoded with its ROS 2 definition; its channels, message counts and size are printed.
 bash tests/peers/mcap/run_check.sh --file "$OUT_DIR/mission/mission.mcap"

@@ -3,8 +3,11 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <functional>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <optional>
+#include <streambuf>
 
 #include "app/calibration/calibrate_intrinsics.h"
 #include "app/calibration/calibration_hardware.h"
@@ -16,6 +19,8 @@
 #include "app/calibration/interrupt_guard.h"
 #include "app/calibration/tag_board_mesh.h"
 #include "app/report/progress.h"
+#include "app/report/report_folder.h"
+#include "app/report/summary_file.h"
 #include "app/runtime/telemetry_frames.h"
 #include "core/collision.h"
 #include "core/config.h"
@@ -196,13 +201,93 @@ void RunHandEyeWizard(const CalibrateCommandOptions& options, HandEyeHardware& h
 
 namespace {
 
+/// Forwards what is written to `to` line by line (and at each flush) with the
+/// report's temporary folder named as it will be after the commit.
+class ShownPaths : public std::streambuf {
+ public:
+  ShownPaths(std::ostream& to, const ReportFolder& folder) : to_(to), folder_(folder) {}
+  ~ShownPaths() override { sync(); }
+  ShownPaths(const ShownPaths&) = delete;
+  ShownPaths& operator=(const ShownPaths&) = delete;
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
+    pending_.push_back(traits_type::to_char_type(c));
+    if (pending_.back() == '\n') sync();
+    return c;
+  }
+  int sync() override {
+    if (!pending_.empty()) to_ << folder_.Final(pending_);
+    pending_.clear();
+    to_.flush();
+    return to_ ? 0 : -1;
+  }
+
+ private:
+  std::ostream& to_;
+  const ReportFolder& folder_;
+  std::string pending_;
+};
+
+/// The same exception type as the one being handled, with `message`.
+[[noreturn]] void RethrowWith(const std::string& message) {
+  try {
+    throw;
+  } catch (const HardwareError&) {
+    throw HardwareError(message);
+  } catch (const ConfigError&) {
+    throw ConfigError(message);
+  } catch (...) {
+    throw std::runtime_error(message);
+  }
+}
+
+/// Runs `run` (the hand-eye wizard or the intrinsics) with its options'
+/// out_dir a ReportFolder's temporary folder and its output naming the final
+/// one (without --out: as given). A run that throws after `taken` (the file
+/// its samples are kept in) was written commits them with a summary.json
+/// saying why it stopped, then throws the same error.
+void InReportFolder(const CalibrateCommandOptions& options, const std::string& taken,
+                    std::ostream& out,
+                    const std::function<void(const CalibrateCommandOptions&, std::ostream&)>& run) {
+  if (options.out_dir.empty()) {
+    run(options, out);
+    return;
+  }
+  ReportFolder folder(options.out_dir, options.overwrite);
+  ShownPaths shown(out, folder);
+  std::ostream shown_out(&shown);
+  CalibrateCommandOptions in_folder = options;
+  in_folder.out_dir = folder.path();
+  const fs::path work(folder.path());
+  try {
+    run(in_folder, shown_out);
+  } catch (const std::exception& e) {
+    shown_out.flush();
+    const std::string error = folder.Final(e.what());
+    if (fs::exists(work / taken)) {
+      if (!fs::exists(work / "summary.json")) {
+        WriteSummaryFile(
+            folder.path(),
+            nlohmann::json{{"stopped_early", true}, {"error", error}, {"samples_file", taken}}.dump(
+                2));
+      }
+      folder.Commit();
+    }  // else nothing was taken: an earlier report stays as it was
+    RethrowWith(error);
+  }
+  shown_out.flush();
+  if (!fs::exists(work / "summary.json")) {  // a dry run: the board and the plan
+    WriteSummaryFile(folder.path(), nlohmann::json{{"dry_run", true}}.dump(2));
+  }
+  folder.Commit();
+}
+
 void RunWizard(const CalibrateCommandOptions& options, std::istream& in, std::ostream& out,
                std::ostream& progress) {
   const Side side = ParseSide(options.arm);
-  if (options.out_dir.empty() && !options.dry_run)
-    throw ConfigError("--out: an output folder is required");
   if (!options.out_dir.empty()) {  // the board to print, before any device is needed
-    fs::create_directories(options.out_dir);
     WriteBoardSvg(CalibrationRig::Load(options.hardware_path).board,
                   (fs::path(options.out_dir) / "board.svg").string());
   }
@@ -266,10 +351,18 @@ void RunCalibrateCommand(const CalibrateCommandOptions& options, std::istream& i
     return;
   }
   if (options.intrinsics) {
-    RunCalibrateIntrinsics(options, out, progress);
+    InReportFolder(options, "views.yaml", out,
+                   [&progress](const CalibrateCommandOptions& o, std::ostream& shown) {
+                     RunCalibrateIntrinsics(o, shown, progress);
+                   });
     return;
   }
-  RunWizard(options, in, out, progress);
+  if (options.out_dir.empty() && !options.dry_run)
+    throw ConfigError("--out: an output folder is required");
+  InReportFolder(options, "samples.yaml", out,
+                 [&in, &progress](const CalibrateCommandOptions& o, std::ostream& shown) {
+                   RunWizard(o, in, shown, progress);
+                 });
 }
 
 void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& out,

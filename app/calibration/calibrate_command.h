@@ -17,7 +17,8 @@ struct CalibrateCommandOptions {
   std::string arm{"left"};  ///< "left" | "right"
   /// the camera's intrinsics instead of an arm (app/calibration/calibrate_intrinsics.h)
   bool intrinsics = false;
-  std::string out_dir;  ///< samples, calibration YAML, summary.json
+  std::string out_dir;     ///< samples, calibration YAML, summary.json
+  bool overwrite = false;  ///< replace a report already in out_dir
   /// when set: solve again from the samples (or views) saved there, ours (samples.yaml) or in
   /// ViSP's convention (pose_rPe_N.yaml ...)
   std::string resolve_dir;
@@ -36,6 +37,13 @@ struct CalibrateCommandOptions {
 
 class HandEyeHardware;
 
+/// The report is written as a transaction (app/report/report_folder.h): an
+/// earlier report in `out_dir` is refused unless `overwrite`; a run that fails
+/// before a sample or view was taken leaves an earlier report as it was; one
+/// stopped after (Ctrl-C, a device fault, no usable samples) commits what it
+/// took with a summary.json saying why it stopped (`stopped_early`, `error`)
+/// and throws; a dry run's report is the board, the plan and a summary.json
+/// (`dry_run`). `--resolve DIR` solves again in DIR itself.
 /// With `intrinsics`, runs RunCalibrateIntrinsics (app/calibration/calibrate_intrinsics.h);
 /// `--resolve` picks the kind from what DIR holds (our samples.yaml, intrinsics
 /// views, or a data set in ViSP's convention, app/calibration/calibration_visp.h).

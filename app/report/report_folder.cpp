@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cctype>
 #include <filesystem>
 #include <stdexcept>
 #include <system_error>
@@ -52,9 +53,22 @@ ReportFolder::~ReportFolder() {
 }
 
 std::string ReportFolder::Final(const std::string& written) const {
-  if (written == work_) return shown_;
-  if (written.rfind(work_ + "/", 0) == 0) return shown_ + written.substr(work_.size());
-  return written;
+  std::string text;
+  std::size_t from = 0;
+  for (std::size_t at = written.find(work_); at != std::string::npos;
+       at = written.find(work_, at + 1)) {
+    const std::size_t end = at + work_.size();
+    const auto name_char = [&written](std::size_t i) {
+      return i < written.size() && (std::isalnum(static_cast<unsigned char>(written[i])) ||
+                                    written[i] == '_' || written[i] == '-');
+    };
+    // Another folder whose name starts with ours is not ours (a full stop may end a sentence).
+    if (name_char(end) || (end < written.size() && written[end] == '.' && name_char(end + 1)))
+      continue;
+    text += written.substr(from, at - from) + shown_;
+    from = end;
+  }
+  return text + written.substr(from);
 }
 
 const std::string& ReportFolder::Commit() {

@@ -32,8 +32,8 @@ class ReportFolder {
   const std::string& path() const { return work_; }
   /// Where the report will be, as the user gave it.
   const std::string& final_path() const { return shown_; }
-  /// A path under path() (or a message that starts with one) as it will read
-  /// after the commit, for what the command prints.
+  /// A path under path(), or a message naming such paths anywhere in it, as it
+  /// will read after the commit, for what the command prints.
   std::string Final(const std::string& written) const;
   /// Moves the report into place (replacing an earlier one); returns final_path().
   /// @throws std::runtime_error naming DIR when it cannot.

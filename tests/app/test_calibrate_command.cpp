@@ -17,6 +17,7 @@
 #include "core/random.h"
 #include "core/transforms.h"
 #include "hardware/sim/world.h"
+#include "tests/common/earlier_report.h"
 #include "tests/common/output_folder_test.h"
 #include "tests/common/validation_message.h"
 
@@ -29,9 +30,15 @@ using ::testing::Not;
 class CalibrateCommandTest : public testing::OutputFolderTest {
  protected:
   CalibrateCommandTest() : OutputFolderTest("aerograsp_calibrate_") {}
+  void TearDown() override {
+    OutputFolderTest::TearDown();
+    fs::remove_all(inputs());
+  }
+  /// The test's input files, beside its report folder.
+  std::string inputs() const { return folder_ + ".in"; }
 
-  /// data/config/hardware_sim.yaml in the test's folder (its paths made absolute)
-  /// with each `replace` pair applied to its text.
+  /// data/config/hardware_sim.yaml in inputs() (its paths made absolute) with
+  /// each `replace` pair applied to its text.
   std::string SimHardware(const std::vector<std::pair<std::string, std::string>>& replace) {
     std::ifstream in(DataPath("config/hardware_sim.yaml"));
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -43,8 +50,8 @@ class CalibrateCommandTest : public testing::OutputFolderTest {
     sub("platform: platform_4dof.yaml", "platform: " + DataPath("config/platform_4dof.yaml"));
     sub("world: world_default.yaml", "world: " + DataPath("config/world_default.yaml"));
     for (const auto& [from, to] : replace) sub(from, to);
-    fs::create_directories(folder_);
-    const std::string path = (fs::path(folder_) / "hw.yaml").string();
+    fs::create_directories(inputs());
+    const std::string path = (fs::path(inputs()) / "hw.yaml").string();
     std::ofstream(path) << text;
     return path;
   }
@@ -187,11 +194,14 @@ TEST_F(CalibrateCommandTest, TheRealDriverOnTheSimulatedBusReachesTheSimulatorsA
 }
 
 // A servo that stops answering mid-run (the simulated bus silences it from
-// 20 s of simulated time): both arms stop, the samples taken are kept.
+// 20 s of simulated time): both arms stop, the samples taken are kept, in a
+// report that says why it stopped and holds nothing of the earlier one.
 TEST_F(CalibrateCommandTest, AServoThatStopsAnsweringStopsTheArmsAndKeepsTheSamples) {
+  testing::PlantEarlierReport(folder_);
   CalibrateCommandOptions options;
   options.arm = "left";
   options.out_dir = folder_;
+  options.overwrite = true;
   options.poses = 14;
   options.yes = true;
   options.hardware_path =
@@ -207,7 +217,12 @@ TEST_F(CalibrateCommandTest, AServoThatStopsAnsweringStopsTheArmsAndKeepsTheSamp
   EXPECT_GE(samples.size(), 2u);
   EXPECT_LT(samples.size(), 14u);
   EXPECT_THAT(error,
-              HasSubstr(fmt::format("the {} samples taken so far are kept", samples.size())));
+              HasSubstr(fmt::format("the {} samples taken so far are kept in {}/samples.yaml "
+                                    "(solve them with `calibrate --resolve {}`)",
+                                    samples.size(), folder_, folder_)));
+  testing::ExpectReplacedTheEarlierReport(folder_);
+  EXPECT_TRUE(Summary()["stopped_early"].get<bool>());
+  EXPECT_EQ(Summary()["error"].get<std::string>(), error);
 }
 
 /// The person at the limp arm: each time the wizard waits for a line, the
@@ -384,6 +399,41 @@ TEST_F(CalibrateCommandTest, AllSamplesRejectedSaysSoAndKeepsThem) {
   EXPECT_THAT(out.str(), HasSubstr("rejected: arm not settled"));
   EXPECT_TRUE(fs::exists(fs::path(folder_) / "samples.yaml"));
   EXPECT_TRUE(fs::exists(fs::path(folder_) / "samples" / "003.png"));
+  EXPECT_TRUE(Summary()["stopped_early"].get<bool>());
+}
+
+// A dry run's report (the board, the plan) is an earlier report like any:
+// refused without --overwrite, replaced with it.
+TEST_F(CalibrateCommandTest, AnEarlierReportIsRefusedAndReplacedWithOverwrite) {
+  CalibrateCommandOptions options;
+  options.out_dir = folder_;
+  options.poses = 4;
+  options.dry_run = true;
+  std::ostringstream out;
+  testing::ExpectRefusesAnEarlierReport([&] { RunCalibrateCommand(options, out, out); }, folder_);
+  options.overwrite = true;
+  EXPECT_EQ(ErrorOf(options, &out), "no error");
+  testing::ExpectReplacedTheEarlierReport(folder_);
+  EXPECT_TRUE(Summary()["dry_run"].get<bool>());
+  EXPECT_TRUE(fs::exists(fs::path(folder_) / "board.svg"));
+  EXPECT_THAT(out.str(), Not(HasSubstr(".partial-")));  // the folder named as it is now
+}
+
+// A run that fails before its first sample (the arm's move not confirmed)
+// leaves the earlier report as it was, and nothing of its own.
+TEST_F(CalibrateCommandTest, ARunFailingBeforeItsFirstSampleKeepsTheEarlierReportWhole) {
+  testing::PlantEarlierReport(folder_);
+  CalibrateCommandOptions options;
+  options.hardware_path = DataPath("config/hardware_sim.yaml");
+  options.out_dir = folder_;
+  options.overwrite = true;
+  options.poses = 4;
+  std::ostringstream out;
+  EXPECT_THAT(ErrorOf(options, &out, "n\n"), HasSubstr("not confirmed: nothing moved"));
+  EXPECT_EQ(testing::ReadText(fs::path(folder_) / "summary.json"), "earlier");
+  EXPECT_EQ(testing::ReadText(fs::path(folder_) / "earlier_only.txt"), "earlier");
+  EXPECT_FALSE(fs::exists(fs::path(folder_) / "board.svg"));
+  testing::ExpectNothingBeside(folder_);
 }
 
 TEST_F(CalibrateCommandTest, CorruptSamplesFileNamesTheField) {

@@ -126,5 +126,15 @@ TEST_F(ReportFolderTest, NamesWrittenFilesAsTheyWillBeAfterTheCommit) {
   EXPECT_EQ(folder.Final("/elsewhere/b.log"), "/elsewhere/b.log");
 }
 
+TEST_F(ReportFolderTest, NamesTheFolderAsItWillBeWhereverAMessageMentionsIt) {
+  ReportFolder folder(dir_.string(), false);
+  const std::string work = folder.path();
+  EXPECT_EQ(folder.Final("kept in " + work + "/samples.yaml (solve them with `--resolve " + work +
+                         "`); see " + work + "."),
+            "kept in " + dir_.string() + "/samples.yaml (solve them with `--resolve " +
+                dir_.string() + "`); see " + dir_.string() + ".");
+  EXPECT_EQ(folder.Final(work + "7/a " + work + ".old/b"), work + "7/a " + work + ".old/b");
+}
+
 }  // namespace
 }  // namespace aerograsp
