@@ -60,12 +60,62 @@ std::uint64_t LittleEndian(const std::string& bytes) {
   return v;
 }
 
-/// The bag's top-level records (ROS bag 2.0: header length, header fields,
-/// data length, data) against the file's size, before rosbag_storage reads
-/// them: it allocates a record's declared length before reading it, so a
-/// corrupt length becomes an allocation of gigabytes. Also where the bag's
-/// index and chunks are said to start: at a record. Returns what is wrong, or
-/// "" (also for a file that is not a 2.0 bag: rosbag_storage says what it is).
+/// One record's header and data length, read from `in` at `pos` and checked
+/// against `end` (the file's size, or the end of the chunk holding it).
+struct RecordHead {
+  std::map<std::string, std::string> fields;
+  std::uint32_t header_len = 0, data_len = 0;
+  std::uint64_t data_pos = 0;
+  std::string op() const { return fields.count("op") ? fields.at("op") : ""; }
+};
+
+/// Reads the record at `pos` of `in`; returns what is wrong, or "". `at`
+/// names the record, `container` what it must fit in ("file", "chunk").
+std::string ReadRecordHead(std::istream& in, std::uint64_t pos, std::uint64_t end,
+                           const std::string& at, const std::string& container, RecordHead* head) {
+  const auto u32 = [&in](std::uint32_t* v) {
+    char b[4];
+    if (!in.read(b, 4)) return false;
+    *v = static_cast<std::uint32_t>(LittleEndian(std::string(b, 4)));
+    return true;
+  };
+  in.clear();
+  in.seekg(static_cast<std::streamoff>(pos));
+  if (end - pos < 4 || !u32(&head->header_len)) return at + ": truncated";
+  const std::uint32_t header_len = head->header_len;
+  if (header_len > kMaxRecordHeaderBytes || header_len > end - pos - 4)
+    return at + ": a header of " + std::to_string(header_len) + " bytes";
+  std::string header(header_len, '\0');
+  if (!in.read(header.data(), header_len)) return at + ": truncated";
+  for (std::size_t off = 0; off < header.size();) {
+    if (header.size() - off < 4) return at + ": a header field runs past the header";
+    const std::uint64_t len = LittleEndian(header.substr(off, 4));
+    off += 4;
+    if (len > header.size() - off) return at + ": a header field runs past the header";
+    const std::string field = header.substr(off, len);
+    off += len;
+    const std::size_t eq = field.find('=');
+    if (eq != std::string::npos) head->fields[field.substr(0, eq)] = field.substr(eq + 1);
+  }
+  if (end - pos - 4 - header_len < 4 || !u32(&head->data_len)) return at + ": truncated";
+  if (head->data_len > end - pos - 8 - header_len) {
+    return at + ": " + std::to_string(head->data_len) + " bytes of data past the end of the " +
+           container;
+  }
+  head->data_pos = pos + 8 + header_len;
+  return "";
+}
+
+/// The bag's records (ROS bag 2.0: header length, header fields, data length,
+/// data) against the file's size, before rosbag_storage reads them: it
+/// allocates a record's declared length before reading it, so a corrupt length
+/// becomes an allocation of gigabytes. The records inside an uncompressed chunk
+/// (connections and messages) are checked against the chunk's end the same
+/// way, and the index records after a chunk must point at records in it
+/// (`count` entries of 12 bytes, each offset the start of one); the index and
+/// the chunks the bag header and chunk infos name must start at a record.
+/// Returns what is wrong, or "" (also for a file that is not a 2.0 bag:
+/// rosbag_storage says what it is).
 std::string CheckBagRecords(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::error_code ec;
@@ -74,47 +124,68 @@ std::string CheckBagRecords(const std::string& path) {
   if (ec || !in.read(magic.data(), 13) || magic != "#ROSBAG V2.0\n") return "";
   std::set<std::uint64_t> starts;
   std::vector<std::pair<std::string, std::uint64_t>> pointers;  // (field, position)
-  const auto u32 = [&in](std::uint32_t* v) {
-    char b[4];
-    if (!in.read(b, 4)) return false;
-    *v = static_cast<std::uint32_t>(LittleEndian(std::string(b, 4)));
-    return true;
-  };
+  // The last uncompressed chunk: where it is, and its records' offsets in its data.
+  std::optional<std::uint64_t> chunk;
+  std::set<std::uint64_t> chunk_records;
   for (std::uint64_t pos = 13; pos < size;) {
     const std::string at = "record at byte " + std::to_string(pos);
     starts.insert(pos);
-    std::uint32_t header_len = 0, data_len = 0;
-    in.seekg(static_cast<std::streamoff>(pos));
-    if (size - pos < 4 || !u32(&header_len)) return at + ": truncated";
-    if (header_len > kMaxRecordHeaderBytes || header_len > size - pos - 4)
-      return at + ": a header of " + std::to_string(header_len) + " bytes";
-    std::string header(header_len, '\0');
-    if (!in.read(header.data(), header_len)) return at + ": truncated";
-    std::map<std::string, std::string> fields;
-    for (std::size_t off = 0; off < header.size();) {
-      if (header.size() - off < 4) return at + ": a header field runs past the header";
-      const std::uint64_t len = LittleEndian(header.substr(off, 4));
-      off += 4;
-      if (len > header.size() - off) return at + ": a header field runs past the header";
-      const std::string field = header.substr(off, len);
-      off += len;
-      const std::size_t eq = field.find('=');
-      if (eq != std::string::npos) fields[field.substr(0, eq)] = field.substr(eq + 1);
-    }
-    if (size - pos - 4 - header_len < 4 || !u32(&data_len)) return at + ": truncated";
-    if (data_len > size - pos - 8 - header_len)
-      return at + ": " + std::to_string(data_len) + " bytes of data past the end of the file";
-    const std::string op = fields.count("op") ? fields["op"] : "";
+    RecordHead head;
+    if (std::string wrong = ReadRecordHead(in, pos, size, at, "file", &head); !wrong.empty())
+      return wrong;
+    std::map<std::string, std::string>& fields = head.fields;
+    const std::string op = head.op();
     if (op == "\x03" && fields["index_pos"].size() == 8)
       pointers.push_back({"index_pos", LittleEndian(fields["index_pos"])});
     if (op == "\x06" && fields["chunk_pos"].size() == 8)
       pointers.push_back({"chunk_pos", LittleEndian(fields["chunk_pos"])});
-    if (op == "\x05" && fields["compression"] == "none" && fields["size"].size() == 4 &&
-        LittleEndian(fields["size"]) != data_len) {
-      return at + ": an uncompressed chunk of " + std::to_string(data_len) + " bytes says " +
-             std::to_string(LittleEndian(fields["size"]));
+    if (op == "\x05") {
+      chunk.reset();
+      chunk_records.clear();
+      if (fields["compression"] == "none") {
+        if (fields["size"].size() == 4 && LittleEndian(fields["size"]) != head.data_len) {
+          return at + ": an uncompressed chunk of " + std::to_string(head.data_len) +
+                 " bytes says " + std::to_string(LittleEndian(fields["size"]));
+        }
+        chunk = pos;
+        const std::uint64_t chunk_end = head.data_pos + head.data_len;
+        for (std::uint64_t inner = head.data_pos; inner < chunk_end;) {
+          const std::string inner_at = "record at byte " + std::to_string(inner) +
+                                       " in the chunk at byte " + std::to_string(pos);
+          RecordHead record;
+          if (std::string wrong = ReadRecordHead(in, inner, chunk_end, inner_at, "chunk", &record);
+              !wrong.empty())
+            return wrong;
+          if (record.op() != "\x02" && record.op() != "\x07")
+            return inner_at + ": neither a message nor a connection record";
+          chunk_records.insert(inner - head.data_pos);
+          inner = record.data_pos + record.data_len;
+        }
+      }
     }
-    pos += 8 + std::uint64_t(header_len) + data_len;
+    if (op == "\x04" && fields["ver"].size() == 4 && LittleEndian(fields["ver"]) == 1 &&
+        fields["count"].size() == 4) {
+      const std::string index_at = "index record at byte " + std::to_string(pos);
+      const std::uint64_t count = LittleEndian(fields["count"]);
+      if (12 * count != head.data_len) {
+        return index_at + ": " + std::to_string(head.data_len) + " bytes of data for " +
+               std::to_string(count) + " entries";
+      }
+      if (chunk) {  // each entry: time (8 bytes), offset in the chunk's data (4)
+        std::string entries(head.data_len, '\0');
+        in.clear();
+        in.seekg(static_cast<std::streamoff>(head.data_pos));
+        if (!in.read(entries.data(), head.data_len)) return index_at + ": truncated";
+        for (std::uint64_t i = 0; i < count; ++i) {
+          const std::uint64_t offset = LittleEndian(entries.substr(12 * i + 8, 4));
+          if (!chunk_records.count(offset)) {
+            return index_at + ": offset " + std::to_string(offset) +
+                   " is not the start of a record in the chunk at byte " + std::to_string(*chunk);
+          }
+        }
+      }
+    }
+    pos = head.data_pos + head.data_len;
   }
   for (const auto& [field, position] : pointers) {
     if (!starts.count(position) && !(field == "index_pos" && position == size))

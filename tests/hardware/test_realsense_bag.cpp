@@ -1,3 +1,4 @@
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -5,6 +6,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include "hardware/bag/realsense_bag.h"
 #include "hardware/bag/recording.h"
@@ -147,6 +150,98 @@ TEST_F(RealsenseBagTest, ARecordLengthPastTheEndIsNamedBeforeTheBagLibraryReadsI
               path_ +
                   ": cannot be read as a ROS bag (truncated or corrupt): record at byte 13: "
                   "4294967280 bytes of data past the end of the file");
+}
+
+/// The bag's bytes, to corrupt in place.
+class BagBytes {
+ public:
+  explicit BagBytes(const std::string& path) : path_(path) {
+    std::ifstream in(path, std::ios::binary);
+    bytes_.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  std::uint32_t U32(std::size_t at) const {
+    std::uint32_t v = 0;
+    for (int i = 3; i >= 0; --i) v = v << 8 | std::uint8_t(bytes_.at(at + i));
+    return v;
+  }
+  void SetU32(std::size_t at, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) bytes_.at(at + i) = char(v >> (8 * i));
+  }
+  /// The record after the one at `at` (header length, header, data length, data).
+  std::size_t Next(std::size_t at) const {
+    const std::uint32_t header_len = U32(at);
+    return at + 8 + header_len + U32(at + 4 + header_len);
+  }
+  /// The first top-level record whose header holds `field` (e.g. "op=\x05", a chunk).
+  std::size_t Find(const std::string& field) const {
+    for (std::size_t at = 13; at < bytes_.size(); at = Next(at)) {
+      if (std::string(bytes_.data() + at + 4, U32(at)).find(field) != std::string::npos) return at;
+    }
+    ADD_FAILURE() << "no record with " << field;
+    return 13;
+  }
+  /// Where the value of the header field `name` ("count=") of the record at `at` starts.
+  std::size_t FieldValue(std::size_t at, const std::string& name) const {
+    const std::size_t field = std::string(bytes_.data() + at + 4, U32(at)).find(name);
+    EXPECT_NE(field, std::string::npos) << name;
+    return at + 4 + field + name.size();
+  }
+  /// Where the data of the record at `at` starts.
+  std::size_t Data(std::size_t at) const { return at + 8 + U32(at); }
+  void Write() const { std::ofstream(path_, std::ios::binary | std::ios::trunc) << bytes_; }
+
+ private:
+  std::string path_, bytes_;
+};
+
+// The records inside a chunk are checked as the top-level ones are: a nested
+// record's lengths running past its chunk are named before the library reads them.
+TEST_F(RealsenseBagTest, ANestedRecordRunningPastItsChunkIsNamed) {
+  WriteBag(Streams());
+  const BagBytes written(path_);
+  const std::size_t chunk = written.Find(std::string("op=\x05", 4));
+  const std::size_t first = written.Data(chunk);  // the chunk's first record
+  const std::size_t second = written.Next(first);
+
+  BagBytes bag = written;
+  bag.SetU32(second, 0xfffffff0u);  // its header length
+  bag.Write();
+  ExpectError([&] { RealsenseBagCamera b(path_); },
+              fmt::format("{}: cannot be read as a ROS bag (truncated or corrupt): record at byte "
+                          "{} in the chunk at byte {}: a header of 4294967280 bytes",
+                          path_, second, chunk));
+
+  bag = written;
+  bag.SetU32(second + 4 + bag.U32(second), 0x7ffffff0u);  // its data length
+  bag.Write();
+  ExpectError([&] { RealsenseBagCamera b(path_); },
+              fmt::format("record at byte {} in the chunk at byte {}: 2147483632 bytes of data "
+                          "past the end of the chunk",
+                          second, chunk));
+}
+
+// An index record points at records inside the chunk before it: an offset
+// that is not the start of one (or a count its data does not hold) is named.
+TEST_F(RealsenseBagTest, AnIndexOffsetThatIsNotARecordInItsChunkIsNamed) {
+  WriteBag(Streams());
+  const BagBytes written(path_);
+  const std::size_t chunk = written.Find(std::string("op=\x05", 4));
+  const std::size_t index = written.Next(chunk);  // the chunk's first index record
+
+  BagBytes bag = written;
+  const std::size_t offset_at = bag.Data(index) + 8;  // its first entry: time, then offset
+  bag.SetU32(offset_at, bag.U32(offset_at) + 3);
+  bag.Write();
+  ExpectError([&] { RealsenseBagCamera b(path_); },
+              fmt::format("index record at byte {}: offset {} is not the start of a record in "
+                          "the chunk at byte {}",
+                          index, written.U32(offset_at) + 3, chunk));
+
+  bag = written;
+  bag.SetU32(bag.FieldValue(index, "count="), 100);  // its data holds one entry
+  bag.Write();
+  ExpectError([&] { RealsenseBagCamera b(path_); },
+              fmt::format("index record at byte {}: 12 bytes of data for 100 entries", index));
 }
 
 /// The real D435 recording, where it exists (AEROGRASP_REALSENSE_SAMPLES names its folder).
