@@ -136,6 +136,9 @@ TEST_F(MissionTelemetryTest, OutsideStopIsTheMissionsEmergencyWithItsSource) {
   // Servoing before the stop, still once the stop's cycle has passed.
   EXPECT_GT(JointTravel(sink_->arms, t_stop - 1.0, t_stop), 0.02);
   EXPECT_LT(JointTravel(sink_->arms, t_stop + 0.02, t_stop + 1.0), 2e-3);
+  // From the stop's own cycle: the driver was told to stop, so the arms hold
+  // where they were measured, not one servo step on (0.023 rad without it).
+  EXPECT_LT(JointTravel(sink_->arms, t_stop, t_stop + 1.0), 1e-4);
 }
 
 TEST_F(MissionTelemetryTest, TransformsStaticFirstThenBodyToolsAndObjectEachCycle) {
