@@ -31,7 +31,9 @@ class Px4AutopilotTest : public ::testing::Test {
   Px4AutopilotTest() : world_(OnTheGround(), 1) {
     config_.udp_local_host = "127.0.0.1";
     config_.udp_local_port = 0;
-    config_.command_timeout_s = 0.1;
+    // Generous: the peer answers at once from its own thread, which a loaded
+    // machine may hold back; an ACK that is late, not lost, must not be sent again.
+    config_.command_timeout_s = 1.0;
   }
 
   void Start(const SimPx4Config& peer_config = {}) {

@@ -36,7 +36,7 @@ class BusFaultsTest : public ::testing::Test {
     faults.return_delay_s = 0.0;
     bus_ = std::make_unique<SimServoBus>(&world_, servos_, faults);
     servos_.port = bus_->port_path();
-    servos_.reply_timeout_s = 0.05;  // generous: a late thread is not a fault
+    servos_.reply_timeout_s = 0.2;  // generous: a late thread is not a fault
     driver_ = std::make_unique<ScsArmsDriver>(world_.platform(), servos_,
                                               [this] { return world_.now_s(); });
   }
