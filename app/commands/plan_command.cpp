@@ -72,6 +72,19 @@ std::string ExplainNoGrasp(const PlanResult& plan, const ContactSet& contacts,
                            const GripperConfig& gripper, const TriangleMesh& mesh,
                            const Platform& platform, const Eigen::Isometry3d& dMo) {
   std::ostringstream why;
+  if (contacts.pairs.empty() && contacts.pairs_too_wide == 0) {
+    // Nothing was too wide: the rays found no contacts at all.
+    const Eigen::Vector3d extent = mesh.BoundsMax() - mesh.BoundsMin();
+    why << fmt::format(
+        "no contact pair on the object: {} of {} rays {} m apart met it ({} grazing a face); its "
+        "bounding box is {:.3g} x {:.3g} x {:.3g} m{}",
+        contacts.rays_hit, contacts.rays, contacts.resolution_m, contacts.rays_skipped, extent.x(),
+        extent.y(), extent.z(),
+        extent.maxCoeff() < contacts.resolution_m
+            ? ", smaller than the rays' spacing: is the mesh in metres?"
+            : "");
+    return why.str();
+  }
   if (contacts.pairs.empty()) {
     const Eigen::Vector3d extent = mesh.BoundsMax() - mesh.BoundsMin();
     why << fmt::format(

@@ -464,6 +464,23 @@ TEST_F(CalibrateCommandTest, ANanJointReadingIsNamedAsSuch) {
   }
 }
 
+// A board corner at infinity is named where it is read (it used to be solved
+// around: the file said "refined" but held the unrefined answer).
+TEST_F(CalibrateCommandTest, ACornerAtInfinityIsNamedAsSuch) {
+  fs::create_directories(folder_);
+  std::ofstream(fs::path(folder_) / "samples.yaml")
+      << "platform: " << DataPath("config/platform_4dof.yaml") << "\narm: left\nboard: {}\n"
+      << "samples:\n"
+      << "  - {image: a.png, accepted: true, q_rad: [0.1, 0.2, 0.2, 0.3],\n"
+      << "     cMt: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0.4, 0, 0, 0, 1],\n"
+      << "     corners: [[0, 0, 0, 320, 240], [0.03, 0, 0, .inf, 240]]}\n";
+  CalibrateCommandOptions options;
+  options.resolve_dir = folder_;
+  std::ostringstream out;
+  EXPECT_THAT(ErrorOf(options, &out),
+              HasSubstr("samples.yaml: samples[0].corners[1][3]: inf is not a finite number"));
+}
+
 TEST(CalibrationRigTest, ValidateNamesTheFileAndTheFullKeyPath) {
   CalibrationRig rig = CalibrationRig::Load("");
   rig.joint_speed_deg_s = 200.0;

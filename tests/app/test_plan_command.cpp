@@ -105,6 +105,18 @@ TEST_F(PlanCommandTest, ObjectTooBigForTheGripperSaysSo) {
   EXPECT_FALSE(Summary()["feasible"].get<bool>());
 }
 
+// A mesh far smaller than the rays' spacing (0.8 um: in the wrong units) meets
+// no ray; it is not "too big for the gripper".
+TEST_F(PlanCommandTest, ObjectSmallerThanTheRaysSpacingSaysSo) {
+  const std::string path = (dir_ / "tiny_box.ply").string();
+  SaveMeshPly(test::BoxMesh(Eigen::Vector3d(8e-7, 8e-7, 8e-7)), path);
+  options_.object = path;
+  const std::string out = Run();
+  EXPECT_THAT(out, HasSubstr("No feasible dual grasp: no contact pair on the object: "));
+  EXPECT_THAT(out, HasSubstr("smaller than the rays' spacing: is the mesh in metres?"));
+  EXPECT_THAT(out, ::testing::Not(HasSubstr("too big")));
+}
+
 TEST_F(PlanCommandTest, ObjectOutOfReachSaysWhichArmAndWhy) {
   options_.object = "pipe";
   options_.object_xyz_m = Eigen::Vector3d(1.0, 0.0, 0.5);
