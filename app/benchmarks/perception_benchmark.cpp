@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "app/cli_checks.h"
 #include "app/commands/record_command.h"
 #include "app/commands/replay_command.h"
 #include "app/report/report_folder.h"
@@ -200,6 +202,22 @@ void RunPerceptionBenchmark(const PerceptionBenchmarkOptions& options, std::ostr
   const std::string path = WriteSummaryFile(folder.path(), summary.dump(2));
   folder.Commit();
   out << "  summary: " << folder.Final(path) << "\n";
+}
+
+void AddPerceptionBenchmarkOptions(CLI::App* cmd, PerceptionBenchmarkOptions* o) {
+  cmd->add_option("--out", o->out_dir, "Folder for everything")->required();
+  cmd->add_flag("--overwrite", o->overwrite, "Replace a report already in --out");
+  cmd->add_option("--objects", o->objects, "Objects")->capture_default_str();
+  cmd->add_option("--motions", o->motions, "Object motions")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"static", "crawl"}));
+  cmd->add_option("--frames", o->frames, "Frames per sequence")
+      ->capture_default_str()
+      ->check(cli::Range(10, 100000));
+  cmd->add_option("--seed", o->seed, "World seed")->capture_default_str()->check(cli::Seed());
+  cmd->add_flag("!--no-peer", o->run_peer, "Do not run ViSP's tracker beside ours");
+  cmd->add_option("--perception", o->perception_config, "Perception YAML [the code's defaults]")
+      ->check(CLI::ExistingFile);
 }
 
 }  // namespace aerograsp

@@ -14,6 +14,10 @@
 #include <string>
 #include <vector>
 
+namespace CLI {
+class App;
+}
+
 namespace aerograsp {
 
 struct PerceptionBenchmarkOptions {
@@ -32,5 +36,8 @@ struct PerceptionBenchmarkOptions {
 /// (an unknown object, an unwritable folder).
 void RunPerceptionBenchmark(const PerceptionBenchmarkOptions& options, std::ostream& out,
                             std::ostream& progress);
+
+/// Adds `benchmark perception`'s options to `cmd` (a CLI11 subcommand).
+void AddPerceptionBenchmarkOptions(CLI::App* cmd, PerceptionBenchmarkOptions* options);
 
 }  // namespace aerograsp

@@ -2,12 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <vector>
 
+#include "app/cli_checks.h"
 #include "app/report/report_folder.h"
 #include "app/report/statistics.h"
 #include "app/report/summary_file.h"
@@ -85,6 +87,16 @@ void RunRenderBenchmark(const RenderBenchmarkOptions& options, std::ostream& out
     folder->Commit();
     out << "  summary: " << folder->Final(path) << "\n";
   }
+}
+
+void AddRenderBenchmarkOptions(CLI::App* cmd, RenderBenchmarkOptions* o) {
+  cmd->add_option("--out", o->out_dir, "Folder for summary.json");
+  cmd->add_flag("--overwrite", o->overwrite, "Replace a report already in --out");
+  cmd->add_option("--frames", o->frames, "Frames to render")
+      ->capture_default_str()
+      ->check(cli::Range(1, 100000));
+  cmd->add_option("--seed", o->seed, "World seed")->capture_default_str()->check(cli::Seed());
+  cmd->add_option("--world", o->world_config, "World YAML")->check(CLI::ExistingFile);
 }
 
 }  // namespace aerograsp

@@ -6,6 +6,10 @@
 #include <ostream>
 #include <string>
 
+namespace CLI {
+class App;
+}
+
 namespace aerograsp {
 
 struct RenderBenchmarkOptions {
@@ -20,5 +24,8 @@ struct RenderBenchmarkOptions {
 /// reports per-frame time of the ray casting, of the D435 model and of both
 /// (median and 90th percentile, CPU time of this thread, and wall time).
 void RunRenderBenchmark(const RenderBenchmarkOptions& options, std::ostream& out);
+
+/// Adds `benchmark render`'s options to `cmd` (a CLI11 subcommand).
+void AddRenderBenchmarkOptions(CLI::App* cmd, RenderBenchmarkOptions* options);
 
 }  // namespace aerograsp

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <optional>
 #include <vector>
 
+#include "app/cli_checks.h"
 #include "app/report/report_folder.h"
 #include "app/report/summary_file.h"
 #include "core/data_dir.h"
@@ -103,6 +105,15 @@ void RunServoBusBenchmark(const ServoBusBenchmarkOptions& options, std::ostream&
     folder->Commit();
     out << "  summary: " << folder->Final(path) << "\n";
   }
+}
+
+void AddServoBusBenchmarkOptions(CLI::App* cmd, ServoBusBenchmarkOptions* o) {
+  cmd->add_option("--out", o->out_dir, "Folder for summary.json");
+  cmd->add_flag("--overwrite", o->overwrite, "Replace a report already in --out");
+  cmd->add_option("--cycles", o->cycles, "Bus cycles to time")
+      ->capture_default_str()
+      ->check(cli::Range(10, 1000000));
+  cmd->add_option("--world", o->world_config, "World YAML")->check(CLI::ExistingFile);
 }
 
 }  // namespace aerograsp

@@ -8,6 +8,10 @@
 #include <ostream>
 #include <string>
 
+namespace CLI {
+class App;
+}
+
 namespace aerograsp {
 
 struct ServoBusBenchmarkOptions {
@@ -21,5 +25,8 @@ struct ServoBusBenchmarkOptions {
 /// second of wall time spent in the driver's cycle), median and p90 cycle
 /// time, and what the wire alone would allow.
 void RunServoBusBenchmark(const ServoBusBenchmarkOptions& options, std::ostream& out);
+
+/// Adds `benchmark servo-bus`'s options to `cmd` (a CLI11 subcommand).
+void AddServoBusBenchmarkOptions(CLI::App* cmd, ServoBusBenchmarkOptions* options);
 
 }  // namespace aerograsp

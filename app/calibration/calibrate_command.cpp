@@ -2,12 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <filesystem>
 #include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <streambuf>
+#include <vector>
 
 #include "app/calibration/calibrate_intrinsics.h"
 #include "app/calibration/calibration_hardware.h"
@@ -18,6 +20,7 @@
 #include "app/calibration/hand_eye_solve.h"
 #include "app/calibration/interrupt_guard.h"
 #include "app/calibration/tag_board_mesh.h"
+#include "app/cli_checks.h"
 #include "app/report/progress.h"
 #include "app/report/report_folder.h"
 #include "app/report/summary_file.h"
@@ -368,6 +371,52 @@ void RunCalibrateCommand(const CalibrateCommandOptions& options, std::istream& i
 void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& out,
                          std::ostream& progress) {
   RunCalibrateCommand(options, std::cin, out, progress);
+}
+
+void AddCalibrateOptions(CLI::App* cmd, CalibrateCommandOptions* o) {
+  cmd->add_option("--arm", o->arm, "Arm to calibrate")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"left", "right"}));
+  cmd->add_flag(
+      "--intrinsics", o->intrinsics,
+      "Calibrate the camera's intrinsics from a board shown in varied poses (not an arm); with "
+      "--hardware the board is held by hand and the wizard says which image parts and tilts "
+      "are still missing");
+  cmd->add_option("--out", o->out_dir, "Folder for the samples, the calibration and the report");
+  cmd->add_flag("--overwrite", o->overwrite, "Replace a report already in --out");
+  cmd->add_option("--resolve", o->resolve_dir,
+                  "Solve again from the samples saved in this folder (ours, or a data set "
+                  "in ViSP's convention: pose_rPe_N.yaml, pose_cPo_N.yaml, camera.xml)")
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--setup", o->setup,
+                  "With --resolve on a ViSP data set: the camera fixed and the object on the "
+                  "gripper (eye-to-hand) or the camera on the gripper (eye-in-hand)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"eye-to-hand", "eye-in-hand"}));
+  cmd->add_option("--tag-size", o->tag_size_m,
+                  "With --resolve on a ViSP data set without pose_cPo files: the tag36h11 "
+                  "tag's black square (m); its pose is then detected in each image")
+      ->check(cli::Range(0.005, 1.0));
+  cmd->add_option("--poses", o->poses,
+                  "Arm poses (or board views, with --intrinsics; with --intrinsics --hardware "
+                  "the fewest hand-held samples) to visit")
+      ->capture_default_str()
+      ->check(cli::Range(4, 100));
+  cmd->add_option("--seed", o->seed, "World and pose-planning seed")
+      ->capture_default_str()
+      ->check(cli::Seed());
+  cmd->add_option("--world", o->world_config, "World YAML")->check(CLI::ExistingFile);
+  cmd->add_option("--hardware", o->hardware_path,
+                  "Hardware YAML (the built-in simulation when absent): the real bus and "
+                  "camera, or simulated ones; its `calibration` section is the rig")
+      ->check(CLI::ExistingFile);
+  cmd->add_flag("--dry-run", o->dry_run,
+                "Pre-flight check and the planned poses only: nothing moves");
+  cmd->add_flag("--yes", o->yes,
+                "Do not ask for a confirmation before the arm moves (scripts; --hardware only)");
+  cmd->add_flag("--hand-guided", o->hand_guided,
+                "Torque off on the arm: place it by hand, Enter takes a sample, q solves");
+  AddTelemetryOptions(cmd, &o->telemetry);
 }
 
 }  // namespace aerograsp

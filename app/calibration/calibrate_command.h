@@ -11,6 +11,10 @@
 
 #include "app/commands/telemetry_options.h"
 
+namespace CLI {
+class App;
+}
+
 namespace aerograsp {
 
 struct CalibrateCommandOptions {
@@ -82,5 +86,8 @@ void RunHandEyeWizard(const CalibrateCommandOptions& options, HandEyeHardware& h
 /// The same, with the confirmation read from std::cin.
 void RunCalibrateCommand(const CalibrateCommandOptions& options, std::ostream& out,
                          std::ostream& progress);
+
+/// Adds `calibrate`'s options to `cmd` (a CLI11 subcommand).
+void AddCalibrateOptions(CLI::App* cmd, CalibrateCommandOptions* options);
 
 }  // namespace aerograsp

@@ -5,10 +5,15 @@
 // only when complete: a failed conversion leaves no sequence behind.
 #pragma once
 
+#include <functional>
 #include <ostream>
 #include <string>
 
 #include "hardware/bag/recording.h"
+
+namespace CLI {
+class App;
+}
 
 namespace aerograsp {
 
@@ -25,5 +30,15 @@ struct ConvertCommandOptions {
 /// output folder is then left as it was.
 void RunConvertCommand(const ConvertCommandOptions& options, std::ostream& out,
                        std::ostream& progress);
+
+/// Adds the options of recordings from other sources (TUM intrinsics, the
+/// object in the world, the colour-depth pairing gap) to `cmd`; the returned
+/// function completes `options` once the command line has been parsed.
+/// @throws std::invalid_argument (when called) for a zero quaternion
+std::function<void()> AddRecordingOptions(CLI::App* cmd, RecordingOptions* options);
+
+/// Adds `convert`'s options to `cmd` (a CLI11 subcommand), with the recording
+/// options (AddRecordingOptions).
+void AddConvertOptions(CLI::App* cmd, ConvertCommandOptions* options);
 
 }  // namespace aerograsp

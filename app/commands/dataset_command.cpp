@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <climits>
 #include <filesystem>
@@ -10,7 +11,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
+#include <vector>
 
+#include "app/cli_checks.h"
 #include "app/report/progress.h"
 #include "app/report/report_folder.h"
 #include "core/data_dir.h"
@@ -304,6 +307,24 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out,
   folder.Commit();
   out << fmt::format("dataset: {} images of {} in {} ({} with the object visible), seed {}\n",
                      options.count, object.name, options.out_dir, visible_count, options.seed);
+}
+
+void AddDatasetOptions(CLI::App* cmd, DatasetCommandOptions* o) {
+  cmd->add_option("--object", o->object, "Shipped object name or model path")->required();
+  cmd->add_option("--out", o->out_dir, "Output folder")->required();
+  cmd->add_option("--count", o->count, "Images")
+      ->capture_default_str()
+      ->check(cli::Range(1, 1000000));
+  cmd->add_option("--seed", o->seed, "Seed (same seed, same images)")
+      ->capture_default_str()
+      ->check(cli::Seed());
+  cmd->add_flag("--overwrite", o->overwrite, "Replace a dataset already in --out");
+  cmd->add_option("--on-support", o->on_support,
+                  "Fraction of images with the object lying on the support pipe, seen from the "
+                  "vehicle's camera "
+                  "with its arms in view")
+      ->capture_default_str()
+      ->check(cli::Range(0.0, 1.0));
 }
 
 }  // namespace aerograsp

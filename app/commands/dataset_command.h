@@ -21,6 +21,10 @@
 #include <ostream>
 #include <string>
 
+namespace CLI {
+class App;
+}
+
 namespace aerograsp {
 
 struct DatasetCommandOptions {
@@ -38,5 +42,8 @@ struct DatasetCommandOptions {
 /// a dataset and overwrite is false; std::runtime_error when it cannot be written.
 void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out,
                        std::ostream& progress);
+
+/// Adds `dataset`'s options to `cmd` (a CLI11 subcommand).
+void AddDatasetOptions(CLI::App* cmd, DatasetCommandOptions* options);
 
 }  // namespace aerograsp

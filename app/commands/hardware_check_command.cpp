@@ -2,10 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <exception>
 #include <memory>
 
+#include "app/cli_checks.h"
 #include "hardware/hardware_config.h"
 #include "hardware/hardware_factory.h"
 #include "hardware/mavlink/px4_autopilot.h"
@@ -115,6 +117,16 @@ int RunHardwareCheck(const HardwareCheckOptions& options, std::ostream& out) {
   out << (failed == 0 ? "  result: every device answers\n"
                       : fmt::format("  result: {} of 3 devices FAILED\n", failed));
   return failed;
+}
+
+void AddHardwareCheckOptions(CLI::App* cmd, HardwareCheckOptions* o) {
+  cmd->add_option("--hardware", o->config_path,
+                  "Hardware YAML (e.g. data/config/hardware_sim.yaml)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--seed", o->seed, "World seed of simulated devices")
+      ->capture_default_str()
+      ->check(cli::Seed());
 }
 
 }  // namespace aerograsp

@@ -7,6 +7,10 @@
 #include <ostream>
 #include <string>
 
+namespace CLI {
+class App;
+}
+
 namespace aerograsp {
 
 struct HardwareCheckOptions {
@@ -17,5 +21,8 @@ struct HardwareCheckOptions {
 /// Returns the number of devices that could not be opened (0: all answer).
 /// @throws ConfigError for a bad configuration file.
 int RunHardwareCheck(const HardwareCheckOptions& options, std::ostream& out);
+
+/// Adds `hardware-check`'s options to `cmd` (a CLI11 subcommand).
+void AddHardwareCheckOptions(CLI::App* cmd, HardwareCheckOptions* options);
 
 }  // namespace aerograsp

@@ -3,16 +3,20 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
+#include "app/cli_checks.h"
 #include "app/report/grasp_plot.h"
 #include "app/report/report_folder.h"
 #include "app/report/statistics.h"
@@ -377,6 +381,64 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
   folder.Commit();
   out << "\nWrote " << folder.Final(png) << "\n";
   out << "Wrote " << folder.Final(summary) << "\n";
+}
+
+void AddPlanOptions(CLI::App* cmd, PlanCommandOptions* o) {
+  o->config_path = DataPath("config/platform_4dof.yaml");
+  // Three numbers each on the command line, vectors in the options once parsed.
+  const auto xyz = std::make_shared<std::vector<double>>();
+  const auto rpy = std::make_shared<std::vector<double>>();
+  cmd->add_option("object", o->object, "Object name (shipped or imported) or a mesh file")
+      ->required();
+  cmd->add_option("--out", o->out_dir, "Output folder (summary.json, grasps.png)")->required();
+  cmd->add_flag("--overwrite", o->overwrite, "Replace a report already in --out");
+  cmd->add_option("--config", o->config_path, "Platform YAML")
+      ->capture_default_str()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--object-xyz", *xyz,
+                  "Object centre (bounding box) in the body frame d (FRD), m [default 0.10 0 0.46]")
+      ->expected(3)
+      ->check(cli::Finite());
+  cmd->add_option("--object-rpy", *rpy, "Object roll pitch yaw in d, deg [default 180 0 90]")
+      ->expected(3)
+      ->check(cli::Finite());
+  cmd->add_option("--resolution", o->resolution_m, "Contact ray grid, m")
+      ->capture_default_str()
+      ->check(cli::Finite());
+  cmd->add_option("--depth-min", o->depth_min_m,
+                  "Contacts at least this far behind the tool point, m")
+      ->capture_default_str()
+      ->check(cli::Finite());
+  cmd->add_option("--reach-margin", o->reach_margin_m,
+                  "A grasp is robust when it stays feasible with the object moved this far along "
+                  "each axis, m")
+      ->capture_default_str()
+      ->check(cli::Finite());
+  cmd->add_option("--edge-margin", o->edge_margin_m,
+                  "Grasps whose contacts stay on their faces with the object shifted this far "
+                  "along them rank first, m")
+      ->capture_default_str()
+      ->check(cli::Finite());
+  cmd->add_flag("--place", o->place,
+                "Plan where the mission holds the object: the placement searched around "
+                "--object-xyz, upright at --object-rpy's yaw, with the mission's planner and "
+                "placement settings (data/config/mission_default.yaml; the planner options "
+                "above are then ignored)");
+  cmd->add_option("--mass", o->mass_kg, "Mass of a bare mesh, kg")
+      ->capture_default_str()
+      ->check(cli::Range(1e-6, 1e4));
+  cmd->add_option("--cache-dir", o->cache_dir, "Contact cache folder [~/.cache/aerograsp]");
+  cmd->add_flag("!--no-cache", o->use_cache, "Neither read nor write the contact cache");
+  cmd->add_option("--top", o->top, "Rows of the table")
+      ->capture_default_str()
+      ->check(cli::Range(1, 1000));
+  cmd->add_option("--repeats", o->repeats, "Timing repetitions (median)")
+      ->capture_default_str()
+      ->check(cli::Range(1, 1000));
+  cmd->callback([o, xyz, rpy] {
+    if (!xyz->empty()) o->object_xyz_m = Eigen::Vector3d((*xyz)[0], (*xyz)[1], (*xyz)[2]);
+    if (!rpy->empty()) o->object_rpy_deg = Eigen::Vector3d((*rpy)[0], (*rpy)[1], (*rpy)[2]);
+  });
 }
 
 }  // namespace aerograsp

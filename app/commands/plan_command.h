@@ -7,6 +7,10 @@
 #include <ostream>
 #include <string>
 
+namespace CLI {
+class App;
+}
+
 namespace aerograsp {
 
 struct PlanCommandOptions {
@@ -53,5 +57,9 @@ struct PlanCommandOptions {
 /// corrupt or open mesh, bad object.yaml); std::runtime_error when DIR cannot
 /// be written.
 void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out);
+
+/// Adds `plan`'s options to `cmd` (a CLI11 subcommand); the object's position
+/// and angles reach `options` when the command line has been parsed.
+void AddPlanOptions(CLI::App* cmd, PlanCommandOptions* options);
 
 }  // namespace aerograsp

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -9,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "app/cli_checks.h"
 #include "app/report/progress.h"
 #include "app/report/report_folder.h"
 #include "core/data_dir.h"
@@ -114,6 +116,34 @@ void RunRecordCommand(const RecordCommandOptions& options, std::ostream& out,
       world.object().name, config.object.motion, options.seed, 1e3 * render_s / n,
       1e3 * raycast_s / n, 1e3 * model_s / n, 100.0 * valid_depth / n, object_pixels / n,
       options.out_dir);
+}
+
+void AddRecordOptions(CLI::App* cmd, RecordCommandOptions* o) {
+  cmd->add_option("--out", o->out_dir, "Sequence folder to create")->required();
+  cmd->add_option("--frames", o->frames, "Number of frames")
+      ->capture_default_str()
+      ->check(cli::Range(1, 1000000));
+  cmd->add_option("--seed", o->seed, "World seed (same seed, same sequence)")
+      ->capture_default_str()
+      ->check(cli::Seed());
+  cmd->add_option("--world", o->world_config,
+                  "World YAML (default: data/config/world_default.yaml)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--object", o->object,
+                  "Object: a shipped name (crawler, u_shape, pipe) or a model path");
+  cmd->add_option("--motion", o->motion, "Object motion along the pipe")
+      ->check(CLI::IsMember({"static", "crawl"}));
+  cmd->add_flag("--overwrite", o->overwrite, "Replace a sequence already in --out");
+  cmd->add_option("--occlude-at", o->occlude_at_s,
+                  "A panel hides the object fully from this simulated time on, s (off by default)")
+      ->check(cli::Range(0.0, 1e6));
+  cmd->add_option("--occlude-for", o->occlude_for_s, "How long the panel hides the object, s")
+      ->capture_default_str()
+      ->check(cli::Range(1e-3, 1e6));
+  cmd->add_option("--occlude-every", o->occlude_every_s,
+                  "The panel hides the object again every this many seconds (0: once)")
+      ->capture_default_str()
+      ->check(cli::Range(0.0, 1e6));
 }
 
 }  // namespace aerograsp

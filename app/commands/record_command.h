@@ -6,6 +6,10 @@
 #include <ostream>
 #include <string>
 
+namespace CLI {
+class App;
+}
+
 namespace aerograsp {
 
 struct RecordCommandOptions {
@@ -29,5 +33,8 @@ struct RecordCommandOptions {
 /// @throws ConfigError / HardwareError / MeshError naming the file and what is wrong.
 void RunRecordCommand(const RecordCommandOptions& options, std::ostream& out,
                       std::ostream& progress);
+
+/// Adds `record`'s options to `cmd` (a CLI11 subcommand).
+void AddRecordOptions(CLI::App* cmd, RecordCommandOptions* options);
 
 }  // namespace aerograsp

@@ -2,16 +2,23 @@
 
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
+#include "app/cli_checks.h"
+#include "app/commands/convert_command.h"
+#include "app/commands/replay_accuracy.h"
 #include "app/commands/visp_peer.h"
 #include "app/exit_codes.h"
 #include "app/report/pose_plot.h"
@@ -34,103 +41,6 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 /// With the filter in the world: position noise along ICP's weak direction (m).
 constexpr double kWorldWeakDirectionStdM = 0.02;
-
-/// ADD-S (m): mean over model points of the distance from the estimate's point
-/// to the nearest point of the model at the truth, capped at the grid margin.
-double AddS(const ModelCloud& model, const Eigen::Isometry3d& cMo_est,
-            const Eigen::Isometry3d& cMo_true) {
-  const Eigen::Isometry3f oMo = (cMo_true.inverse() * cMo_est).cast<float>();
-  const std::size_t step = std::max<std::size_t>(1, model.points_o.size() / 500);
-  double sum = 0.0;
-  int n = 0;
-  for (std::size_t i = 0; i < model.points_o.size(); i += step, ++n) {
-    const Eigen::Vector3f p = oMo * model.points_o[i];
-    const int j = model.Nearest(p);
-    sum +=
-        j < 0 ? model.margin_m : std::min<double>(model.margin_m, (p - model.points_o[j]).norm());
-  }
-  return n ? sum / n : std::numeric_limits<double>::quiet_NaN();
-}
-
-/// Accuracy of one estimator over a sequence.
-struct Accuracy {
-  std::vector<double> t_err_m, r_err_deg;  // frames with truth and a found estimate
-  int visible = 0, found_visible = 0, add_s_ok = 0;
-  int reacquisitions = 0, max_reacquire_frames = 0, never_reacquired = 0;
-  std::vector<double> add_s_m;
-};
-
-nlohmann::json AccuracyJson(const Accuracy& a, double diameter_m) {
-  auto rms = [](const std::vector<double>& v) {
-    double s = 0.0;
-    for (double x : v) s += x * x;
-    return v.empty() ? std::numeric_limits<double>::quiet_NaN() : std::sqrt(s / v.size());
-  };
-  nlohmann::json j;
-  j["frames_visible"] = a.visible;
-  j["detection_recall"] = a.visible ? double(a.found_visible) / a.visible : 0.0;
-  j["translation_rmse_m"] = rms(a.t_err_m);
-  j["rotation_rmse_deg"] = rms(a.r_err_deg);
-  j["translation_median_m"] = Percentile(a.t_err_m, 0.5, kNaN);
-  j["rotation_median_deg"] = Percentile(a.r_err_deg, 0.5, kNaN);
-  j["add_s_recall"] = a.visible ? double(a.add_s_ok) / a.visible : 0.0;
-  j["add_s_threshold_m"] = 0.1 * diameter_m;
-  j["add_s_median_m"] = Percentile(a.add_s_m, 0.5, kNaN);
-  j["reacquisitions"] = a.reacquisitions;
-  j["reacquire_max_frames"] = a.max_reacquire_frames;
-  j["never_reacquired"] = a.never_reacquired;
-  for (auto& [key, value] : j.items()) {
-    if (value.is_number_float() && !std::isfinite(value.get<double>())) value = nullptr;
-  }
-  return j;
-}
-
-/// Per-frame bookkeeping of accuracy for one estimator.
-class AccuracyCounter {
- public:
-  explicit AccuracyCounter(const ModelCloud& model) : model_(model) {}
-  void Add(bool visible, const std::optional<Eigen::Isometry3d>& truth, bool found,
-           const Eigen::Isometry3d& cMo) {
-    if (visible) {
-      ++a_.visible;
-      if (found) ++a_.found_visible;
-      if (!was_visible_ && seen_before_) waiting_ = 0;  // reappeared after a full hide
-      if (waiting_ >= 0) {
-        if (found) {
-          ++a_.reacquisitions;
-          a_.max_reacquire_frames = std::max(a_.max_reacquire_frames, waiting_ + 1);
-          waiting_ = -1;
-        } else {
-          ++waiting_;
-        }
-      }
-      seen_before_ = true;
-    }
-    was_visible_ = visible;
-    if (truth && found) {
-      const PoseError e = ComparePoses(*truth, cMo);
-      a_.t_err_m.push_back(e.translation_m);
-      a_.r_err_deg.push_back(
-          SymmetricRotationError(cMo.linear(), truth->linear(), model_.symmetry) * 180.0 / M_PI);
-    }
-    if (truth && visible) {
-      const double add_s =
-          found ? AddS(model_, cMo, *truth) : std::numeric_limits<double>::infinity();
-      if (found) a_.add_s_m.push_back(add_s);
-      if (add_s < 0.1 * model_.diameter_m) ++a_.add_s_ok;
-    }
-  }
-  Accuracy Finish() {
-    if (waiting_ >= 0) ++a_.never_reacquired;
-    return a_;
-  }
-
- private:
-  const ModelCloud& model_;
-  Accuracy a_;
-  bool was_visible_ = false, seen_before_ = false;
-  int waiting_ = -1;
-};
 
 nlohmann::json TimesJson(const std::vector<double>& v) {
   nlohmann::json j;
@@ -527,6 +437,46 @@ int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
       << folder.Final((fs::path(folder.path()) / "index.html").string()) << "\n";
   if (!mcap.empty()) out << "  wrote " << folder.Final(mcap) << "\n";
   return stop_reason.empty() ? kExitOk : kExitStoppedEarly;
+}
+
+void AddReplayOptions(CLI::App* cmd, ReplayCommandOptions* o) {
+  const auto init = std::make_shared<std::vector<double>>();  // seven numbers, a pose once parsed
+  cmd->add_option("sequence", o->sequence,
+                  "Recording: sequence folder, RealSense .bag or TUM RGB-D folder")
+      ->required()
+      ->check(CLI::ExistingPath);
+  cmd->add_option("--out", o->out_dir,
+                  "Output folder (index.html, summary.json, poses.csv, pose_vs_truth.png)")
+      ->required();
+  cmd->add_flag("--overwrite", o->overwrite, "Replace a report already in --out");
+  cmd->add_option("--object", o->object,
+                  "Object (shipped name or model path) [from sequence.yaml]");
+  cmd->add_option("--detector", o->detector, "Detector ONNX [data/objects/NAME/detector.onnx]");
+  cmd->add_flag("!--no-detector", o->use_detector,
+                "No CNN: global registration on the whole frame");
+  cmd->add_option("--init-pose", *init, "Known first cMo: x y z (m) qw qx qy qz")
+      ->expected(7)
+      ->check(cli::Finite());
+  cmd->add_flag("--init-from-truth", o->init_from_truth, "Known first cMo from groundtruth.csv");
+  cmd->add_flag("!--no-peer", o->run_peer, "Do not run ViSP's vpMbGenericTracker beside ours");
+  cmd->add_option(
+         "--filter-frame", o->filter_frame,
+         "Pose filter frame: camera, or world (camera poses from the recorded vehicle states)")
+      ->capture_default_str();
+  cmd->add_option("--platform", o->platform,
+                  "Platform YAML for the camera mount [config/platform_4dof.yaml]");
+  cmd->add_option("--frames", o->max_frames, "Process at most this many frames (0: all)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--perception", o->perception_config,
+                  "Perception YAML (see data/config/perception_default.yaml) [the code's defaults]")
+      ->check(CLI::ExistingFile);
+  AddTelemetryOptions(cmd, &o->telemetry);
+  const std::function<void()> recording = AddRecordingOptions(cmd, &o->recording);
+  cmd->callback([o, init, recording] {
+    if (!init->empty()) o->init_cMo = PoseFromValues(*init);
+    recording();
+  });
 }
 
 }  // namespace aerograsp

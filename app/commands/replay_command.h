@@ -22,6 +22,10 @@
 #include "app/commands/telemetry_options.h"
 #include "hardware/bag/recording.h"
 
+namespace CLI {
+class App;
+}
+
 namespace aerograsp {
 
 struct ReplayCommandOptions {
@@ -64,5 +68,10 @@ Eigen::Isometry3d PoseFromValues(const std::vector<double>& xyz_qwxyz,
 /// frames before it and says why it stopped ("stopped_early").
 int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
                      std::ostream& progress);
+
+/// Adds `replay`'s options to `cmd` (a CLI11 subcommand), with the recording
+/// options (AddRecordingOptions); the poses reach `options` when the command
+/// line has been parsed.
+void AddReplayOptions(CLI::App* cmd, ReplayCommandOptions* options);
 
 }  // namespace aerograsp
