@@ -102,11 +102,12 @@ GlobalRegistration::GlobalRegistration(const ModelCloud& model,
 
 GlobalRegistration::~GlobalRegistration() = default;
 
-std::size_t GlobalRegistration::HypothesisCount(const SceneCloud& scene,
-                                                std::size_t centres) const {
+std::size_t GlobalRegistration::HypothesisCount(const SceneCloud& scene, std::size_t centres,
+                                                bool every_orientation) const {
   const std::size_t all = impl_->orientations.size();
   if (scene.points_c.size() < 30 || all == 0) return 0;
-  return centres == 1 ? all : centres * std::max<std::size_t>(1, all / 4);
+  return centres == 1 || every_orientation ? centres * all
+                                           : centres * std::max<std::size_t>(1, all / 4);
 }
 
 SceneCloud GlobalRegistration::Near(const SceneCloud& scene, const Eigen::Vector3d& centre_c,
@@ -133,13 +134,12 @@ IcpOptions GlobalRegistration::QuickIcp(const IcpOptions& icp) {
   return quick;
 }
 
-std::vector<IcpResult> GlobalRegistration::Hypotheses(const SceneCloud& scene,
-                                                      const IcpOptions& icp,
-                                                      const std::vector<Eigen::Vector3d>& centres_c,
-                                                      std::size_t first, WorkBudget* budget,
-                                                      std::int64_t extra_work) const {
+std::vector<IcpResult> GlobalRegistration::Hypotheses(
+    const SceneCloud& scene, const IcpOptions& icp, const std::vector<Eigen::Vector3d>& centres_c,
+    std::size_t first, WorkBudget* budget, std::int64_t extra_work, bool every_orientation) const {
   const ModelCloud& model = *impl_->model;
-  const std::size_t total = centres_c.empty() ? 0 : HypothesisCount(scene, centres_c.size());
+  const std::size_t total =
+      centres_c.empty() ? 0 : HypothesisCount(scene, centres_c.size(), every_orientation);
   if (first >= total) return {};
   const IcpOptions quick = QuickIcp(icp);
   const std::size_t per_centre = total / centres_c.size();

@@ -44,7 +44,7 @@ struct GlobalRegistrationOptions {
   /// in one ICP pass, or one model point projected to score a pose), [0, 1e9];
   /// 0: no bound (the whole search in the frame that starts it). A search that
   /// does not fit continues on the next frames.
-  std::int64_t work_per_frame = 400000;
+  std::int64_t work_per_frame = 1200000;
 };
 
 /// The work one frame may still do (pairings; limit 0: no bound), and what it did.
@@ -77,8 +77,11 @@ class GlobalRegistration {
 
   /// The number of hypotheses Hypotheses runs through for `centres` rough
   /// centres: every orientation for one centre, a quarter of them for each of
-  /// several; 0 when the scene has too few points (under 30).
-  std::size_t HypothesisCount(const SceneCloud& scene, std::size_t centres) const;
+  /// several (every orientation for each with `every_orientation`: centres
+  /// that are pieces of the scene the object's size, SegmentScene); 0 when
+  /// the scene has too few points (under 30).
+  std::size_t HypothesisCount(const SceneCloud& scene, std::size_t centres,
+                              bool every_orientation = false) const;
 
   /// Runs hypotheses first, first + 1, ... (hypothesis h: centre h /
   /// per-centre count, orientation h % per-centre count; the object's box
@@ -91,7 +94,8 @@ class GlobalRegistration {
   std::vector<IcpResult> Hypotheses(const SceneCloud& scene, const IcpOptions& icp,
                                     const std::vector<Eigen::Vector3d>& centres_c,
                                     std::size_t first, WorkBudget* budget,
-                                    std::int64_t extra_work = 0) const;
+                                    std::int64_t extra_work = 0,
+                                    bool every_orientation = false) const;
 
   /// The best `refined_orientations` of the given hypotheses, failed ones left
   /// out: the highest `scores` first when given (one per hypothesis), else the

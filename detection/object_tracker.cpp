@@ -30,6 +30,7 @@ struct FieldCheck {
 void PerceptionOptions::Validate(const std::string& source, const std::string& prefix) const {
   const FieldCheck Require{source, prefix};
   track.Validate(source, prefix + "track.");
+  segment.Validate(source, prefix + "segment.");
   Require(min_detection_score > 0.0f && min_detection_score < 1.0f, "min_detection_score",
           "must be in (0, 1)");
   Require(box_margin >= 0.0 && box_margin <= 2.0, "box_margin", "must be in [0, 2]");
@@ -205,7 +206,7 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color,
                             const DepthImage& depth, double depth_scale_m,
                             const CameraIntrinsics& K, const std::optional<Eigen::Isometry3d>& seed,
                             const std::vector<Eigen::Vector3d>& centres_c, bool allow_global,
-                            FrameReport* report) {
+                            bool segment, std::size_t kept_centres, FrameReport* report) {
   const double t0 = ThreadCpuMs();
   if (seed) {
     // Tracking: the prediction is close, a short slide search will do.
@@ -225,12 +226,13 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color,
   }
   report->times.icp_ms = ThreadCpuMs() - t0;
   if (!allow_global) return false;
-  return Search(cloud, color, depth, depth_scale_m, K, centres_c, report);
+  return Search(cloud, color, depth, depth_scale_m, K, centres_c, segment, kept_centres, report);
 }
 
 bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
                            const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
-                           const std::vector<Eigen::Vector3d>& centres_c, FrameReport* report) {
+                           const std::vector<Eigen::Vector3d>& centres_c, bool segment,
+                           std::size_t kept_centres, FrameReport* report) {
   const double cpu0 = ProcessCpuMs();
   report->global_init = true;
   report->outline_drop = -1;  // the tracking attempt's, if any, is not the measurement's
@@ -238,6 +240,7 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
   if (!s.active) {
     s = SearchState{};
     s.active = true;
+    s.segment_pending = segment && options_.segment.max_surfaces > 0;
     ++global_stats_.searches;
   }
   ++s.frames;
@@ -247,16 +250,40 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
   WorkBudget budget(per_frame > 0 ? per_frame + s.saved_work : 0);
   bool blocked = false;  // a step did not fit: the search continues next frame
 
+  // The whole frame without a detector: the pieces of the scene off its large
+  // surfaces, once, on the search's first frame that pays for it.
+  if (s.segment_pending) {
+    if (budget.Take(SegmentWorkBound(cloud.points_c.size(), options_.segment))) {
+      s.segment_pending = false;
+      SceneSegments pieces =
+          SegmentScene(cloud, K, model_.diameter_m, model_.box_radius_m, min_half_extent_m_,
+                       frame_icp_.depth_noise_per_m2, options_.segment);
+      KeepReachable(&pieces.centres_c);
+      if (!pieces.centres_c.empty()) {
+        s.segmented = true;
+        s.foreground = std::move(pieces.foreground);
+        s.centres_c.assign(centres_c.begin(),
+                           centres_c.begin() + std::min(kept_centres, centres_c.size()));
+        s.centres_c.insert(s.centres_c.end(), pieces.centres_c.begin(), pieces.centres_c.end());
+      }
+    } else {
+      blocked = true;
+    }
+  }
+  // The cloud and centres the search runs on.
+  const SceneCloud& scene = s.segmented ? s.foreground : cloud;
+  const std::vector<Eigen::Vector3d>& centres = s.segmented ? s.centres_c : centres_c;
+
   // The short ICPs of the orientation hypotheses, from where the last frame stopped.
-  if (!s.hypotheses_done) {
+  if (!s.hypotheses_done && !s.segment_pending) {
     // Around several centres the hypotheses are ranked by how well they
     // explain the depth (and colour) image: their ICP inliers are not
     // comparable (a centre on a large surface has more points to pair).
-    const bool scored = centres_c.size() > 1;
+    const bool scored = centres.size() > 1 || s.segmented;
     const std::int64_t score_work =
         scored ? static_cast<std::int64_t>(SupportWorkBound(model_, SupportOptions())) : 0;
-    std::vector<IcpResult> tried =
-        global_->Hypotheses(cloud, frame_icp_, centres_c, s.next_hypothesis, &budget, score_work);
+    std::vector<IcpResult> tried = global_->Hypotheses(
+        scene, frame_icp_, centres, s.next_hypothesis, &budget, score_work, s.segmented);
     s.next_hypothesis += tried.size();
     if (scored) {
       std::vector<double> scores(tried.size(), 0.0);
@@ -269,7 +296,7 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
       s.scores.insert(s.scores.end(), scores.begin(), scores.end());
     }
     for (IcpResult& r : tried) s.hypotheses.push_back(std::move(r));
-    if (s.next_hypothesis >= global_->HypothesisCount(cloud, centres_c.size())) {
+    if (s.next_hypothesis >= global_->HypothesisCount(scene, centres.size(), s.segmented)) {
       s.hypotheses_done = true;
       s.candidates = global_->Best(std::move(s.hypotheses), s.scores);
       s.next_candidate = 0;
@@ -366,6 +393,19 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
   report->times.global_ms = ProcessCpuMs() - cpu0;
   global_stats_.cpu_ms += report->times.global_ms;
   return found;
+}
+
+void ObjectTracker::KeepReachable(std::vector<Eigen::Vector3d>* centres_c) const {
+  const double zone_reach_m =
+      reacquire_zone_c_ ? reacquire_zone_c_->second + model_.box_radius_m : 0.0;
+  centres_c->erase(std::remove_if(centres_c->begin(), centres_c->end(),
+                                  [&](const Eigen::Vector3d& c) {
+                                    return c.norm() < options_.min_global_range_m ||
+                                           c.norm() > options_.max_global_range_m ||
+                                           (reacquire_zone_c_ &&
+                                            (c - reacquire_zone_c_->first).norm() > zone_reach_m);
+                                  }),
+                   centres_c->end());
 }
 
 void ObjectTracker::EndSearch(SearchEnd end) {
@@ -508,6 +548,16 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
         !initial_cMo_ && (!ekf_.initialized() || monitor_.state() == TrackState::kLost);
     // Where the object may be, for the global registration's orientation hypotheses.
     std::vector<Eigen::Vector3d> centres_c = SearchCentres(report, depth, depth_scale_m, K, prior);
+    const bool whole_frame =
+        report.crop.width() == depth.width && report.crop.height() == depth.height;
+    const bool segment = whole_frame && !report.detection;
+    // The last known place leads the centres (SearchCentres) and stays first
+    // when the search segments the scene.
+    std::size_t kept_centres = segment && prior && !centres_c.empty() &&
+                                       centres_c.front().norm() >= options_.min_global_range_m &&
+                                       centres_c.front().norm() <= options_.max_global_range_m
+                                   ? 1
+                                   : 0;
     // Only where the object may be, at a range where the search can succeed.
     const std::size_t centres = centres_c.size();
     centres_c.erase(std::remove_if(centres_c.begin(), centres_c.end(),
@@ -516,9 +566,10 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
                                             c.norm() > options_.max_global_range_m;
                                    }),
                     centres_c.end());
-    if (centres > 0 && centres_c.empty()) allow_global = false;
-    report.measured =
-        Measure(cloud, color, depth, depth_scale_m, K, prior, centres_c, allow_global, &report);
+    // (A segmented search finds its own centres.)
+    if (centres > 0 && centres_c.empty() && !segment) allow_global = false;
+    report.measured = Measure(cloud, color, depth, depth_scale_m, K, prior, centres_c, allow_global,
+                              segment, kept_centres, &report);
   }
 
   // A track measured from its prior needs no search.

@@ -21,6 +21,7 @@
 #include "detection/pose_ekf.h"
 #include "detection/pose_support.h"
 #include "detection/scene_cloud.h"
+#include "detection/scene_segmentation.h"
 #include "detection/track_monitor.h"
 
 namespace aerograsp {
@@ -30,6 +31,9 @@ struct PerceptionOptions {
   SceneCloudOptions cloud;
   IcpOptions icp;
   GlobalRegistrationOptions global;
+  /// Where the whole-frame search (no detector) looks: pieces of the scene
+  /// off its large surfaces (detection/scene_segmentation.h).
+  SegmentationOptions segment;
   PoseEkfOptions ekf;
   TrackMonitorOptions track;
   float min_detection_score = 0.3f;  ///< detector peaks below this are ignored, (0, 1)
@@ -174,8 +178,8 @@ class ObjectTracker {
   bool Measure(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth,
                double depth_scale_m, const CameraIntrinsics& K,
                const std::optional<Eigen::Isometry3d>& seed,
-               const std::vector<Eigen::Vector3d>& centres_c, bool allow_global,
-               FrameReport* report);
+               const std::vector<Eigen::Vector3d>& centres_c, bool allow_global, bool segment,
+               std::size_t kept_centres, FrameReport* report);
   /// A rough object centre (m, in c) from a detector box and the depth inside it.
   std::optional<Eigen::Vector3d> EstimateCentre(const PixelBox& box, const DepthImage& depth,
                                                 double depth_scale_m,
@@ -183,9 +187,17 @@ class ObjectTracker {
 
   /// This frame's share of the global registration (hypotheses, then their
   /// refinement, as far as the budget goes): true when it found a pose.
+  /// `segment`: the cloud is the whole frame and no detector gives a box: the
+  /// search starts by segmenting the scene (SegmentScene) and searches around
+  /// its pieces, after the first `kept_centres` of `centres_c` (the last known
+  /// place); the grid of `centres_c` only when no piece fits the object.
   bool Search(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth,
               double depth_scale_m, const CameraIntrinsics& K,
-              const std::vector<Eigen::Vector3d>& centres_c, FrameReport* report);
+              const std::vector<Eigen::Vector3d>& centres_c, bool segment, std::size_t kept_centres,
+              FrameReport* report);
+  /// Drops the centres out of the global registration's range or outside this
+  /// frame's reacquisition zone (grown by the object's radius).
+  void KeepReachable(std::vector<Eigen::Vector3d>* centres_c) const;
   /// Ends the search under way: it found the object, tried everything, or is
   /// no longer needed (the track was measured without it, a pose was given).
   enum class SearchEnd { kFound, kExhausted, kAbandoned };
@@ -216,6 +228,11 @@ class ObjectTracker {
     bool active = false;
     int frames = 0;
     std::size_t next_hypothesis = 0;
+    bool segment_pending = false;  ///< the scene is still to be segmented
+    /// Segmented: the search runs on `foreground` around `centres_c` (from its first frame).
+    bool segmented = false;
+    SceneCloud foreground;
+    std::vector<Eigen::Vector3d> centres_c;
     std::vector<IcpResult> hypotheses;  ///< the short ICPs so far
     std::vector<double> scores;         ///< their support scores, around several centres
     bool hypotheses_done = false;

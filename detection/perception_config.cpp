@@ -93,6 +93,18 @@ void ReadTrack(const ConfigNode& n, TrackMonitorOptions* t) {
   t->frames_to_lose = n.GetInt("frames_to_lose", t->frames_to_lose);
 }
 
+void ReadSegment(const ConfigNode& n, SegmentationOptions* g) {
+  n.RequireOnlyKeys({"max_surfaces", "surface_iterations", "surface_tolerance_m", "surface_extent",
+                     "cluster_gap_m", "max_candidates", "seed"});
+  g->max_surfaces = n.GetInt("max_surfaces", g->max_surfaces);
+  g->surface_iterations = n.GetInt("surface_iterations", g->surface_iterations);
+  g->surface_tolerance_m = n.GetDouble("surface_tolerance_m", g->surface_tolerance_m);
+  g->surface_extent = n.GetDouble("surface_extent", g->surface_extent);
+  g->cluster_gap_m = n.GetDouble("cluster_gap_m", g->cluster_gap_m);
+  g->max_candidates = n.GetInt("max_candidates", g->max_candidates);
+  g->seed = GetSeed(n, "seed", g->seed);
+}
+
 }  // namespace
 
 PerceptionOptions LoadPerceptionOptions(const std::string& path,
@@ -102,6 +114,7 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path,
                         "cloud",
                         "icp",
                         "global",
+                        "segment",
                         "ekf",
                         "track",
                         "min_detection_score",
@@ -125,6 +138,7 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path,
   if (root.Has("cloud")) ReadCloud(root.Child("cloud"), &o.cloud);
   if (root.Has("icp")) ReadIcp(root.Child("icp"), &o.icp);
   if (root.Has("global")) ReadGlobal(root.Child("global"), &o.global);
+  if (root.Has("segment")) ReadSegment(root.Child("segment"), &o.segment);
   if (root.Has("ekf")) ReadEkf(root.Child("ekf"), &o.ekf);
   if (root.Has("track")) ReadTrack(root.Child("track"), &o.track);
   o.min_detection_score =

@@ -49,6 +49,13 @@ void ExpectSameOptions(const PerceptionOptions& a, const PerceptionOptions& b) {
   EXPECT_SAME_FIELD(global.inlier_fraction);
   EXPECT_SAME_FIELD(global.seed);
   EXPECT_SAME_FIELD(global.work_per_frame);
+  EXPECT_SAME_FIELD(segment.max_surfaces);
+  EXPECT_SAME_FIELD(segment.surface_iterations);
+  EXPECT_SAME_FIELD(segment.surface_tolerance_m);
+  EXPECT_SAME_FIELD(segment.surface_extent);
+  EXPECT_SAME_FIELD(segment.cluster_gap_m);
+  EXPECT_SAME_FIELD(segment.max_candidates);
+  EXPECT_SAME_FIELD(segment.seed);
   EXPECT_SAME_FIELD(ekf.accel_noise_mps2);
   EXPECT_SAME_FIELD(ekf.angular_accel_noise_radps2);
   EXPECT_SAME_FIELD(ekf.init_position_std_m);
