@@ -7,6 +7,17 @@
 
 namespace aerograsp {
 
+CoverageConfig CoverageConfig::FromNode(const ConfigNode& node) {
+  node.RequireOnlyKeys({"grid_cols", "grid_rows", "min_corners_per_cell", "min_tilt_deg"});
+  CoverageConfig c;
+  c.grid_cols = node.GetInt("grid_cols", c.grid_cols);
+  c.grid_rows = node.GetInt("grid_rows", c.grid_rows);
+  c.min_corners_per_cell = node.GetInt("min_corners_per_cell", c.min_corners_per_cell);
+  c.min_tilt_deg = node.GetDouble("min_tilt_deg", c.min_tilt_deg);
+  c.Validate(node.source(), node.KeyPath(""));
+  return c;
+}
+
 void CoverageConfig::Validate(const std::string& source, const std::string& prefix) const {
   CheckRange(source, prefix + "grid_cols", grid_cols, 1, 8, "");
   CheckRange(source, prefix + "grid_rows", grid_rows, 1, 8, "");

@@ -9,11 +9,17 @@
 
 namespace aerograsp {
 
+class ConfigNode;
+
 struct CoverageConfig {
   int grid_cols = 3;             ///< image cells across, [1, 8]
   int grid_rows = 3;             ///< image cells down, [1, 8]
   int min_corners_per_cell = 4;  ///< corners of one sample that cover a cell, [1, 1000]
   double min_tilt_deg = 20.0;    ///< tilt about x or y (each sign) still missing below this, deg
+                                 ///< [1, 80]
+
+  /// Reads the fields present in `node` (unknown keys are rejected) and validates them.
+  static CoverageConfig FromNode(const ConfigNode& node);
   /// `prefix` is the key path of this section in its file, ending in "." ("" at
   /// the top). @throws ConfigError "<source>: <prefix><key>: ..." naming the bound.
   void Validate(const std::string& source, const std::string& prefix) const;

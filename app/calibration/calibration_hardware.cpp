@@ -71,7 +71,7 @@ CalibrationRig CalibrationRig::Load(const std::string& hardware_path) {
   n.RequireOnlyKeys({"mount", "board", "board_in_tool_xyz_m", "board_in_tool_rpy_deg",
                      "joint_speed_deg_s", "settle_timeout_s", "settle_tolerance_deg",
                      "settle_window_s", "min_voltage_v", "max_voltage_v", "max_temperature_c",
-                     "max_failed_reads", "still_px", "max_missed_frames"});
+                     "max_failed_reads", "still_px", "max_missed_frames", "coverage"});
   r.mount = n.GetString("mount", r.mount);
   if (n.Has("board")) r.board = TagBoardConfig::FromNode(n.Child("board"));
   const Eigen::Vector3d xyz =
@@ -90,6 +90,7 @@ CalibrationRig CalibrationRig::Load(const std::string& hardware_path) {
   r.max_failed_reads = n.GetInt("max_failed_reads", r.max_failed_reads);
   r.still_px = n.GetDouble("still_px", r.still_px);
   r.max_missed_frames = n.GetInt("max_missed_frames", r.max_missed_frames);
+  if (n.Has("coverage")) r.coverage = CoverageConfig::FromNode(n.Child("coverage"));
   r.Validate(r.source, "calibration.");
   return r;
 }
@@ -109,6 +110,7 @@ void CalibrationRig::Validate(const std::string& source, const std::string& pref
   CheckRange(f, prefix + "max_failed_reads", max_failed_reads, 1, 100, "");
   CheckRange(f, prefix + "still_px", still_px, 0.01, 20.0, "px");
   CheckRange(f, prefix + "max_missed_frames", max_missed_frames, 1, 1000, "");
+  coverage.Validate(f, prefix + "coverage.");
 }
 
 HandEyeHardware::~HandEyeHardware() {

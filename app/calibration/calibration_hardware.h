@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "calib/coverage.h"
 #include "calib/tag_board.h"
 #include "core/platform.h"
 #include "hardware/hardware_config.h"
@@ -54,6 +55,9 @@ struct CalibrationRig {
   double still_px{1.0};
   /// Hand-held intrinsics: frames in a row the camera may fail to deliver, [1, 1000].
   int max_missed_frames{30};
+  /// Hand-held intrinsics: the image cells and board tilts the samples must
+  /// cover before the wizard solves (`calibration.coverage`).
+  CoverageConfig coverage;
 
   /// The defaults when the file has no `calibration` section.
   /// @throws ConfigError "<file>: calibration.<key>: ..." for unknown keys and bounds.

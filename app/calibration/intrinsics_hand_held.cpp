@@ -119,7 +119,7 @@ void RunHandHeldIntrinsics(const CalibrateCommandOptions& options, IntrinsicsHar
   if (options.out_dir.empty() && !options.dry_run)
     throw ConfigError("--out: an output folder is required");
   CheckRange("command line", "--poses", options.poses, kMinIntrinsicsViews, 100, "");
-  const CoverageConfig coverage_config;
+  const CoverageConfig& coverage_config = hw.rig().coverage;
   RgbdCamera& camera = hw.camera();
   ViewsFile file;
   file.board = hw.board();

@@ -494,5 +494,42 @@ TEST(CalibrationRigTest, ValidateNamesTheFileAndTheFullKeyPath) {
               HasSubstr("hw.yaml: calibration.mount: 'wrist' is not one of: gripper, hand"));
 }
 
+// The hand-held intrinsics' coverage is read from the rig: the shipped hardware
+// files say the code's defaults, and a bad value names the file, the key and the bound.
+TEST(CalibrationRigTest, TheShippedFilesCoverageIsTheDefaultsAndABadValueIsNamed) {
+  const CoverageConfig defaults;
+  for (const char* file : {"config/hardware_sim.yaml", "config/hardware_example.yaml"}) {
+    const CoverageConfig c = CalibrationRig::Load(DataPath(file)).coverage;
+    EXPECT_EQ(c.grid_cols, defaults.grid_cols) << file;
+    EXPECT_EQ(c.grid_rows, defaults.grid_rows) << file;
+    EXPECT_EQ(c.min_corners_per_cell, defaults.min_corners_per_cell) << file;
+    EXPECT_EQ(c.min_tilt_deg, defaults.min_tilt_deg) << file;
+  }
+  const fs::path path = fs::temp_directory_path() / "aerograsp_rig_coverage.yaml";
+  const auto message = [&](const std::string& coverage) {
+    std::ofstream(path) << "calibration:\n  coverage: " << coverage << "\n";
+    try {
+      CalibrationRig::Load(path.string());
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(CalibrationRig::Load("").coverage.grid_cols, defaults.grid_cols);
+  EXPECT_THAT(
+      message("{grid_cols: 9}"),
+      HasSubstr(path.string() + ": calibration.coverage.grid_cols: 9 is above the upper bound 8"));
+  EXPECT_THAT(
+      message("{min_tilt_deg: 0.5}"),
+      HasSubstr("calibration.coverage.min_tilt_deg: 0.5 deg is below the lower bound 1 deg"));
+  EXPECT_THAT(message("{grid: 3}"), HasSubstr("calibration.coverage.grid: unknown key"));
+  std::ofstream(path) << "calibration:\n  coverage: {grid_rows: 2, min_tilt_deg: 25}\n";
+  const CoverageConfig read = CalibrationRig::Load(path.string()).coverage;
+  EXPECT_EQ(read.grid_rows, 2);
+  EXPECT_EQ(read.min_tilt_deg, 25.0);
+  EXPECT_EQ(read.grid_cols, defaults.grid_cols);
+  fs::remove(path);
+}
+
 }  // namespace
 }  // namespace aerograsp
