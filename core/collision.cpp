@@ -243,7 +243,7 @@ struct PlatformCollision::Impl {
 };
 
 PlatformCollision::PlatformCollision(const Platform& platform) : impl_(std::make_unique<Impl>()) {
-  for (Side side : {Side::kLeft, Side::kRight}) {
+  for (Side side : kSides) {
     impl_->arms[static_cast<int>(side)] = BuildArm(platform, side);
   }
   for (const CollisionShape& c : platform.safe_volume_d()) {

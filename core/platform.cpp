@@ -134,7 +134,7 @@ Platform Platform::FromConfig(const PlatformConfig& config) {
                      [&] { return LoadCameraXml(config.camera_xml, config.camera_name); });
 
   const std::size_t expected_dof = config.arm_type == "4dof" ? 4 : 6;
-  for (Side side : {Side::kLeft, Side::kRight}) {
+  for (Side side : kSides) {
     const int i = static_cast<int>(side);
     const ArmMountConfig& mount = side == Side::kLeft ? config.left : config.right;
     const std::string key = std::string("arms.") + SideName(side);

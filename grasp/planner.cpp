@@ -211,7 +211,7 @@ bool GraspPlanner::Robust(Side side, int pair, const Eigen::Isometry3d& dMo,
 PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
   PlanResult result;
   const int n = static_cast<int>(contacts_.pairs.size());
-  for (Side side : {Side::kLeft, Side::kRight}) {
+  for (Side side : kSides) {
     const Eigen::VectorXd& q = side == Side::kLeft ? query.q_left : query.q_right;
     std::vector<ArmGrasp>& feasible = side == Side::kLeft ? result.left : result.right;
     ArmStats& stats = side == Side::kLeft ? result.left_stats : result.right_stats;

@@ -239,7 +239,7 @@ void HardwareConfig::Validate(const std::string& source, const std::string& pref
   CheckRange(f, prefix + "arms.goal_speed", s.goal_speed, 0, 65535, "");
   CheckRange(f, prefix + "arms.rate_hz", s.rate_hz, 1.0, 1000.0, "Hz");
   std::set<int> ids;
-  for (Side side : {Side::kLeft, Side::kRight}) {
+  for (Side side : kSides) {
     const int k = static_cast<int>(side);
     const std::string key = prefix + "arms.servos." + SideName(side);
     if (arms.servos_given) {

@@ -48,7 +48,7 @@ void RunServoBusBenchmark(const ServoBusBenchmarkOptions& options, std::ostream&
   double busy_s = 0.0;
   for (int i = 0; i < options.cycles; ++i) {
     // Both arms sweep about home so the servos really move.
-    for (Side side : {Side::kLeft, Side::kRight}) {
+    for (Side side : kSides) {
       Eigen::VectorXd q = world.platform().home(side);
       q.array() += 0.3 * std::sin(2.0 * M_PI * 0.5 * world.now_s());
       driver.SetJointTargets(side, q);

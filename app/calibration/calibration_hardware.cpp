@@ -264,7 +264,7 @@ std::vector<std::string> PreflightDevices(HandEyeHardware& hw, RgbdFrame* frame,
                       rig.min_voltage_v, rig.max_voltage_v, s.temperature_c, rig.max_temperature_c,
                       s.error ? ", error bits: " + scs::ErrorBitsText(s.error) : ""));
     }
-    for (Side side : {Side::kLeft, Side::kRight}) {
+    for (Side side : kSides) {
       const std::size_t configured =
           hw.config().arms.servos_given ? hw.config().arms.scs.joints[static_cast<int>(side)].size()
                                         : static_cast<std::size_t>(platform.arm(side).dof());
@@ -274,7 +274,7 @@ std::vector<std::string> PreflightDevices(HandEyeHardware& hw, RgbdFrame* frame,
                         SideName(side), hw.config().source, platform.arm(side).dof()));
     }
   }
-  for (Side side : {Side::kLeft, Side::kRight}) {
+  for (Side side : kSides) {
     const ArmModel& arm = platform.arm(side);
     const Eigen::VectorXd q = hw.arms().JointPositions(side);
     bool all_inside = true;

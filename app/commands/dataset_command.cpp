@@ -190,7 +190,7 @@ void RunDatasetCommand(const DatasetCommandOptions& options, std::ostream& out,
                             rng.Uniform(-0.15, 0.15));
       // The arms where the vehicle carries them, joints near home.
       const Eigen::Isometry3d wMd = wMc * platform.dMc().inverse();
-      for (Side side : {Side::kLeft, Side::kRight}) {
+      for (Side side : kSides) {
         const ArmModel& arm = platform.arm(side);
         Eigen::VectorXd q = platform.home(side);
         for (int j = 0; j < q.size(); ++j) q[j] += rng.Uniform(-0.35, 0.35);

@@ -99,7 +99,7 @@ std::string ExplainNoGrasp(const PlanResult& plan, const ContactSet& contacts,
         extent.y(), extent.z(), contacts.pairs_too_wide);
     return why.str();
   }
-  for (Side side : {Side::kLeft, Side::kRight}) {
+  for (Side side : kSides) {
     const ArmStats& s = side == Side::kLeft ? plan.left_stats : plan.right_stats;
     if (s.feasible > 0) continue;
     const ArmModel& arm = platform.arm(side);
@@ -272,7 +272,7 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
       contacts.rays, contacts.resolution_m, contacts.rays_hit, contacts.rays_skipped,
       contacts.pairs.size(), contacts.max_width_m, contacts.pairs_too_wide, contacts_ms,
       cache_state, cache_path);
-  for (Side side : {Side::kLeft, Side::kRight}) {
+  for (Side side : kSides) {
     const ArmStats& s = side == Side::kLeft ? plan.left_stats : plan.right_stats;
     const std::vector<ArmGrasp>& grasps = side == Side::kLeft ? plan.left : plan.right;
     out << fmt::format(

@@ -20,7 +20,7 @@ int SignedLoad(int raw) { return (raw & 0x400) ? -(raw & 0x3FF) : (raw & 0x3FF);
 
 ScsArmsConfig ScsArmsConfig::Default(const Platform& platform) {
   ScsArmsConfig config;
-  for (Side side : {Side::kLeft, Side::kRight}) {
+  for (Side side : kSides) {
     const int k = static_cast<int>(side) + 1;
     const ArmModel& arm = platform.arm(side);
     auto& joints = config.joints[static_cast<int>(side)];
@@ -37,7 +37,7 @@ ScsArmsDriver::ScsArmsDriver(const Platform& platform, const ScsArmsConfig& conf
     : config_(config),
       clock_(std::move(clock)),
       max_aperture_m_(platform.config().gripper.max_aperture_m) {
-  for (Side side : {Side::kLeft, Side::kRight}) {
+  for (Side side : kSides) {
     const int s = static_cast<int>(side);
     const ArmModel& arm = platform.arm(side);
     if (static_cast<int>(config.joints[s].size()) != arm.dof()) {
@@ -81,7 +81,7 @@ ScsArmsDriver::ScsArmsDriver(const Platform& platform, const ScsArmsConfig& conf
     throw HardwareError(msg.str());
   }
   const double now = clock_();
-  for (Side side : {Side::kLeft, Side::kRight}) {
+  for (Side side : kSides) {
     const int s = static_cast<int>(side);
     for (int i = 0; i < arms_[s].measured.size(); ++i) {
       arms_[s].measured[i] =
@@ -197,7 +197,7 @@ CycleReport ScsArmsDriver::Cycle() {
   std::vector<scs::SyncEntry> entries;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    for (Side side : {Side::kLeft, Side::kRight}) {
+    for (Side side : kSides) {
       const int s = static_cast<int>(side);
       ArmState& arm = arms_[s];
       const bool stale = !arm.has_target || now - arm.target_stamp_s > config_.stale_after_s;
@@ -264,7 +264,7 @@ CycleReport ScsArmsDriver::Cycle() {
     servo.voltage_v = 0.1 * status_data[2];
     servo.temperature_c = status_data[3];
   }
-  for (Side side : {Side::kLeft, Side::kRight}) {
+  for (Side side : kSides) {
     const int s = static_cast<int>(side);
     ArmState& arm = arms_[s];
     for (int i = 0; i < arm.measured.size(); ++i) {

@@ -327,13 +327,12 @@ TEST(MissionEvaluatorTest, TheToolErrorAtContactIsTakenAgainstTheTrueObject) {
                              ObjectSymmetry{{Eigen::Matrix3d::Identity()}},
                              [&](const std::string& line) { lines.push_back(line); });
   const ArmGrasp* grasps[2] = {&best.left, &best.right};
-  for (int a = 0; a < 2; ++a)
-    world.arm(a == 0 ? Side::kLeft : Side::kRight).SetTarget(grasps[a]->q_grasp);
+  for (int a = 0; a < 2; ++a) world.arm(kSides[a]).SetTarget(grasps[a]->q_grasp);
   world.Step(3.0);
   const Eigen::Isometry3d dMo_true = world.wMd().inverse() * world.wMo();
   const Eigen::Vector3d offset_d(0.0, 0.02, 0.0);
   for (int a = 0; a < 2; ++a) {
-    const Side side = a == 0 ? Side::kLeft : Side::kRight;
+    const Side side = kSides[a];
     ClosingView view;
     view.dMo_estimate = dMo_true;
     if (a == 0) view.dMo_estimate.translation() += offset_d;

@@ -117,7 +117,7 @@ TEST_P(PlatformCollisionTest, BasePlateAndYawingShoulderAreExempt) {
 }
 
 TEST_P(PlatformCollisionTest, ArmsAtHomeAreOutsideTheSafeVolume) {
-  for (Side side : {Side::kLeft, Side::kRight}) {
+  for (Side side : kSides) {
     EXPECT_FALSE(collision_.ArmInSafeVolume(side, platform_.home(side))) << SideName(side);
     EXPECT_GT(collision_.DistanceToSafeVolume(side, platform_.home(side)), 0.0) << SideName(side);
   }
@@ -128,7 +128,7 @@ TEST_P(PlatformCollisionTest, ArmRaisedAboveTheShoulderIsInTheSafeVolume) {
   // end (the wrist roll j3, segment 4's origin) is inside the volume.
   const Eigen::VectorXd q = Pose(dof(), 0.0, -1.745, -0.26);
   const VolumeBox v = SafeBox(platform_);
-  for (Side side : {Side::kLeft, Side::kRight}) {
+  for (Side side : kSides) {
     std::vector<Eigen::Isometry3d> bMs;
     platform_.arm(side).SegmentPoses(q, &bMs);
     const Eigen::Vector3d p_d = platform_.dMb(side) * bMs[4].translation();
@@ -165,7 +165,7 @@ TEST_P(PlatformCollisionTest, DistanceMatchesTheVolumesBottomFaceForRandomConfig
   const VolumeBox v = SafeBox(platform_);
   std::mt19937 rng(42);
   int apart = 0, penetrating = 0;
-  for (Side side : {Side::kLeft, Side::kRight}) {
+  for (Side side : kSides) {
     const ArmModel& arm = platform_.arm(side);
     for (int n = 0; n < 1000; ++n) {
       Eigen::VectorXd q(arm.dof());

@@ -71,7 +71,7 @@ class ScsDriverTest : public ::testing::Test {
 TEST_F(ScsDriverTest, OpensWithEveryServoAtItsPresentPositionAndTorqueOn) {
   auto driver = Open();
   const double quantum = world_.arm(Side::kLeft).quantum_rad();
-  for (Side side : {Side::kLeft, Side::kRight}) {
+  for (Side side : kSides) {
     EXPECT_LE((driver->JointPositions(side) - world_.arm(side).q_true_rad()).cwiseAbs().maxCoeff(),
               quantum);
   }

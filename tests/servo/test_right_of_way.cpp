@@ -37,16 +37,15 @@ struct DualRun {
 DualRun RunBothArms(const Platform& platform, const PlatformCollision& collision,
                     const Eigen::VectorXd (&start)[2], const Eigen::VectorXd (&goal)[2],
                     RightOfWay* right_of_way) {
-  const Side sides[2] = {Side::kLeft, Side::kRight};
   Eigen::VectorXd q[2] = {start[0], start[1]};
   std::unique_ptr<ArmServo> servo[2];
   Eigen::Isometry3d bMg[2];
   for (int a = 0; a < 2; ++a) {
-    const ArmModel& arm = platform.arm(sides[a]);
+    const ArmModel& arm = platform.arm(kSides[a]);
     ServoConfig config;
-    config.via_rad = {arm.Clamp(Eigen::VectorXd::Zero(arm.dof())), platform.home(sides[a])};
+    config.via_rad = {arm.Clamp(Eigen::VectorXd::Zero(arm.dof())), platform.home(kSides[a])};
     servo[a] = std::make_unique<ArmServo>(
-        arm, config, MakeCollisionPredicate(collision, sides[a], 0.005, &q[1 - a]), right_of_way,
+        arm, config, MakeCollisionPredicate(collision, kSides[a], 0.005, &q[1 - a]), right_of_way,
         a);
     bMg[a] = arm.ForwardKinematics(goal[a]);
   }
