@@ -149,12 +149,15 @@ int RunMissionBenchmark(const MissionBenchmarkOptions& options, std::ostream& ou
           ++k;
           failed += !r.success;
           const double elapsed = std::chrono::duration<double>(WallClock::now() - start).count();
-          err << fmt::format("  [{}/{}] {} {}/{} seed {}: {}, {:.1f}x real time; {} left\n", done,
-                             total, c.name(), k, runs, seed,
-                             r.success ? fmt::format("grasped at {:.1f} s after {} attempt(s)",
-                                                     r.time_to_grasp_s, r.attempts)
-                                       : "FAILED: " + r.failure,
-                             r.realtime_factor, Remaining(elapsed / done * (total - done)))
+          err << fmt::format(
+                     "  [{}/{}] {} {}/{} seed {}: {}, {:.1f}x real time ({:.1f}x on CPU "
+                     "time); {} left\n",
+                     done, total, c.name(), k, runs, seed,
+                     r.success ? fmt::format("grasped at {:.1f} s after {} attempt(s)",
+                                             r.time_to_grasp_s, r.attempts)
+                               : "FAILED: " + r.failure,
+                     r.realtime_factor, r.realtime_factor_cpu,
+                     Remaining(elapsed / done * (total - done)))
               << std::flush;
         });
     nlohmann::json summary = {

@@ -97,8 +97,10 @@ ReportRow Headline(const MissionResult& r) {
       {"emergency stops", std::to_string(r.emergency_stops)},
       {"worst servo step", fmt::format("{:.2f} ms ({:.2f} ms thread CPU)", r.servo_step_ms_max,
                                        r.servo_step_cpu_ms_max)},
-      {"mission time", fmt::format("{:.1f} s simulated in {:.1f} s ({:.2f}x real time)",
-                                   r.sim_time_s, r.wall_time_s, r.realtime_factor)},
+      {"mission time",
+       fmt::format(
+           "{:.1f} s simulated in {:.1f} s ({:.2f}x real time; {:.1f} s of CPU time, {:.2f}x)",
+           r.sim_time_s, r.wall_time_s, r.realtime_factor, r.cpu_time_s, r.realtime_factor_cpu)},
       {"camera frames",
        fmt::format("{} (perception {:.1f} ms, rendering {:.1f} ms median; {} with a global "
                    "registration)",

@@ -11,6 +11,7 @@
 #include "app/commands/telemetry_options.h"
 #include "app/report/mission_report.h"
 #include "app/report/summary_file.h"
+#include "app/runtime/mission_setup.h"
 
 namespace aerograsp {
 
@@ -23,8 +24,13 @@ MissionRuns FlyMissionRuns(
   const fs::path logs = fs::path(dir) / "logs";
   fs::create_directories(logs);
   MissionRuns flown;
+  // The runs differ only in their seed: the first builds the planner and
+  // searches the placement, the others reuse them (app/runtime/mission_setup.h).
+  const std::shared_ptr<MissionSetup> setup =
+      options.setup ? options.setup : std::make_shared<MissionSetup>();
   for (int k = 0; k < runs; ++k) {
     MissionOptions m = options;
+    m.setup = setup;
     m.seed = options.seed + static_cast<std::uint64_t>(k);
     std::ostringstream log;
     CommandTelemetry telemetry;  // the first run's, as its plots

@@ -27,7 +27,9 @@ struct MissionRuns {
 };
 
 /// Flies `runs` missions of `options` on seeds options.seed, +1, ... and
-/// writes each one's log to dir/logs/seed_N.log. `telemetry` (may be null)
+/// writes each one's log to dir/logs/seed_N.log. They share one MissionSetup
+/// (options.setup when given): the planner is built and the placement searched
+/// once. `telemetry` (may be null)
 /// is opened for the first run only (dir/mission.mcap). A mission that throws
 /// is a failed run whose failure says "error: " and why. `after_each` (may be
 /// empty) hears each run as it ends, with its seed.

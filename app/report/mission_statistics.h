@@ -51,6 +51,9 @@ struct MissionStatistics {
   double servo_step_cpu_ms_max = 0.0;
   double realtime_factor_min = 0.0;
   double realtime_factor_median = 0.0;
+  /// The same on the missions' CPU time (MissionResult::realtime_factor_cpu).
+  double realtime_factor_cpu_min = 0.0;
+  double realtime_factor_cpu_median = 0.0;
   int safe_volume_entries = 0;
   int arm_contacts = 0;
   int emergency_stops = 0;

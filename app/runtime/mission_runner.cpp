@@ -15,6 +15,7 @@
 #include "app/runtime/mission_grasp.h"
 #include "app/runtime/mission_health.h"
 #include "app/runtime/mission_object.h"
+#include "app/runtime/mission_setup.h"
 #include "app/runtime/mission_startup.h"
 #include "app/runtime/mission_vehicle.h"
 #include "app/runtime/telemetry_frames.h"
@@ -84,7 +85,7 @@ class Mission {
   const World* sim_clock_ = nullptr;  // the simulated world, for its clock only
   std::unique_ptr<ObjectModel> object_;
   std::unique_ptr<ObjectTracker> tracker_;
-  std::unique_ptr<GraspPlanner> planner_;
+  std::shared_ptr<const GraspPlanner> planner_;  // shared with missions of this configuration
   Eigen::Matrix3d placement_dRo_ = Eigen::Matrix3d::Identity();  // the object's, upright
   std::unique_ptr<PlatformCollision> collision_;
   Eigen::VectorXd q_[2];  // measured joints, read by the other arm's forbidden predicate
@@ -147,8 +148,10 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
 
   object_ = std::make_unique<ObjectModel>(LoadMissionObject(options, world));
   tracker_ = MakeMissionTracker(*object_, config_);
-  planner_ = MakeMissionPlanner(platform, *object_, config_);
-  const std::string placement = PlaceMissionObject(*planner_, platform, &config_);
+  const std::shared_ptr<const MissionSetup> setup =
+      MissionSetupFor(options, platform, *object_, config_);
+  planner_ = setup->planner;
+  const std::string placement = PlaceMissionObject(*setup, &config_);
   if (!placement.empty()) Log(Now(), placement);
   placement_dRo_ = UprightDmo(config_.grasp_dto_m, config_.placement.object_yaw_rad).linear();
 
@@ -427,6 +430,7 @@ void Mission::DeviceFaults(const std::vector<DeviceFault>& faults) {
 
 MissionResult Mission::Run() {
   const WallClock::time_point wall_start = WallClock::now();
+  const double cpu_start_ms = ProcessCpuMs();
   t0_wall_s_ = std::chrono::duration<double>(wall_start.time_since_epoch()).count();
   if (links_.telemetry)
     links_.telemetry->StaticTransforms(Now(), PlatformStaticFrames(hw_->platform()));
@@ -465,6 +469,9 @@ MissionResult Mission::Run() {
   result_.wall_time_s = std::chrono::duration<double>(WallClock::now() - wall_start).count();
   result_.realtime_factor =
       result_.wall_time_s > 0 ? result_.sim_time_s / result_.wall_time_s : 0.0;
+  result_.cpu_time_s = 1e-3 * (ProcessCpuMs() - cpu_start_ms);
+  result_.realtime_factor_cpu =
+      result_.cpu_time_s > 0 ? result_.sim_time_s / result_.cpu_time_s : 0.0;
   result_.perception_ms_median = Percentile(perception_ms_, 0.5);
   result_.render_ms_median = Percentile(render_ms_, 0.5);
   // The truth figures come from the evaluator in simulation; on hardware the

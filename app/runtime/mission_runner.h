@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -32,6 +33,7 @@
 namespace aerograsp {
 
 struct HardwareConfig;
+struct MissionSetup;
 struct WorldConfig;
 
 struct MissionOptions {
@@ -51,6 +53,10 @@ struct MissionOptions {
   std::function<void(HardwareConfig*)> adjust_hardware;
   /// When given: changes the simulated world's settings after the options above.
   std::function<void(WorldConfig*)> adjust_world;
+  /// When given: the planner and placement of an earlier mission of the same
+  /// configuration (app/runtime/mission_setup.h), reused when it is one; filled
+  /// when it is empty or of another configuration.
+  std::shared_ptr<MissionSetup> setup;
 };
 
 /// One gripper close, measured against the simulated world's truth
@@ -94,7 +100,11 @@ struct MissionResult {
   double sim_time_s = 0;  ///< mission time
   double wall_time_s = 0;
   double realtime_factor = 0;  ///< sim_time_s / wall_time_s
-  int frames = 0;              ///< camera frames processed
+  /// CPU time of all the process's threads while the mission flew, s, and
+  /// sim_time_s over it: the real-time factor on one core, whatever else runs.
+  double cpu_time_s = 0;
+  double realtime_factor_cpu = 0;
+  int frames = 0;  ///< camera frames processed
   /// Frames on which the tracker ran a global registration (no usable prior,
   /// or the local registration from it failed).
   int global_registrations = 0;

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <utility>
 
+#include "app/runtime/mission_setup.h"
 #include "core/data_dir.h"
 #include "detection/box_detector.h"
 #include "detection/object_tracker.h"
@@ -86,12 +87,27 @@ std::unique_ptr<GraspPlanner> MakeMissionPlanner(const Platform& platform,
                                         planner_config);
 }
 
-std::string PlaceMissionObject(const GraspPlanner& planner, const Platform& platform,
-                               MissionConfig* config) {
-  if (!config->placement.Searches()) return "";
-  const Placement placement =
-      ChoosePlacement(planner, config->grasp_dto_m, config->placement, platform.home(Side::kLeft),
-                      platform.home(Side::kRight));
+std::shared_ptr<const MissionSetup> MissionSetupFor(const MissionOptions& options,
+                                                    const Platform& platform,
+                                                    const ObjectModel& object,
+                                                    const MissionConfig& config) {
+  const std::string key =
+      fmt::format("{}\n{}\n{}", config.source, platform.config().source, object.source);
+  if (options.setup && options.setup->key == key && options.setup->planner) return options.setup;
+  auto setup = std::make_shared<MissionSetup>();
+  setup->key = key;
+  setup->planner = MakeMissionPlanner(platform, object, config);
+  if (config.placement.Searches()) {
+    setup->placement = ChoosePlacement(*setup->planner, config.grasp_dto_m, config.placement,
+                                       platform.home(Side::kLeft), platform.home(Side::kRight));
+  }
+  if (options.setup) *options.setup = *setup;
+  return setup;
+}
+
+std::string PlaceMissionObject(const MissionSetup& setup, MissionConfig* config) {
+  if (!setup.placement) return "";
+  const Placement& placement = *setup.placement;
   const Eigen::Vector3d& p = placement.dMo.translation();
   const std::string line = fmt::format(
       "placement: the object at [{:.3f}, {:.3f}, {:.3f}] m in the body frame ({} "

@@ -18,6 +18,7 @@ class ObjectTracker;
 class Platform;
 class World;
 struct DeviceHealthLimits;
+struct MissionSetup;
 
 /// The mission config `options` names (data/config/mission_default.yaml when
 /// none), with the options' timeout.
@@ -48,10 +49,18 @@ std::unique_ptr<GraspPlanner> MakeMissionPlanner(const Platform& platform,
                                                  const ObjectModel& object,
                                                  const MissionConfig& config);
 
-/// Where the vehicle holds the object, searched once for this object and these
-/// arms when the config's placement asks for it: `config->grasp_dto_m` moves
-/// there. Returns the line to log (empty: no search).
-std::string PlaceMissionObject(const GraspPlanner& planner, const Platform& platform,
-                               MissionConfig* config);
+/// The planner of `object` on `platform` (MakeMissionPlanner) and where the
+/// vehicle holds the object, searched for this object and these arms when the
+/// config's placement asks for it: options.setup's when it was built for this
+/// configuration (the same mission config, platform and object files), else
+/// built now, and options.setup (when given) filled with them.
+std::shared_ptr<const MissionSetup> MissionSetupFor(const MissionOptions& options,
+                                                    const Platform& platform,
+                                                    const ObjectModel& object,
+                                                    const MissionConfig& config);
+
+/// `config->grasp_dto_m` moves to the setup's placement. Returns the line to
+/// log (empty: no search).
+std::string PlaceMissionObject(const MissionSetup& setup, MissionConfig* config);
 
 }  // namespace aerograsp
