@@ -5,17 +5,10 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <chrono>
 #include <cmath>
 
 namespace aerograsp {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-Clock::duration Seconds(double s) {
-  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
-}
 
 bool Contains(const std::vector<int>& ids, int id) {
   return std::find(ids.begin(), ids.end(), id) != ids.end();
@@ -26,6 +19,15 @@ constexpr int kIdleLoad = 40;
 constexpr int kVoltage_dv = 74;  // PRESENT_VOLTAGE of a healthy servo: 7.4 V
 constexpr int kTemperature_c = 35;
 
+/// The driver takes `bytes` as the reply of servo `id`: a well-formed status packet of it.
+bool AnswersServo(const std::vector<std::uint8_t>& bytes, int id) {
+  scs::PacketParser parser;
+  for (std::uint8_t b : bytes) {
+    if (parser.Push(b) == scs::PacketParser::Result::kPacket) return parser.packet().id == id;
+  }
+  return false;
+}
+
 }  // namespace
 
 SimServoBus::SimServoBus(World* world, const ScsArmsConfig& servos, const SimServoBusConfig& config)
@@ -33,7 +35,8 @@ SimServoBus::SimServoBus(World* world, const ScsArmsConfig& servos, const SimSer
       servos_config_(servos),
       config_(config),
       rng_(config.seed),
-      bus_free_(Clock::now()) {
+      driver_s_(world->now_s()),
+      wire_free_s_(world->now_s()) {
   for (Side side : {Side::kLeft, Side::kRight}) {
     const int s = static_cast<int>(side);
     for (std::size_t i = 0; i < servos.joints[s].size(); ++i) {
@@ -105,6 +108,7 @@ SimServoBus::Servo* SimServoBus::Find(int id) {
 
 void SimServoBus::SyncWithWorld() {
   std::lock_guard<std::mutex> lock(mutex_);
+  driver_s_ = std::max(driver_s_, world_->now_s());  // the driver's next cycle
   faults_on_ = world_->now_s() >= config_.faults_from_s;
   const bool any_fault = !config_.silent_ids.empty() || !config_.slow_ids.empty() ||
                          !config_.hot_ids.empty() || !config_.low_voltage_ids.empty() ||
@@ -190,8 +194,12 @@ void SimServoBus::Serve() {
 void SimServoBus::Handle(const scs::Packet& packet, std::size_t wire_bytes) {
   std::unique_lock<std::mutex> lock(mutex_);
   ++counters_.packets;
-  // The request occupied the wire for its bytes.
-  bus_free_ = std::max(bus_free_, Clock::now()) + Seconds(config_.byte_time_s * wire_bytes);
+  // Replies that came while the driver was not listening: it discards them
+  // before it sends. Then the request occupies the wire for its bytes.
+  pending_.erase(std::remove_if(pending_.begin(), pending_.end(),
+                                [this](const Pending& p) { return p.due_s <= driver_s_; }),
+                 pending_.end());
+  wire_free_s_ = std::max(wire_free_s_, driver_s_) + config_.byte_time_s * wire_bytes;
   if (packet.id == scs::kBroadcastId) {
     if (packet.code == scs::kSyncWrite && packet.params.size() >= 2) {
       const std::size_t address = packet.params[0], length = packet.params[1];
@@ -213,7 +221,10 @@ void SimServoBus::Handle(const scs::Packet& packet, std::size_t wire_bytes) {
     return;  // broadcasts are never answered
   }
   Servo* servo = Find(packet.id);
-  if (!servo || (faults_on_ && Contains(config_.silent_ids, servo->id))) return;
+  if (!servo || (faults_on_ && Contains(config_.silent_ids, servo->id))) {
+    Deliver(packet.id);  // no answer: the driver waits until its timeout
+    return;
+  }
   switch (packet.code) {
     case scs::kPing:
       Reply(*servo, 0, {}, wire_bytes);
@@ -245,8 +256,8 @@ void SimServoBus::Handle(const scs::Packet& packet, std::size_t wire_bytes) {
 
 void SimServoBus::Reply(const Servo& servo, std::uint8_t error,
                         const std::vector<std::uint8_t>& params, std::size_t /*request_bytes*/) {
-  // Called with mutex_ held (from Handle): unlocks it while waiting for the
-  // reply's due time and writing, and locks it again before returning.
+  // Called with mutex_ held (from Handle): unlocks it while writing what the
+  // driver hears, and locks it again before returning.
   std::vector<std::uint8_t> bytes =
       scs::Encode({static_cast<std::uint8_t>(servo.id), error, params});
   double delay = config_.return_delay_s + config_.byte_time_s * bytes.size();
@@ -258,13 +269,33 @@ void SimServoBus::Reply(const Servo& servo, std::uint8_t error,
       ++counters_.corrupted_bytes;
     }
   }
-  const Clock::time_point due = bus_free_ + Seconds(delay);
-  bus_free_ = due;
+  const double due_s = wire_free_s_ + delay;
+  wire_free_s_ = due_s;
   ++counters_.replies;
+  pending_.push_back({due_s, servo.id, std::move(bytes)});
+  Deliver(servo.id);
+}
+
+void SimServoBus::Deliver(int id) {
+  // What the driver hears before its reply timeout, in order, up to the reply
+  // it accepts; it sends its next request then, or at the timeout.
+  const double until_s = driver_s_ + servos_config_.reply_timeout_s;
+  std::vector<std::uint8_t> heard;
+  double answered_s = until_s;
+  std::size_t arrived = 0;
+  while (arrived < pending_.size() && pending_[arrived].due_s <= until_s) {
+    const Pending& p = pending_[arrived++];
+    heard.insert(heard.end(), p.bytes.begin(), p.bytes.end());
+    if (AnswersServo(p.bytes, id)) {
+      answered_s = p.due_s;
+      break;
+    }
+  }
+  pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(arrived));
+  driver_s_ = answered_s;
   mutex_.unlock();
-  std::this_thread::sleep_until(due);
-  const std::uint8_t* data = bytes.data();
-  std::size_t left = bytes.size();
+  const std::uint8_t* data = heard.data();
+  std::size_t left = heard.size();
   while (left > 0) {
     const ssize_t n = ::write(pty_.master_fd(), data, left);
     if (n > 0) {

@@ -4,6 +4,17 @@
 // return delay) and configurable faults (silent servos, corrupted reply
 // bytes, slow replies). The driver opens port_path() like a real adapter.
 //
+// Timing: the wire runs on the simulation's clock, not the wall clock. The
+// bus keeps when the wire is free and when the driver sent its request, and
+// from the driver's reply timeout (`servos.reply_timeout_s`) knows what the
+// driver hears while it waits: every reply due by then, in order, up to the
+// one it accepts. Those bytes are written at once; a reply due later (a slow
+// servo) stays on its way and reaches a later exchange, where the driver
+// skips it as a stale reply, or is discarded when it comes while the driver
+// is not listening. So the bus never sleeps: a simulation is not held to
+// real time by it, and a loaded machine does not make its replies late (only
+// a bus thread kept off a core for longer than the reply timeout does).
+//
 // Threading: the bus serves the pty on its own thread. It has to: the driver
 // blocks in a read with a timeout while the reply is due, exactly as on the
 // real bus, so the peer must answer concurrently. The thread touches only the
@@ -89,6 +100,10 @@ class SimServoBus {
   Servo* Find(int id);
   void Reply(const Servo& servo, std::uint8_t error, const std::vector<std::uint8_t>& params,
              std::size_t request_bytes);
+  /// Writes what the driver hears while it waits for servo `id` (every reply
+  /// due within its reply timeout, up to the one it accepts) and moves the
+  /// driver's time on. Called with mutex_ held; unlocks it while writing.
+  void Deliver(int id);
 
   World* world_;
   ScsArmsConfig servos_config_;
@@ -98,7 +113,15 @@ class SimServoBus {
   std::vector<Servo> servos_;
   FastRandom rng_;
   SimServoBusCounters counters_;
-  std::chrono::steady_clock::time_point bus_free_;
+  /// A reply on the wire or on its way, due at due_s of the simulated clock.
+  struct Pending {
+    double due_s;
+    int id;
+    std::vector<std::uint8_t> bytes;
+  };
+  double driver_s_ = 0.0;         // when the driver sent its latest request (simulated s)
+  double wire_free_s_ = 0.0;      // when the wire is free again (simulated s)
+  std::vector<Pending> pending_;  // in the order they are due
   std::thread thread_;
   std::atomic<bool> running_{true};
   bool faults_on_ = false;  // the faults apply (world time >= faults_from_s)
