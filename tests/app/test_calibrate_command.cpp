@@ -464,8 +464,8 @@ TEST_F(CalibrateCommandTest, ANanJointReadingIsNamedAsSuch) {
   }
 }
 
-// A board corner at infinity is named where it is read (it used to be solved
-// around: the file said "refined" but held the unrefined answer).
+// A board corner at infinity is named where it is read, not solved around
+// (a file that says "refined" must hold the refined answer).
 TEST_F(CalibrateCommandTest, ACornerAtInfinityIsNamedAsSuch) {
   fs::create_directories(folder_);
   std::ofstream(fs::path(folder_) / "samples.yaml")
