@@ -32,6 +32,7 @@ void ServoConfig::Validate(const std::string& source, const std::string& prefix)
   CheckRange(source, prefix + "path_check_step_rad", path_check_step_rad, 1e-6, 1.0, "rad");
   CheckRange(source, prefix + "random_vias", random_vias, 0, 1000, "");
   CheckRange(source, prefix + "search_budget", search_budget, 1, 1000000, "");
+  CheckRange(source, prefix + "command_lead_rad", command_lead_rad, 0.0, 0.5, "rad");
   ik.Validate(source, prefix + "ik.");
 }
 
@@ -92,6 +93,7 @@ void ArmServo::Reset() {
   switch_time_s_ = -1.0;
   switch_pending_ = false;
   making_way_ = false;
+  last_q_target_.resize(0);
 }
 
 void ArmServo::SetTarget(const Eigen::Isometry3d& bMg, double stamp_s, bool is_switch) {
@@ -327,6 +329,7 @@ Eigen::VectorXd ArmServo::Limit(const Eigen::VectorXd& q, Eigen::VectorXd dq, do
 ServoStatus ArmServo::Hold(const Eigen::VectorXd& q, ServoStatus status, ServoCommand* out) {
   out->dq_rad_s = Eigen::VectorXd::Zero(arm_.dof());
   out->q_target_rad = q;
+  last_q_target_.resize(0);
   out->step_scale = 0.0;
   out->guide_weight = 0.0;
   out->q_goal_rad = has_goal_ ? q_goal_ : Eigen::VectorXd();
@@ -494,6 +497,16 @@ ServoStatus ArmServo::Command(const Eigen::VectorXd& q, double now_s, double dt_
   out->step_scale = scale * step;
   out->dq_rad_s = dq;
   out->q_target_rad = q + dq * dt_s;
+  if (config_.command_lead_rad > 0.0 && last_q_target_.size() == n) {
+    // The servos follow their targets with a lag and in counts: the last
+    // targets' lead over the measured joints carries on (bounded, and only
+    // where it is allowed), so the joints move at dq and small steps add up.
+    const double r = config_.command_lead_rad;
+    const Eigen::VectorXd lead = (last_q_target_ - q).cwiseMax(-r).cwiseMin(r);
+    const Eigen::VectorXd carried = arm_.Clamp(out->q_target_rad + lead);
+    if (!forbidden_ || !forbidden_(carried)) out->q_target_rad = carried;
+  }
+  last_q_target_ = out->q_target_rad;
   last_dq_ = dq;
   return ServoStatus::kMoving;
 }

@@ -72,7 +72,13 @@ struct ServoConfig {
   /// Work of the joint-goal search per Step, counted in IK iterations plus
   /// forbidden-predicate checks (not in time: the same inputs give the same
   /// commands on any machine); a longer search goes on in the next Steps.
-  int search_budget{60};   ///< [1, 1000000]
+  int search_budget{60};  ///< [1, 1000000]
+  /// The joint targets sent are q + dq dt plus what the last targets still
+  /// led the measured joints by, up to this much per joint, [0, 0.5] rad.
+  /// Servos that take positions in counts and follow them with a lag then
+  /// move at the commanded speed, and steps below half a count add up
+  /// instead of rounding away. 0: q + dq dt (an ideal arm).
+  double command_lead_rad{0.0};
   ApproachIkOptions ik{};  ///< the joint-goal search
 
   /// `prefix` is the key path of this section in its file, ending in "." ("" at
@@ -93,8 +99,10 @@ enum class ServoStatus {
 const char* ServoStatusName(ServoStatus status);
 
 struct ServoCommand {
-  Eigen::VectorXd dq_rad_s;       ///< commanded joint velocities
-  Eigen::VectorXd q_target_rad;   ///< q + dq * dt: the joint targets to send
+  Eigen::VectorXd dq_rad_s;  ///< commanded joint velocities
+  /// The joint targets to send: q + dq * dt, plus the last targets' lead over
+  /// q up to ServoConfig::command_lead_rad.
+  Eigen::VectorXd q_target_rad;
   double position_error_m = 0.0;  ///< |p_g - p_e|
   double rotation_error_rad = 0.0;
   ApproachError error;         ///< position, approach axis and roll errors at q
@@ -121,7 +129,8 @@ class ArmServo {
   ArmServo(const ArmModel& arm, const ServoConfig& config, ForbiddenPredicate forbidden = {},
            RightOfWay* right_of_way = nullptr, int seat = 0);
 
-  /// Forget motion history: the next command starts from rest.
+  /// Forget motion history: the next command starts from rest, its joint
+  /// targets from the measured joints.
   void Reset();
   /// A new target bMg (the grasp or pre-grasp in the arm base) observed at stamp_s.
   /// When the target changes to another grasp pass `is_switch`: the commanded
@@ -185,6 +194,7 @@ class ArmServo {
   bool switch_pending_ = false;  // a switch was declared; the blend starts at the next Step
   double switch_time_s_ = -1.0;  // < 0: no blend active
   Eigen::VectorXd last_good_q_;
+  Eigen::VectorXd last_q_target_;  // the last joint targets commanded (empty: none since a hold)
   // Joint goal q* and the target it solves; the last target no goal was found for.
   bool has_goal_ = false;
   Eigen::VectorXd q_goal_;

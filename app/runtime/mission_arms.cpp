@@ -97,6 +97,13 @@ void GraspArms::SeedHome() {
   for (int a = 0; a < 2; ++a) servo_[a]->SetSeedHints({platform_.home(kSides[a])});
 }
 
+void GraspArms::Hold(ArmsDriver* driver) {
+  for (int a = 0; a < 2; ++a) {
+    servo_[a]->Reset();
+    driver->SetJointTargets(kSides[a], q_[a]);
+  }
+}
+
 bool GraspArms::SolveFollowed(int a, int pair, const Eigen::Isometry3d& dMo, double t_s) {
   Infeasibility why = Infeasibility::kNone;
   if (!planner_.EvaluateArm(kSides[a], pair, dMo, q_[a], &solved_[a], &why)) return false;

@@ -64,6 +64,9 @@ class GraspArms {
   void GoIn();
   /// After a failed attempt: the servos' IK seeded with the home poses.
   void SeedHome();
+  /// Both arms hold where they are (their measured joints as targets); the
+  /// servos' next commands start from rest.
+  void Hold(ArmsDriver* driver);
 
   /// One servo cycle following `followed`: targets, sequences, joint and
   /// gripper commands. The cause when an arm's joint readings are invalid

@@ -117,7 +117,8 @@ std::vector<Field> Fields(MissionConfig* c) {
                      {"servo", "unreachable_retry_s", &s.unreachable_retry_s},
                      {"servo", "random_vias", &s.random_vias},
                      {"servo", "path_check_step_rad", &s.path_check_step_rad},
-                     {"servo", "search_budget", &s.search_budget}});
+                     {"servo", "search_budget", &s.search_budget},
+                     {"servo", "command_lead_rad", &s.command_lead_rad}});
   AddTolerance(&f, "servo.ik_tolerance_4dof", &c->servo_ik_tolerance_4dof);
   GraspSequenceConfig& q = c->grasp_sequence;
   AddTolerance(&f, "grasp_sequence.precatch_tolerance", &q.precatch_tolerance);
@@ -174,6 +175,8 @@ ServoConfig MissionServoDefaults() {
   // 0.6 cm at 15/s.
   c.gain_per_s = 15.0;
   c.unreachable_retry_s = 0.1;  // the sway brings a target back within a cycle or two
+  // The SCS servos take positions in counts of 0.21 deg and follow with a lag.
+  c.command_lead_rad = 0.03;
   return c;
 }
 

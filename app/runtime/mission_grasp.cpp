@@ -152,10 +152,8 @@ bool GraspScheduler::StartPlan(double t, const AskedPlan& asked) {
 
 void GraspScheduler::StopArms(double t, const std::string& cause) {
   sm_.arms->Hold(t, cause);
-  for (int a = 0; a < 2; ++a) {
-    driver_->SetJointTargets(kSides[a], q_[a]);
-    driver_->SetGripper(kSides[a], GripperCommand::kOpen);
-  }
+  arms_.Hold(driver_);
+  for (int a = 0; a < 2; ++a) driver_->SetGripper(kSides[a], GripperCommand::kOpen);
   a_gripper_holds_ = false;  // opened, neither holds
 }
 
