@@ -33,7 +33,8 @@ GraspArms::GraspArms(const Platform& platform, const GraspPlanner& planner,
       policy_(config.policy),
       q_(q),
       evaluator_(evaluator),
-      log_(std::move(log)) {
+      log_(std::move(log)),
+      ik_{ArmIk(platform.arm(Side::kLeft)), ArmIk(platform.arm(Side::kRight))} {
   for (int a = 0; a < 2; ++a) {
     ArmController c = MakeArmController(config, platform, kSides[a], collision, &q_[1 - a],
                                         config.planner.precatch_distance_m);
@@ -44,6 +45,7 @@ GraspArms::GraspArms(const Platform& platform, const GraspPlanner& planner,
 
 void GraspArms::SetGrasps(const DualGrasp& grasp, const Eigen::Isometry3d& dMo, double t_s) {
   has_reached_[0] = has_reached_[1] = false;
+  anchored_[0] = anchored_[1] = false;
   // The tool frame the planner's joints reach, not the contact frame g: the
   // gripper is symmetric, so the planner may take g turned half a turn about
   // its approach axis, which a 4-DoF arm cannot reach as such.
@@ -55,6 +57,7 @@ void GraspArms::SetGrasps(const DualGrasp& grasp, const Eigen::Isometry3d& dMo, 
     oMg_[a] = oMb * platform_.arm(side).ForwardKinematics(arm_grasps[a]->q_grasp);
     oMp_[a] = oMb * platform_.arm(side).ForwardKinematics(arm_grasps[a]->q_precatch);
     reached_q_grasp_[a] = arm_grasps[a]->q_grasp;
+    reached_q_precatch_[a] = arm_grasps[a]->q_precatch;
     reached_stamp_s_[a] = t_s;
     servo_[a]->SetSeedHints({arm_grasps[a]->q_precatch, arm_grasps[a]->q_grasp});
   }
@@ -80,10 +83,12 @@ void GraspArms::Switch(const DualGrasp& grasp, const Eigen::Isometry3d& dMo,
 void GraspArms::Aim(int a, const ArmGrasp& g, double t_s) {
   const ArmModel& arm = platform_.arm(kSides[a]);
   reached_q_grasp_[a] = g.q_grasp;
+  reached_q_precatch_[a] = g.q_precatch;
   reached_stamp_s_[a] = t_s;
   reached_bMg_[a] = arm.ForwardKinematics(g.q_grasp);
   reached_bMp_[a] = arm.ForwardKinematics(g.q_precatch);
   has_reached_[a] = true;
+  anchored_[a] = false;  // in the object frame at the next cycle
   servo_[a]->SetSeedHints({g.q_precatch, g.q_grasp});
   sequence_[a]->Start(t_s);
   sequence_[a]->HoldAtPreCatch(false);
@@ -112,6 +117,41 @@ bool GraspArms::SolveFollowed(int a, int pair, const Eigen::Isometry3d& dMo, dou
     return false;
   }
   reached_q_grasp_[a] = solved_[a].q_grasp;
+  reached_q_precatch_[a] = solved_[a].q_precatch;
+  reached_stamp_s_[a] = t_s;
+  return true;
+}
+
+namespace {
+
+// Joints of the arm that reach bMe, or its position with the rotation about
+// it nearest bMe's (a 4-DoF arm's approach follows from its position), the
+// solution nearest q_seed; false when the position is out of reach.
+bool ReachNearest(const ArmIk& ik, const Eigen::Isometry3d& bMe, const Eigen::VectorXd& q_seed,
+                  Eigen::VectorXd* q) {
+  std::vector<Eigen::VectorXd> solutions;
+  if ((ik.closed_form_solves_pose() && ik.SolvePose(bMe, q_seed, &solutions) > 0) ||
+      ik.SolvePosition(bMe.translation(), bMe.linear().col(0), q_seed, &solutions) > 0) {
+    *q = solutions.front();
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool GraspArms::CarryWithObject(int a, const Eigen::Isometry3d& bMo, double t_s) {
+  Eigen::VectorXd q_grasp, q_precatch;
+  if (!ReachNearest(ik_[a], bMo * anchor_oMg_[a], reached_q_grasp_[a], &q_grasp) ||
+      !ReachNearest(ik_[a], bMo * anchor_oMp_[a], reached_q_precatch_[a], &q_precatch) ||
+      !OnFollowedBranch(q_grasp, reached_q_grasp_[a], t_s - reached_stamp_s_[a], policy_)) {
+    return false;
+  }
+  const ArmModel& arm = platform_.arm(kSides[a]);
+  reached_bMg_[a] = arm.ForwardKinematics(q_grasp);
+  reached_bMp_[a] = arm.ForwardKinematics(q_precatch);
+  reached_q_grasp_[a] = q_grasp;
+  reached_q_precatch_[a] = q_precatch;
   reached_stamp_s_[a] = t_s;
   return true;
 }
@@ -125,8 +165,9 @@ std::optional<std::string> GraspArms::Step(double t, double dt_s, const FollowVi
     // The followed pair solved again for the object where it is now (the
     // planner's closed-form grasp-axis IK): targets the arm reaches exactly,
     // and their joints as the servo's IK seeds. When it is out of reach for
-    // this instant, the last reachable targets stand (and re-evaluation
-    // decides whether to switch).
+    // this instant (or on another IK branch), the last exact targets move on
+    // with the object as far as the arm reaches them (and re-evaluation
+    // decides whether to switch); failing that too, the last targets stand.
     if (pairs[a] >= 0 && SolveFollowed(a, pairs[a], view.dMo, t)) {
       const ArmModel& arm = platform_.arm(side);
       const ArmGrasp& now = solved_[a];
@@ -134,9 +175,17 @@ std::optional<std::string> GraspArms::Step(double t, double dt_s, const FollowVi
       reached_bMg_[a] = arm.ForwardKinematics(now.q_grasp);
       reached_bMp_[a] = arm.ForwardKinematics(now.q_precatch);
       has_reached_[a] = true;
+      anchored_[a] = false;
     } else if (!has_reached_[a]) {
       reached_bMg_[a] = bMo * oMg_[a];
       reached_bMp_[a] = bMo * oMp_[a];
+    } else if (anchored_[a]) {
+      CarryWithObject(a, bMo, t);
+    }
+    if (has_reached_[a] && !anchored_[a]) {
+      anchor_oMg_[a] = bMo.inverse() * reached_bMg_[a];
+      anchor_oMp_[a] = bMo.inverse() * reached_bMp_[a];
+      anchored_[a] = true;
     }
     sequence_[a]->SetGrasp(reached_bMg_[a], reached_bMp_[a], view.stamp_s, switch_pending_[a]);
     switch_pending_[a] = false;

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "app/runtime/mission_config.h"
+#include "core/arm_ik.h"
 #include "grasp/planner.h"
 #include "hardware/arms_driver.h"
 #include "mission/grasp_policy.h"
@@ -86,6 +87,11 @@ class GraspArms {
   /// The followed pair of arm a solved again for the object at dMo, on the
   /// IK branch it was followed on. True with the solution in solved_[a].
   bool SolveFollowed(int a, int pair, const Eigen::Isometry3d& dMo, double t_s);
+  /// When the followed pair is out of reach for this instant: arm a's last
+  /// targets carried with the object (now at bMo in its base) as far as the
+  /// arm reaches them, position first (its closed-form IK nearest the last
+  /// targets' joints, on their branch). True with the targets set.
+  bool CarryWithObject(int a, const Eigen::Isometry3d& bMo, double t_s);
   void SetGrasps(const DualGrasp& grasp, const Eigen::Isometry3d& dMo, double t_s);
 
   const Platform& platform_;
@@ -98,9 +104,14 @@ class GraspArms {
   std::unique_ptr<GraspSequence> sequence_[2];
   Eigen::Isometry3d oMg_[2];  // the tool at the grasp, in the object frame
   Eigen::Isometry3d oMp_[2];  // the tool at the pre-catch pose
-  // The followed pair's last targets the planner's IK reached (in b), per arm.
+  const ArmIk ik_[2];
+  // The followed pair's last targets the arm reaches (in b), per arm.
   Eigen::Isometry3d reached_bMg_[2], reached_bMp_[2];
-  Eigen::VectorXd reached_q_grasp_[2];
+  // The targets of the last exact solution in the object frame (anchored:
+  // known), which CarryWithObject moves with the object.
+  Eigen::Isometry3d anchor_oMg_[2], anchor_oMp_[2];
+  bool anchored_[2] = {false, false};
+  Eigen::VectorXd reached_q_grasp_[2], reached_q_precatch_[2];
   bool has_reached_[2] = {false, false};    // solved since the pair was set
   double reached_stamp_s_[2] = {0.0, 0.0};  // when reached_q_grasp_ was last solved
   ArmGrasp solved_[2];                      // this cycle's solution (SolveFollowed)
