@@ -79,6 +79,8 @@ class GraspArms {
   bool Retract(double t_s, double dt_s, ArmsDriver* driver, std::optional<std::string>* emergency);
 
   GraspPhase phase(int a) const { return sequence_[a]->phase(); }
+  /// Arm a's grasp target in its base this cycle (after Step).
+  const Eigen::Isometry3d& grasp_target_bMg(int a) const { return reached_bMg_[a]; }
   bool both_at_precatch() const {
     return sequence_[0]->at_precatch() && sequence_[1]->at_precatch();
   }

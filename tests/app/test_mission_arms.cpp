@@ -5,6 +5,7 @@
 // they are given here to the arms' step directly, over the in-process arms.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -90,6 +91,37 @@ TEST_F(GraspArmsTest, ReadingsOfTooFewJointsSendNoCommandAndNameTheArm) {
   ASSERT_TRUE(emergency.has_value());
   EXPECT_EQ(*emergency, "right arm: invalid joint readings");
   EXPECT_TRUE(target(Side::kRight).isApprox(sentinel));
+}
+
+// A followed pair out of reach for this instant (here: none to solve again)
+// leaves the arm's last targets where they were on the object: they move with
+// it, position exactly, the approach as near as the 4-DoF arm reaches.
+TEST_F(GraspArmsTest, TargetsOutOfReachMoveOnWithTheObject) {
+  const Platform& platform = devices_->platform();
+  const ArmModel& arm = platform.arm(Side::kLeft);
+  ArmGrasp g;
+  g.side = Side::kLeft;
+  g.q_grasp = platform.home(Side::kLeft) + Eigen::Vector4d(0.1, 0.3, -0.3, 0.0);
+  g.q_precatch = platform.home(Side::kLeft) + Eigen::Vector4d(0.1, 0.15, -0.15, 0.0);
+  arms_.Aim(0, g, 0.0);
+  FollowView view;
+  view.dMo.translation() = Eigen::Vector3d(0.075, 0.0, 0.46);
+  const SwitchState none{-1, -1};
+  ASSERT_FALSE(arms_.Step(0.0, 0.01, view, none, &devices_->arms()).has_value());
+  const Eigen::Isometry3d bMg_before = arms_.grasp_target_bMg(0);
+  EXPECT_TRUE(bMg_before.isApprox(arm.ForwardKinematics(g.q_grasp)));
+
+  const Eigen::Isometry3d bMd = platform.dMb(Side::kLeft).inverse();
+  const Eigen::Isometry3d bMo_before = bMd * view.dMo;
+  view.dMo.translation() += Eigen::Vector3d(0.01, -0.015, 0.01);  // the vehicle sways
+  ASSERT_FALSE(arms_.Step(0.01, 0.01, view, none, &devices_->arms()).has_value());
+  const Eigen::Isometry3d moved = bMd * view.dMo * bMo_before.inverse() * bMg_before;
+  const Eigen::Isometry3d& bMg = arms_.grasp_target_bMg(0);
+  EXPECT_LT((bMg.translation() - moved.translation()).norm(), 1e-5);
+  const double approach_rad =
+      std::acos(std::clamp(bMg.linear().col(2).dot(moved.linear().col(2)), -1.0, 1.0));
+  EXPECT_LT(approach_rad, 0.15);
+  EXPECT_GT((bMg.translation() - bMg_before.translation()).norm(), 0.015);
 }
 
 }  // namespace
