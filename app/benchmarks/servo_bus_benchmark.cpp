@@ -70,7 +70,11 @@ void RunServoBusBenchmark(const ServoBusBenchmarkOptions& options, std::ostream&
   const std::size_t bytes = sync_bytes + servo_count * read_bytes + status_bytes;
   const double wire_s =
       bytes * bus_config.byte_time_s + (servo_count + 1) * bus_config.return_delay_s;
-  const double cycle_hz = options.cycles / busy_s;
+  // The simulated bus keeps the wire's time on the simulation's clock and
+  // never waits for it: the wall time measured is the driver's and the pty's,
+  // to which a real wire adds wire_s every cycle.
+  const double software_hz = options.cycles / busy_s;
+  const double cycle_hz = options.cycles / (busy_s + options.cycles * wire_s);
 
   out << fmt::format(
       "servo-bus benchmark: {} cycles, {} servos, simulated SCS bus on {} (1 Mbaud wire timing)\n",
@@ -78,10 +82,14 @@ void RunServoBusBenchmark(const ServoBusBenchmarkOptions& options, std::ostream&
   out << fmt::format(
       "  cycle: SYNC_WRITE {} B + {} position READs + 1 status READ = {} B on the wire\n",
       sync_bytes, servo_count, bytes);
-  out << fmt::format("  cycle_hz {:.1f} (goal >= 100, original controller 30)\n", cycle_hz);
-  out << fmt::format("  cycle time median {:.3f} ms, p90 {:.3f} ms, max {:.3f} ms\n",
-                     Quantile(cycle_ms, 0.5), Quantile(cycle_ms, 0.9),
-                     *std::max_element(cycle_ms.begin(), cycle_ms.end()));
+  out << fmt::format(
+      "  cycle_hz {:.1f} with the wire's time (goal >= 100, original controller 30); driver and "
+      "pty alone {:.1f}\n",
+      cycle_hz, software_hz);
+  out << fmt::format(
+      "  driver and pty: cycle time median {:.3f} ms, p90 {:.3f} ms, max {:.3f} ms\n",
+      Quantile(cycle_ms, 0.5), Quantile(cycle_ms, 0.9),
+      *std::max_element(cycle_ms.begin(), cycle_ms.end()));
   out << fmt::format("  wire alone: {:.3f} ms ({:.0f} Hz); failed reads {}\n", 1e3 * wire_s,
                      1.0 / wire_s, failed_reads);
   if (!options.out_dir.empty()) {
@@ -91,6 +99,7 @@ void RunServoBusBenchmark(const ServoBusBenchmarkOptions& options, std::ostream&
         {"cycles", options.cycles},
         {"servos", servo_count},
         {"cycle_hz", cycle_hz},
+        {"software_cycle_hz", software_hz},
         {"cycle_ms_median", Quantile(cycle_ms, 0.5)},
         {"cycle_ms_p90", Quantile(cycle_ms, 0.9)},
         {"cycle_ms_max", *std::max_element(cycle_ms.begin(), cycle_ms.end())},

@@ -22,8 +22,10 @@ struct ServoBusBenchmarkOptions {
 };
 
 /// Runs the loop as fast as the bus allows and reports cycle_hz (cycles per
-/// second of wall time spent in the driver's cycle), median and p90 cycle
-/// time, and what the wire alone would allow.
+/// second of the wall time spent in the driver's cycle plus the wire's time,
+/// which the simulated bus keeps on the simulated clock), the driver's and
+/// pty's rate alone, median and p90 cycle time, and what the wire alone
+/// would allow.
 void RunServoBusBenchmark(const ServoBusBenchmarkOptions& options, std::ostream& out);
 
 /// Adds `benchmark servo-bus`'s options to `cmd` (a CLI11 subcommand).
