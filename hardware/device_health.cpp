@@ -80,13 +80,13 @@ std::optional<DeviceFault> CheckBusErrors(const BusCounters& from, const BusCoun
                                           const DeviceHealthLimits& limits) {
   const std::int64_t exchanges = to.exchanges - from.exchanges;
   if (exchanges < limits.bus_min_exchanges) return std::nullopt;
-  const std::int64_t bad =
-      (to.bad_checksums - from.bad_checksums) + (to.bad_replies - from.bad_replies);
+  // A late reply is not corruption: its exchange timed out, which the
+  // servo's failed reads count (CheckServo).
+  const std::int64_t bad = to.bad_checksums - from.bad_checksums;
   const double rate = static_cast<double>(bad) / static_cast<double>(exchanges);
   if (rate <= limits.bus_max_error_rate) return std::nullopt;
   return DeviceFault{DeviceFaultKind::kBusCorrupt, "servo bus",
-                     fmt::format("{} of the last {} replies corrupted or wrong ({:.1f} %, at most "
-                                 "{:.1f} %)",
+                     fmt::format("{} of the last {} replies corrupted ({:.1f} %, at most {:.1f} %)",
                                  bad, exchanges, 100.0 * rate, 100.0 * limits.bus_max_error_rate)};
 }
 

@@ -24,7 +24,7 @@ namespace aerograsp {
 struct DeviceHealthLimits {
   int servo_max_failed_reads{3};          ///< failed reads of one servo in a row, [1, 100]
   double servo_max_reading_age_s{0.05};   ///< newest good position reading older, [0.005, 10] s
-  double bus_max_error_rate{0.05};        ///< corrupted or wrong replies per exchange, [0, 1]
+  double bus_max_error_rate{0.05};        ///< corrupted replies per exchange, [0, 1]
   double bus_error_window_s{0.1};         ///< ... over the exchanges of this window, [0.01, 10] s
   int bus_min_exchanges{20};              ///< the rate counts from this many exchanges, [1, 10000]
   double servo_min_voltage_v{6.0};        ///< supply range, [0, 30] V
@@ -43,7 +43,7 @@ struct DeviceHealthLimits {
 enum class DeviceFaultKind {
   kServoSilent,       ///< failed reads in a row
   kServoStale,        ///< no good reading for too long
-  kBusCorrupt,        ///< corrupted or wrong replies above the rate
+  kBusCorrupt,        ///< corrupted replies above the rate (late ones are not)
   kServoVoltage,      ///< supply out of range
   kServoTemperature,  ///< too hot
   kLinkLost,          ///< the autopilot's state stopped coming

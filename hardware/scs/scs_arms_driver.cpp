@@ -226,6 +226,7 @@ CycleReport ScsArmsDriver::Cycle() {
       entries.push_back({static_cast<std::uint8_t>(g.id), std::move(data)});
     }
   }
+  const std::int64_t late_before = bus_->counters().late_replies;
   report.sync_write = bus_->SyncWrite(scs::reg::kGoalPosition, 6, entries);
 
   // Positions of every servo, then one servo's status.
@@ -245,6 +246,7 @@ CycleReport ScsArmsDriver::Cycle() {
   std::vector<std::uint8_t> status_data;
   const bool status_ok = bus_->Read(static_cast<std::uint8_t>(servos_[status_index].id),
                                     scs::reg::kPresentLoad, 4, &status_data) == BusStatus::kOk;
+  report.late_replies = static_cast<int>(bus_->counters().late_replies - late_before);
 
   std::lock_guard<std::mutex> lock(mutex_);
   counters_ = bus_->counters();

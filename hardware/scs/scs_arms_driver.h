@@ -66,6 +66,7 @@ struct ScsServoStatus {
 struct CycleReport {
   bool stale = false;    ///< the watchdog held the last command
   int failed_reads = 0;  ///< position reads that failed this cycle
+  int late_replies = 0;  ///< replies of earlier exchanges that came this cycle (skipped)
   BusStatus sync_write = BusStatus::kOk;
 };
 

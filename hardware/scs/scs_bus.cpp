@@ -19,8 +19,6 @@ const char* BusStatusName(BusStatus status) {
       return "timeout";
     case BusStatus::kBadChecksum:
       return "bad checksum";
-    case BusStatus::kBadReply:
-      return "bad reply";
     case BusStatus::kWriteFailed:
       return "write failed";
   }
@@ -47,7 +45,7 @@ BusStatus ScsBus::Send(const std::vector<std::uint8_t>& request) {
 }
 
 BusStatus ScsBus::Exchange(const std::vector<std::uint8_t>& request, std::uint8_t id,
-                           scs::Packet* reply) {
+                           std::size_t params, scs::Packet* reply) {
   ++counters_.exchanges;
   const BusStatus sent = Send(request);
   if (sent != BusStatus::kOk) return sent;
@@ -66,8 +64,10 @@ BusStatus ScsBus::Exchange(const std::vector<std::uint8_t>& request, std::uint8_
           r == scs::PacketParser::Result::kBadLength) {
         corrupted = true;
       } else if (r == scs::PacketParser::Result::kPacket) {
-        if (parser_.packet().id != id) {  // a late reply of an earlier exchange: skip it
-          ++counters_.bad_replies;
+        // SCS replies carry no sequence number: a reply of another servo, or of
+        // another request, is one that came after its exchange's timeout.
+        if (parser_.packet().id != id || parser_.packet().params.size() != params) {
+          ++counters_.late_replies;
           continue;
         }
         *reply = parser_.packet();
@@ -85,7 +85,7 @@ BusStatus ScsBus::Exchange(const std::vector<std::uint8_t>& request, std::uint8_
 
 BusStatus ScsBus::Ping(std::uint8_t id, std::uint8_t* error) {
   scs::Packet reply;
-  const BusStatus status = Exchange(scs::EncodePing(id), id, &reply);
+  const BusStatus status = Exchange(scs::EncodePing(id), id, 0, &reply);
   if (status == BusStatus::kOk && error) *error = reply.code;
   return status;
 }
@@ -93,12 +93,8 @@ BusStatus ScsBus::Ping(std::uint8_t id, std::uint8_t* error) {
 BusStatus ScsBus::Read(std::uint8_t id, std::uint8_t address, std::uint8_t length,
                        std::vector<std::uint8_t>* data, std::uint8_t* error) {
   scs::Packet reply;
-  const BusStatus status = Exchange(scs::EncodeRead(id, address, length), id, &reply);
+  const BusStatus status = Exchange(scs::EncodeRead(id, address, length), id, length, &reply);
   if (status != BusStatus::kOk) return status;
-  if (reply.params.size() != length) {
-    ++counters_.bad_replies;
-    return BusStatus::kBadReply;
-  }
   *data = std::move(reply.params);
   if (error) *error = reply.code;
   return BusStatus::kOk;
@@ -107,7 +103,7 @@ BusStatus ScsBus::Read(std::uint8_t id, std::uint8_t address, std::uint8_t lengt
 BusStatus ScsBus::Write(std::uint8_t id, std::uint8_t address,
                         const std::vector<std::uint8_t>& data, std::uint8_t* error) {
   scs::Packet reply;
-  const BusStatus status = Exchange(scs::EncodeWrite(id, address, data), id, &reply);
+  const BusStatus status = Exchange(scs::EncodeWrite(id, address, data), id, 0, &reply);
   if (status == BusStatus::kOk && error) *error = reply.code;
   return status;
 }

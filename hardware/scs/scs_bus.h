@@ -17,7 +17,6 @@ enum class BusStatus {
   kOk,
   kTimeout,      ///< no (complete) reply in time: silent or absent servo
   kBadChecksum,  ///< a reply arrived corrupted
-  kBadReply,     ///< a reply from the wrong id or of the wrong size
   kWriteFailed,  ///< the port refused the bytes
 };
 const char* BusStatusName(BusStatus status);
@@ -25,8 +24,11 @@ const char* BusStatusName(BusStatus status);
 struct BusCounters {
   std::int64_t exchanges = 0;
   std::int64_t timeouts = 0;
-  std::int64_t bad_checksums = 0;
-  std::int64_t bad_replies = 0;
+  std::int64_t bad_checksums = 0;  ///< exchanges whose reply came corrupted (checksum, length)
+  /// Well-formed replies that answer no request of theirs (another servo's
+  /// id, or another size): a reply that came after its exchange's timeout,
+  /// already counted there as a timeout. Skipped, never corruption.
+  std::int64_t late_replies = 0;
 };
 
 class ScsBus {
@@ -50,7 +52,10 @@ class ScsBus {
   const BusCounters& counters() const { return counters_; }
 
  private:
-  BusStatus Exchange(const std::vector<std::uint8_t>& request, std::uint8_t id, scs::Packet* reply);
+  /// Sends `request` and waits for the reply of servo `id` holding `params`
+  /// parameter bytes; other well-formed replies are late ones: skipped.
+  BusStatus Exchange(const std::vector<std::uint8_t>& request, std::uint8_t id, std::size_t params,
+                     scs::Packet* reply);
   BusStatus Send(const std::vector<std::uint8_t>& request);
 
   std::unique_ptr<SerialPort> port_;

@@ -69,15 +69,23 @@ TEST(DeviceHealthTest, BusErrorRateAboveItsBound) {
   DeviceHealthLimits limits;  // 5 %, from 20 exchanges
   BusCounters from, to;
   to.exchanges = 100;
-  to.bad_checksums = 3;
-  to.bad_replies = 2;
+  to.bad_checksums = 5;
   EXPECT_FALSE(CheckBusErrors(from, to, limits));  // 5 %: at the bound
-  to.bad_replies = 3;
+  to.bad_checksums = 6;
   const auto fault = CheckBusErrors(from, to, limits);
   ASSERT_TRUE(fault);
   EXPECT_EQ(fault->kind, DeviceFaultKind::kBusCorrupt);
-  EXPECT_THAT(fault->Text(), HasSubstr("servo bus: 6 of the last 100 replies corrupted or wrong"));
+  EXPECT_THAT(fault->Text(), HasSubstr("servo bus: 6 of the last 100 replies corrupted (6.0 %"));
   to.exchanges = 19;  // too few to judge
+  EXPECT_FALSE(CheckBusErrors(from, to, limits));
+}
+
+TEST(DeviceHealthTest, LateRepliesAreNotCorruption) {
+  DeviceHealthLimits limits;
+  BusCounters from, to;
+  to.exchanges = 100;
+  to.timeouts = 50;
+  to.late_replies = 50;  // each a timeout of its own exchange already
   EXPECT_FALSE(CheckBusErrors(from, to, limits));
 }
 

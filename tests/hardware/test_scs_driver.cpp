@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "core/data_dir.h"
+#include "hardware/device_health.h"
 #include "hardware/rgbd_camera.h"
 #include "hardware/scs/scs_arms_driver.h"
 #include "hardware/sim/sim_servo_bus.h"
@@ -23,14 +24,15 @@ class ScsDriverTest : public ::testing::Test {
  protected:
   ScsDriverTest() : world_(WorldConfig::Load(DataPath("config/world_default.yaml")), 1) {
     servos_ = ScsArmsConfig::Default(world_.platform());
+    // Generous: the bus answers at once from its own thread, which a loaded
+    // machine may hold back for tens of ms. The bus learns it too: it decides
+    // which replies the driver hears before its timeout.
+    servos_.reply_timeout_s = 0.2;
     SimServoBusConfig bus_config;
     bus_config.byte_time_s = 0.0;  // no wire timing: the tests are about behaviour
     bus_config.return_delay_s = 0.0;
     bus_ = std::make_unique<SimServoBus>(&world_, servos_, bus_config);
     servos_.port = bus_->port_path();
-    // Generous: the bus answers at once from its own thread, which a loaded
-    // machine may hold back for tens of ms; a late reply is not what these test.
-    servos_.reply_timeout_s = 0.2;
   }
 
   std::unique_ptr<ScsArmsDriver> Open() {
@@ -182,9 +184,8 @@ TEST_F(ScsDriverTest, CorruptedRepliesAreRejectedNotBelieved) {
   bus_->SetFaults(faults);
   const Eigen::VectorXd held = driver->last_command(Side::kLeft);
   Run(driver.get(), 0.2);
-  EXPECT_GT(driver->counters().bad_checksums + driver->counters().timeouts +
-                driver->counters().bad_replies,
-            0);
+  EXPECT_GT(driver->counters().bad_checksums, 0);
+  EXPECT_TRUE(CheckBusErrors(BusCounters{}, driver->counters(), DeviceHealthLimits{}));
   // Whatever got through is the truth: the arm holds still, readings stay on it.
   EXPECT_LE((driver->JointPositions(Side::kLeft) - held).cwiseAbs().maxCoeff(),
             2.0 * world_.arm(Side::kLeft).quantum_rad());
@@ -200,6 +201,31 @@ TEST_F(ScsDriverTest, ASlowServoTimesOut) {
   const std::int64_t before = driver->counters().timeouts;
   EXPECT_GE(driver->Cycle().failed_reads, 1);
   EXPECT_GT(driver->counters().timeouts, before);
+}
+
+TEST_F(ScsDriverTest, ALateReplyIsSkippedAndNotCountedAsCorruption) {
+  auto driver = Open();
+  SimServoBusConfig faults;
+  faults.byte_time_s = 0.0;
+  faults.return_delay_s = 0.0;
+  faults.slow_ids = {14};
+  faults.slow_extra_s = 0.3;  // past the 0.2 s timeout: lands in the next servo's exchange
+  bus_->SetFaults(faults);
+  const BusCounters before = driver->counters();
+  int late = 0;
+  for (int i = 0; i < 3; ++i) {
+    late += driver->Cycle().late_replies;
+    bus_->SyncWithWorld();
+    world_.Step(kCycle_s);
+  }
+  const BusCounters after = driver->counters();
+  EXPECT_GT(late, 0);
+  EXPECT_EQ(after.late_replies - before.late_replies, late);
+  EXPECT_EQ(after.bad_checksums, before.bad_checksums);
+  EXPECT_FALSE(CheckBusErrors(before, after, DeviceHealthLimits{}));
+  // The late reply took nobody's place: only the slow servo missed its reads.
+  for (const ScsServoStatus& s : driver->servo_statuses())
+    EXPECT_EQ(s.failed_reads > 0, s.id == 14) << s.name;
 }
 
 TEST_F(ScsDriverTest, GripperClosesAndOpensThroughTheBus) {

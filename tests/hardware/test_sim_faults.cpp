@@ -125,10 +125,10 @@ TEST_F(BusFaultsTest, CorruptionStartsAtItsTime) {
   Open(faults);
   Run(0.1);
   EXPECT_EQ(bus_->counters().corrupted_bytes, 0);
-  EXPECT_EQ(driver_->counters().bad_checksums + driver_->counters().bad_replies, 0);
+  EXPECT_EQ(driver_->counters().bad_checksums, 0);
   Run(0.2);
   EXPECT_GT(bus_->counters().corrupted_bytes, 0);
-  EXPECT_GT(driver_->counters().bad_checksums + driver_->counters().bad_replies, 0);
+  EXPECT_GT(driver_->counters().bad_checksums, 0);
 }
 
 /// The PX4 client against the simulated PX4 with faults.
