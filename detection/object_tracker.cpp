@@ -34,6 +34,8 @@ void PerceptionOptions::Validate(const std::string& source, const std::string& p
   Require(min_detection_score > 0.0f && min_detection_score < 1.0f, "min_detection_score",
           "must be in (0, 1)");
   Require(box_margin >= 0.0 && box_margin <= 2.0, "box_margin", "must be in [0, 2]");
+  Require(near_centre_quantile >= 0.0 && near_centre_quantile <= 0.5, "near_centre_quantile",
+          "must be in [0, 0.5]");
   Require(min_support_ratio > 0.0 && min_support_ratio <= 1.0, "min_support_ratio",
           "must be in (0, 1]");
   Require(min_coverage > 0.0 && min_coverage <= 1.0, "min_coverage", "must be in (0, 1]");
@@ -146,9 +148,10 @@ void ObjectTracker::ForgetColorsInBox(const Eigen::Isometry3d& oMb,
 std::optional<Eigen::Vector3d> ObjectTracker::EstimateCentre(const PixelBox& box,
                                                              const DepthImage& depth,
                                                              double depth_scale_m,
-                                                             const CameraIntrinsics& K) const {
-  // The median depth of the box's inner half is on the object's near surface;
-  // the centre lies about the smallest half-extent behind it.
+                                                             const CameraIntrinsics& K,
+                                                             double quantile) const {
+  // The median (or the given quantile) of the depths in the box's inner half is
+  // on the object's surface; the centre lies about the smallest half-extent behind it.
   const PixelBox inner = box.Grown(-0.25).Clipped(depth.width, depth.height);
   std::vector<std::uint16_t> values;
   for (int y = inner.y0; y < inner.y1; y += 2) {
@@ -157,8 +160,10 @@ std::optional<Eigen::Vector3d> ObjectTracker::EstimateCentre(const PixelBox& box
     }
   }
   if (values.size() < 10) return std::nullopt;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  const double z = values[values.size() / 2] * depth_scale_m;
+  const std::size_t k =
+      std::min(values.size() - 1, static_cast<std::size_t>(quantile * values.size()));
+  std::nth_element(values.begin(), values.begin() + k, values.end());
+  const double z = values[k] * depth_scale_m;
   const Eigen::Vector3d ray =
       K.Unproject(0.5 * (box.x0 + box.x1), 0.5 * (box.y0 + box.y1), 1.0).normalized();
   return ray * (z / ray.z() + min_half_extent_m_);
@@ -280,10 +285,13 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
     // explain the depth (and colour) image: their ICP inliers are not
     // comparable (a centre on a large surface has more points to pair).
     const bool scored = centres.size() > 1 || s.segmented;
+    // Every orientation on each centre where the centres are few: the pieces
+    // of a segmented scene, the detector box's two.
+    const bool every_orientation = s.segmented || report->detection.has_value();
     const std::int64_t score_work =
         scored ? static_cast<std::int64_t>(SupportWorkBound(model_, SupportOptions())) : 0;
     std::vector<IcpResult> tried = global_->Hypotheses(
-        scene, frame_icp_, centres, s.next_hypothesis, &budget, score_work, s.segmented);
+        scene, frame_icp_, centres, s.next_hypothesis, &budget, score_work, every_orientation);
     s.next_hypothesis += tried.size();
     if (scored) {
       std::vector<double> scores(tried.size(), 0.0);
@@ -296,7 +304,7 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
       s.scores.insert(s.scores.end(), scores.begin(), scores.end());
     }
     for (IcpResult& r : tried) s.hypotheses.push_back(std::move(r));
-    if (s.next_hypothesis >= global_->HypothesisCount(scene, centres.size(), s.segmented)) {
+    if (s.next_hypothesis >= global_->HypothesisCount(scene, centres.size(), every_orientation)) {
       s.hypotheses_done = true;
       s.candidates = global_->Best(std::move(s.hypotheses), s.scores);
       s.next_candidate = 0;
@@ -423,6 +431,12 @@ std::vector<Eigen::Vector3d> ObjectTracker::SearchCentres(
   std::vector<Eigen::Vector3d> centres_c;
   if (report.detection) {
     if (auto c = EstimateCentre(report.detection->box, depth, depth_scale_m, K))
+      centres_c.push_back(*c);
+    // A second centre behind the box's nearest depths: an object open to the
+    // camera (a U seen from above) has its median depth on its far inner face,
+    // and orientations placed there settle on it the wrong way up.
+    if (auto c = EstimateCentre(report.detection->box, depth, depth_scale_m, K,
+                                options_.near_centre_quantile))
       centres_c.push_back(*c);
     return centres_c;
   }

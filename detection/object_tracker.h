@@ -38,6 +38,9 @@ struct PerceptionOptions {
   TrackMonitorOptions track;
   float min_detection_score = 0.3f;  ///< detector peaks below this are ignored, (0, 1)
   double box_margin = 0.15;          ///< the crop is the box grown by this fraction per side
+  /// The detector's box gives the search two centres: behind the median depth
+  /// inside it and behind this quantile of it (the object's near surface), [0, 0.5].
+  double near_centre_quantile = 0.1;
   /// a pose must explain this fraction of the compared depth, (0, 1]
   double min_support_ratio = 0.9;
   double min_coverage = 0.4;  ///< ... and this fraction of the visible model, (0, 1]
@@ -180,10 +183,11 @@ class ObjectTracker {
                const std::optional<Eigen::Isometry3d>& seed,
                const std::vector<Eigen::Vector3d>& centres_c, bool allow_global, bool segment,
                std::size_t kept_centres, FrameReport* report);
-  /// A rough object centre (m, in c) from a detector box and the depth inside it.
+  /// A rough object centre (m, in c) from a detector box and the depth inside it
+  /// (its median, or the given quantile).
   std::optional<Eigen::Vector3d> EstimateCentre(const PixelBox& box, const DepthImage& depth,
-                                                double depth_scale_m,
-                                                const CameraIntrinsics& K) const;
+                                                double depth_scale_m, const CameraIntrinsics& K,
+                                                double quantile = 0.5) const;
 
   /// This frame's share of the global registration (hypotheses, then their
   /// refinement, as far as the budget goes): true when it found a pose.

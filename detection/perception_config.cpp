@@ -119,6 +119,7 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path,
                         "track",
                         "min_detection_score",
                         "box_margin",
+                        "near_centre_quantile",
                         "min_support_ratio",
                         "min_coverage",
                         "min_cloud_points",
@@ -144,6 +145,7 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path,
   o.min_detection_score =
       static_cast<float>(root.GetDouble("min_detection_score", o.min_detection_score));
   o.box_margin = root.GetDouble("box_margin", o.box_margin);
+  o.near_centre_quantile = root.GetDouble("near_centre_quantile", o.near_centre_quantile);
   o.min_support_ratio = root.GetDouble("min_support_ratio", o.min_support_ratio);
   o.min_coverage = root.GetDouble("min_coverage", o.min_coverage);
   o.min_cloud_points = root.GetInt("min_cloud_points", o.min_cloud_points);

@@ -71,6 +71,7 @@ void ExpectSameOptions(const PerceptionOptions& a, const PerceptionOptions& b) {
   EXPECT_SAME_FIELD(track.frames_to_lose);
   EXPECT_SAME_FIELD(min_detection_score);
   EXPECT_SAME_FIELD(box_margin);
+  EXPECT_SAME_FIELD(near_centre_quantile);
   EXPECT_SAME_FIELD(min_support_ratio);
   EXPECT_SAME_FIELD(min_coverage);
   EXPECT_SAME_FIELD(min_cloud_points);
@@ -171,6 +172,8 @@ TEST_F(PerceptionConfigTest, WrongTypesAreNamedWithTheirPath) {
 TEST_F(PerceptionConfigTest, ValuesOutOfRangeAreNamedWithTheirPathAndBound) {
   EXPECT_THAT(ErrorOf("icp:\n  max_iterations: 0\n"),
               HasSubstr("perception.yaml: icp.max_iterations: must be in [1, 100]"));
+  EXPECT_THAT(ErrorOf("near_centre_quantile: 0.7\n"),
+              HasSubstr("perception.yaml: near_centre_quantile: must be in [0, 0.5]"));
   EXPECT_THAT(ErrorOf("min_support_ratio: 1.5\n"),
               HasSubstr("perception.yaml: min_support_ratio: must be in (0, 1]"));
   EXPECT_THAT(ErrorOf("model:\n  spacing_m: 0.5\n"),
