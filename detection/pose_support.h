@@ -3,7 +3,10 @@
 // agrees when the depth matches; it contradicts the pose when the camera sees
 // through it (measured depth well behind it: free space where the model says
 // there is surface); a nearer measurement is an occlusion and counts for
-// nothing. Where the depth agrees the colour must agree too (ColorDistance,
+// nothing, and where that nearer surface is the model's own at the pose (the
+// far inner wall of a pipe behind its near wall) the point is not visible at
+// all: it leaves `projected`, so coverage() is of the model the camera can
+// see. Where the depth agrees the colour must agree too (ColorDistance,
 // the ICP's Eq. 3), else the point contradicts the pose: a plain wall at the
 // right depth does not pass for the object. A model without colours (a plain
 // mesh) is scored on depth alone. A wrong pose contradicts; a right pose
@@ -21,7 +24,9 @@
 namespace aerograsp {
 
 struct PoseSupport {
-  int projected = 0;  ///< front-facing model points inside the image with measured depth
+  /// Front-facing model points inside the image with measured depth, less
+  /// those the model itself hides there.
+  int projected = 0;
   int agree = 0;
   int see_through = 0;  ///< the camera sees through the model, or the colour disagrees
   int occluded = 0;
