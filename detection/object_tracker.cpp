@@ -69,6 +69,8 @@ void PerceptionOptions::Validate(const std::string& source, const std::string& p
   Require(gated_frames_to_reset >= 1, "gated_frames_to_reset", "must be >= 1");
   Require(detect_every_frames >= 1 && detect_every_frames <= 30, "detect_every_frames",
           "must be in [1, 30]");
+  Require(frames_without_box_to_search_frame >= 0 && frames_without_box_to_search_frame <= 1000,
+          "frames_without_box_to_search_frame", "must be in [0, 1000] frames (0: never)");
   Require(whole_frame_points >= 50 && whole_frame_points <= 100000, "whole_frame_points",
           "must be in [50, 100000]");
   Require(weak_direction_ratio >= 0.0 && weak_direction_ratio <= 1.0, "weak_direction_ratio",
@@ -246,6 +248,7 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
     s = SearchState{};
     s.active = true;
     s.segment_pending = segment && options_.segment.max_surfaces > 0;
+    s.whole_frame = segment;
     ++global_stats_.searches;
   }
   ++s.frames;
@@ -507,7 +510,18 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
         detector_->Detect(color, options_.min_detection_score);
     if (!detections.empty()) report.detection = detections.front();
     report.times.detect_ms = ThreadCpuMs() - t_detect;
+    if (report.detection) {
+      // The box wins again: a whole-frame search under way is dropped.
+      if (search_.active && search_.whole_frame) EndSearch(SearchEnd::kAbandoned);
+      frames_without_box_ = 0;
+    } else {
+      ++frames_without_box_;
+    }
   }
+  // A detector that has found nothing for a while: the whole frame, as without one.
+  const bool whole_frame_fallback =
+      detector_ && options_.frames_without_box_to_search_frame > 0 &&
+      frames_without_box_ >= options_.frames_without_box_to_search_frame;
 
   // The prior: the filter's prediction, else a given first pose, else the last good pose.
   std::optional<Eigen::Isometry3d> prior;
@@ -537,7 +551,7 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& de
     } else if (ekf_.initialized()) {
       report.crop = ScorePoseSupport(model_, *prior, {}, depth, depth_scale_m, K)
                         .box.Grown(options_.box_margin);
-    } else if (!detector_ || initial_cMo_) {
+    } else if (!detector_ || whole_frame_fallback || initial_cMo_) {
       report.crop = initial_cMo_
                         ? ScorePoseSupport(model_, *initial_cMo_, {}, depth, depth_scale_m, K)
                               .box.Grown(options_.box_margin)

@@ -52,6 +52,12 @@ struct PerceptionOptions {
   /// is the outline of the filter's prediction. 1: every frame (the paper's
   /// pipeline). The CNN is a quarter of a tracked frame's time.
   int detect_every_frames = 1;
+  /// After this many consecutive frames on which the detector ran and found no
+  /// box (a detector that does not see the object: a board on it, other light),
+  /// the crop is the whole frame and the search the segmented one of a tracker
+  /// without a detector, until the detector finds a box again; frames, [0, 1000],
+  /// 0: never (only the detector's box is searched).
+  int frames_without_box_to_search_frame = 30;
   /// The global registration (~0.1 s of CPU a frame) runs only for an object
   /// centre (from the depth in its box) this far from the camera, m: beyond
   /// the 1.5 m it is validated at it fails anyway, and nearer than the
@@ -232,6 +238,7 @@ class ObjectTracker {
     bool active = false;
     int frames = 0;
     std::size_t next_hypothesis = 0;
+    bool whole_frame = false;      ///< on the whole frame without a detector's box
     bool segment_pending = false;  ///< the scene is still to be segmented
     /// Segmented: the search runs on `foreground` around `centres_c` (from its first frame).
     bool segmented = false;
@@ -257,6 +264,7 @@ class ObjectTracker {
   std::optional<Eigen::Isometry3d> initial_cMo_;
   int gated_in_a_row_ = 0;
   int frames_since_detection_ = 0;  // frames processed since the detector last ran
+  int frames_without_box_ = 0;      // consecutive frames the detector ran and found no box
   bool last_measured_ = false;      // the previous frame gave a measurement
   double min_half_extent_m_ = 0.05;
 };

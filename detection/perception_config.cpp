@@ -125,6 +125,7 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path,
                         "min_cloud_points",
                         "whole_frame_points",
                         "detect_every_frames",
+                        "frames_without_box_to_search_frame",
                         "min_global_range_m",
                         "max_global_range_m",
                         "reacquire_radius_m",
@@ -151,6 +152,8 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path,
   o.min_cloud_points = root.GetInt("min_cloud_points", o.min_cloud_points);
   o.whole_frame_points = root.GetInt("whole_frame_points", o.whole_frame_points);
   o.detect_every_frames = root.GetInt("detect_every_frames", o.detect_every_frames);
+  o.frames_without_box_to_search_frame =
+      root.GetInt("frames_without_box_to_search_frame", o.frames_without_box_to_search_frame);
   o.min_global_range_m = root.GetDouble("min_global_range_m", o.min_global_range_m);
   o.max_global_range_m = root.GetDouble("max_global_range_m", o.max_global_range_m);
   o.reacquire_radius_m = root.GetDouble("reacquire_radius_m", o.reacquire_radius_m);

@@ -360,6 +360,42 @@ TEST(ObjectTrackerTest, WhileTrackedTheDetectorRunsOnEveryNthFrame) {
             "-DD");  // the first hidden frame is still tracked (the last one was measured)
 }
 
+// A detector that does not see the object (the pipe's, on the crawler, with a
+// threshold its peaks never reach): after frames_without_box_to_search_frame
+// frames without a box (from the last of them on) the whole frame is searched as without a detector
+// and the object is found; with the fallback off (0) it never is.
+TEST(ObjectTrackerTest, ADetectorThatFindsNothingFallsBackToTheWholeFrame) {
+  const ObjectModel pipe = ObjectModel::Load("pipe");
+  const std::string blind_detector =
+      (std::filesystem::path(pipe.source).parent_path() / "detector.onnx").string();
+  for (const int after : {0, 3}) {
+    PerceptionOptions options;
+    options.min_detection_score = 0.99f;
+    options.frames_without_box_to_search_frame = after;
+    ObjectTracker tracker(ObjectModel::Load("crawler"), options,
+                          std::make_unique<BoxDetector>(blind_detector));
+    ColorImage color;
+    DepthImage depth;
+    FrameReport r;
+    int k = 0;
+    for (; k < 20 && r.estimate.state != TrackState::kFound; ++k) {
+      Scene().Render(TruthAt(k), true, &color, &depth);
+      r = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001);
+      ASSERT_FALSE(r.detection) << after << ": the detector found a box on frame " << k;
+      if (after == 0 || k + 1 < after) {  // the after-th frame without a box searches
+        EXPECT_FALSE(r.global_init) << after << ": searched on frame " << k;
+        EXPECT_TRUE(r.crop.empty()) << after << ": a crop on frame " << k;
+      }
+    }
+    if (after == 0) {
+      EXPECT_NE(r.estimate.state, TrackState::kFound);
+      continue;
+    }
+    ASSERT_EQ(r.estimate.state, TrackState::kFound) << "not found in 20 frames";
+    EXPECT_LT(ComparePoses(TruthAt(k - 1), r.estimate.cMo).translation_m, 0.005);
+  }
+}
+
 TEST(ObjectTrackerTest, LosesAHiddenObjectAndReacquiresItWithinFiveFrames) {
   ObjectTracker tracker(ObjectModel::Load("crawler"), PerceptionOptions{}, nullptr);
   tracker.SetInitialPose(TruthAt(0));
