@@ -92,12 +92,15 @@ class SupportScorer {
   }
 
   /// Whether the surface seen at pixel (u, v), z_obs m deep, is the model's
-  /// own at cMo translated by shift_c: within `tolerance_m` of a model point. A
-  /// front-facing point behind it is hidden by the object itself (the far
-  /// inner wall of a pipe, a part behind another), not by something in front
-  /// of the object: it is not part of the visible model.
-  bool HiddenByModel(int u, int v, double z_obs, const Eigen::Vector3f& shift_c,
-                     float tolerance_m) const {
+  /// own at cMo translated by shift_c: within the tolerance's floor
+  /// (min_tolerance_m) of a model point. A front-facing point behind it is
+  /// hidden by the object itself (the far inner wall of a pipe, a part behind
+  /// another), not by something in front of the object: it is not part of the
+  /// visible model. Only the floor: far away, where the depth noise widens the
+  /// tolerance to centimetres, a larger surface near a wrong pose (the support
+  /// pipe around a pose inside it) would pass for the model's own.
+  bool HiddenByModel(int u, int v, double z_obs, const Eigen::Vector3f& shift_c) const {
+    const float tolerance_m = static_cast<float>(options_.min_tolerance_m);
     const Eigen::Vector3f seen_c = K_.Unproject(u, v, z_obs).cast<float>();
     const Eigen::Vector3f seen_o = cRo_.transpose() * (seen_c - t_c_ - shift_c);
     const int j = model_.Nearest(seen_o);
@@ -143,7 +146,7 @@ class SupportScorer {
         }
       } else if (z_obs > p.z()) {
         ++support.see_through;
-      } else if (HiddenByModel(u, v, z_obs, shift_c, static_cast<float>(tolerance))) {
+      } else if (HiddenByModel(u, v, z_obs, shift_c)) {
         --support.projected;  // the model's own nearer surface hides it, seen there
       } else {
         ++support.occluded;
