@@ -290,7 +290,8 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
     const bool scored = centres.size() > 1 || s.segmented;
     // Every orientation on each centre where the centres are few: the pieces
     // of a segmented scene, the detector box's two.
-    const bool every_orientation = s.segmented || report->detection.has_value();
+    const bool every_orientation =
+        s.segmented || (report->detection.has_value() && TwoCentresInBox(options_));
     const std::int64_t score_work =
         scored ? static_cast<std::int64_t>(SupportWorkBound(model_, SupportOptions())) : 0;
     std::vector<IcpResult> tried = global_->Hypotheses(
@@ -438,9 +439,11 @@ std::vector<Eigen::Vector3d> ObjectTracker::SearchCentres(
     // A second centre behind the box's nearest depths: an object open to the
     // camera (a U seen from above) has its median depth on its far inner face,
     // and orientations placed there settle on it the wrong way up.
-    if (auto c = EstimateCentre(report.detection->box, depth, depth_scale_m, K,
-                                options_.near_centre_quantile))
-      centres_c.push_back(*c);
+    if (TwoCentresInBox(options_)) {
+      if (auto c = EstimateCentre(report.detection->box, depth, depth_scale_m, K,
+                                  options_.near_centre_quantile))
+        centres_c.push_back(*c);
+    }
     return centres_c;
   }
   // The last known place first; on the whole frame, then the rest of it, nearest first.

@@ -39,7 +39,8 @@ struct PerceptionOptions {
   float min_detection_score = 0.3f;  ///< detector peaks below this are ignored, (0, 1)
   double box_margin = 0.15;          ///< the crop is the box grown by this fraction per side
   /// The detector's box gives the search two centres: behind the median depth
-  /// inside it and behind this quantile of it (the object's near surface), [0, 0.5].
+  /// inside it and behind this quantile of it (the object's near surface), [0, 0.5];
+  /// 0.5 (the median itself) gives the box one centre (see TwoCentresInBox).
   double near_centre_quantile = 0.1;
   /// a pose must explain this fraction of the compared depth, (0, 1]
   double min_support_ratio = 0.9;
@@ -89,6 +90,12 @@ struct PerceptionOptions {
   /// the top). @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
   void Validate(const std::string& source, const std::string& prefix) const;
 };
+
+/// Whether the search places its orientations on two centres in a detector's box
+/// (the median depth and `near_centre_quantile`) rather than one.
+inline bool TwoCentresInBox(const PerceptionOptions& options) {
+  return options.near_centre_quantile < 0.5;
+}
 
 /// What the pipeline knows about the object after a frame.
 struct ObjectEstimate {

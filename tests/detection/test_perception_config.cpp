@@ -213,6 +213,11 @@ TEST_F(PerceptionConfigTest, TheMissionFileSearchesWithoutABound) {
 }
 
 }  // namespace
+TEST_F(PerceptionConfigTest, TheMissionSearchesADetectorBoxFromOneCentre) {
+  EXPECT_FALSE(TwoCentresInBox(LoadPerceptionOptions(DataPath("config/perception_mission.yaml"))));
+  EXPECT_TRUE(TwoCentresInBox(LoadPerceptionOptions(DataPath("config/perception_default.yaml"))));
+}
+
 TEST_F(PerceptionConfigTest, CountsThatDriveLoopsAreBoundedAbove) {
   EXPECT_THAT(ErrorOf("global:\n  max_iterations: 2147483647\n"),
               HasSubstr("perception.yaml: global.max_iterations: must be in [1, 100000]"));
