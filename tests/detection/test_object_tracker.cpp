@@ -12,6 +12,7 @@
 #include "detection/object_tracker.h"
 #include "hardware/sim/d435_model.h"
 #include "hardware/sim/rgbd_renderer.h"
+#include "rendered_frame.h"
 #include "test_helpers.h"
 
 namespace aerograsp {
@@ -37,14 +38,7 @@ class RenderedScene {
   void Render(const Eigen::Isometry3d& cMo, bool visible, ColorImage* color, DepthImage* depth) {
     renderer_.SetVisible(object_id_, visible);
     renderer_.SetPose(object_id_, cMo);
-    RenderBuffers truth;
-    Lighting light;
-    light.to_light_w = Eigen::Vector3d(0.2, -0.5, -1.0);
-    renderer_.Render(Eigen::Isometry3d::Identity(), K_, light, &truth);
-    RgbdFrame frame;
-    SimulateD435(D435Config{}, K_, truth, &rng_, &frame);
-    *color = frame.color;
-    *depth = frame.depth;
+    testing::RenderD435Frame(renderer_, K_, &rng_, color, depth);
   }
   const CameraIntrinsics& K() const { return K_; }
 
