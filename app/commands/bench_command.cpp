@@ -20,6 +20,7 @@
 #include "app/runtime/mission_arms.h"
 #include "app/runtime/mission_config.h"
 #include "app/runtime/mission_record.h"
+#include "app/runtime/mission_startup.h"
 #include "app/runtime/telemetry_frames.h"
 #include "calib/tag_board.h"
 #include "core/collision.h"
@@ -28,8 +29,6 @@
 #include "core/object_model.h"
 #include "core/transforms.h"
 #include "detection/object_tracker.h"
-#include "detection/perception_config.h"
-#include "grasp/contacts.h"
 #include "grasp/planner.h"
 #include "hardware/hardware_factory.h"
 #include "hardware/sim/world.h"
@@ -91,14 +90,13 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
     throw ConfigError(
         "--board-pose: not a rigid transform (a unit quaternion and a finite position are needed)");
   }
-  const MissionConfig mission =
-      MissionConfig::Load(options.mission_config.empty() ? DataPath("config/mission_default.yaml")
-                                                         : options.mission_config);
+  MissionConfig mission = LoadMissionConfig(options.mission_config);
   // The mission's perception file unless one is given: the bench tests what the mission flies.
-  const std::string perception_file =
-      options.perception_config.empty() ? mission.perception : options.perception_config;
-  const PerceptionOptions perception =
-      perception_file.empty() ? PerceptionOptions{} : LoadPerceptionOptions(perception_file);
+  if (!options.perception_config.empty()) mission.perception = options.perception_config;
+  // Grasps as the mission plans them; the pre-catch pose, which the planner
+  // checks for reach, is the hover point.
+  const bool hover = options.hover_m > 0.0;
+  if (hover) mission.planner.precatch_distance_m = options.hover_m;
 
   HardwareConfig hw_config;
   if (options.hardware_path.empty()) {
@@ -138,9 +136,7 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
   // The world the camera sees (its clock, its truth), when the camera is simulated.
   World* seen = hw_config.camera.backend == "sim" ? world : nullptr;
   const Platform& platform = hw->platform();
-  const ObjectModel object =
-      world ? world->object()
-            : ObjectModel::Load(options.object.empty() ? "crawler" : options.object);
+  const ObjectModel object = LoadMissionObject(options.object, world);
 
   const TagBoardConfig& board = rig.board;
   const Eigen::Isometry3d oMt = options.oMt ? *options.oMt
@@ -150,29 +146,15 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
   if (seen) seen->AttachToObject(MakeBoardRenderMesh(board), oMt);
   TagDetector tag_detector(board.family);
 
-  std::unique_ptr<BoxDetector> box_detector;
-  const fs::path onnx = fs::path(object.source).parent_path() / "detector.onnx";
-  if (fs::exists(onnx)) box_detector = std::make_unique<BoxDetector>(onnx.string());
-  ObjectTracker tracker(object, perception, std::move(box_detector));
+  const std::unique_ptr<ObjectTracker> tracker = MakeMissionTracker(object, mission);
   // The board's print covers the object's surface under it: the mesh's colours
   // there are not what the camera sees (on the crawler's top, 15 % of its
   // visible points), so perception compares only the shape there.
   const Eigen::Vector2d board_half_m = 0.5 * board.Size();
-  tracker.ForgetColorsInBox(
+  tracker->ForgetColorsInBox(
       oMt, Eigen::Vector3d(board_half_m.x(), board_half_m.y(), kBoardCoversDepthM));
-  const ObjectSymmetry& symmetry = tracker.model().symmetry;
-
-  // Grasps as the mission plans them; the pre-catch pose, which the planner
-  // checks for reach, is the hover point.
-  const bool hover = options.hover_m > 0.0;
-  GraspPlannerConfig planner_config = mission.planner;
-  if (hover) planner_config.precatch_distance_m = options.hover_m;
-  planner_config.Validate(cli, "");
-  planner_config.CheckFingers(platform.config().gripper, mission.source, "planner.");
-  GraspPlanner planner(
-      platform, GraspObject{object.name, object.mesh_o, object.mass_kg, object.center_of_mass_o},
-      ComputeContactPairs(object.mesh_o, platform.config().gripper, planner_config.contacts),
-      planner_config);
+  const ObjectSymmetry& symmetry = tracker->model().symmetry;
+  const std::unique_ptr<GraspPlanner> planner = MakeMissionPlanner(platform, object, mission);
   // The servo and grasp sequence of the mission's config.
   const PlatformCollision collision(platform);
   Eigen::VectorXd q[2];
@@ -181,7 +163,7 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
   for (int a = 0; a < 2; ++a) {
     q[a] = hw->arms().JointPositions(kSides[a]);
     ArmController c = MakeArmController(mission, platform, kSides[a], collision, &q[1 - a],
-                                        planner_config.precatch_distance_m);
+                                        mission.planner.precatch_distance_m);
     servo[a] = std::move(c.servo);
     sequence[a] = std::move(c.sequence);
     sequence[a]->HoldAtPreCatch(
@@ -265,14 +247,14 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
       // Our perception, as in replay and the mission (the filter in the camera frame: the camera
       // stands still).
       const FrameReport r =
-          tracker.Process(rgbd.color, rgbd.depth, rgbd.stamp_s, K, hw->camera().depth_scale_m());
+          tracker->Process(rgbd.color, rgbd.depth, rgbd.stamp_s, K, hw->camera().depth_scale_m());
       run.frame_ms.push_back(r.times.total_ms);
       const bool found = r.estimate.valid && r.estimate.state == TrackState::kFound;
       if (found) estimate = r.estimate;
       // Lost (the arms come between the camera and the object): the last found
       // pose seeds the next frame, as the mission's held world pose does (the
       // camera stands still, the object moves slowly).
-      if (!found && estimate) tracker.SetInitialPose(estimate->cMo);
+      if (!found && estimate) tracker->SetInitialPose(estimate->cMo);
       if (sink) {  // the filter runs in the camera frame
         PublishPerceivedFrame(sink, t - t_start, telemetry_frame::kCamera, r.estimate, found, rgbd,
                               K, hw->camera().depth_scale_m());
@@ -346,7 +328,7 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
       query.q_right = q[1];
       query.gravity_d = (wMd.linear().transpose() * Eigen::Vector3d::UnitZ()).normalized();
       const SwitchDecision decision =
-          DecideSwitch(planner.Plan(query), choice, mission.policy.switch_margin);
+          DecideSwitch(planner->Plan(query), choice, mission.policy.switch_margin);
       ++run.plans;
       if (decision.status == SwitchDecision::Status::kNoGrasp) {
         ++run.no_grasp_plans;
@@ -382,7 +364,7 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
         // moves on); out of reach, the last targets stand.
         ArmGrasp solved;
         Infeasibility why = Infeasibility::kNone;
-        if (planner.EvaluateArm(side, pair[a], dMo, q[a], &solved, &why) &&
+        if (planner->EvaluateArm(side, pair[a], dMo, q[a], &solved, &why) &&
             (reached_q[a].size() == 0 ||
              OnFollowedBranch(solved.q_grasp, reached_q[a], t - reached_t[a], mission.policy))) {
           reached_q[a] = solved.q_grasp;
@@ -458,7 +440,7 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
   info.object_mesh_o = object.mesh_o;
   info.hardware = hw_config.source;
   info.seed = options.seed;
-  info.perception = perception_file.empty() ? "code defaults" : perception_file;
+  info.perception = mission.perception.empty() ? "code defaults" : mission.perception;
   info.hover_m = options.hover_m;
   info.board = board;
   info.oMt = oMt;

@@ -22,11 +22,13 @@ namespace aerograsp {
 namespace fs = std::filesystem;
 
 MissionConfig LoadMissionConfig(const MissionOptions& options) {
-  const std::string config_path =
-      options.config_path.empty() ? DataPath("config/mission_default.yaml") : options.config_path;
-  MissionConfig config = MissionConfig::Load(config_path);
+  MissionConfig config = LoadMissionConfig(options.config_path);
   if (options.timeout_s > 0) config.timeout_s = options.timeout_s;
   return config;
+}
+
+MissionConfig LoadMissionConfig(const std::string& path) {
+  return MissionConfig::Load(path.empty() ? DataPath("config/mission_default.yaml") : path);
 }
 
 std::unique_ptr<Hardware> OpenMissionHardware(const MissionOptions& options,
@@ -61,8 +63,12 @@ std::unique_ptr<Hardware> OpenMissionHardware(const MissionOptions& options,
 }
 
 ObjectModel LoadMissionObject(const MissionOptions& options, const World* world) {
+  return LoadMissionObject(options.object, world);
+}
+
+ObjectModel LoadMissionObject(const std::string& object, const World* world) {
   if (world) return world->object();
-  return ObjectModel::Load(options.object.empty() ? "crawler" : options.object);
+  return ObjectModel::Load(object.empty() ? "crawler" : object);
 }
 
 std::unique_ptr<ObjectTracker> MakeMissionTracker(const ObjectModel& object,

@@ -25,6 +25,10 @@ struct MissionSetup;
 /// @throws ConfigError on a bad file
 MissionConfig LoadMissionConfig(const MissionOptions& options);
 
+/// The mission config at `path` (data/config/mission_default.yaml when empty).
+/// @throws ConfigError on a bad file
+MissionConfig LoadMissionConfig(const std::string& path);
+
 /// The devices: every one simulated in-process, or the options' hardware file's
 /// (its simulated devices fly the config's world), the world changed by the
 /// options' object, motion, speed and sway. `health` receives what the
@@ -37,6 +41,10 @@ std::unique_ptr<Hardware> OpenMissionHardware(const MissionOptions& options,
 /// The object to grasp: the simulated world's, else the options' (the crawler
 /// when none).
 ObjectModel LoadMissionObject(const MissionOptions& options, const World* world);
+
+/// The object to grasp: the simulated world's, else `object` (a shipped name
+/// or a model path; the crawler when empty).
+ObjectModel LoadMissionObject(const std::string& object, const World* world);
 
 /// The tracker of `object` with the config's perception settings and the
 /// object's detector when it has one (detector.onnx beside its model).
