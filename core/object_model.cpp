@@ -88,6 +88,11 @@ std::vector<std::string> ObjectNamesIn(const std::string& dir) {
 
 std::vector<std::string> ShippedObjectNames() { return ObjectNamesIn(DataPath("objects")); }
 
+std::string ObjectDetectorPath(const ObjectModel& object) {
+  const fs::path onnx = fs::path(object.source).parent_path() / "detector.onnx";
+  return fs::exists(onnx) ? onnx.string() : "";
+}
+
 Eigen::Vector3d PlacementCentre(const TriangleMesh& mesh_o) {
   return 0.5 * (mesh_o.BoundsMin() + mesh_o.BoundsMax());
 }

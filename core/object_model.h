@@ -54,6 +54,11 @@ std::vector<std::string> ObjectNamesIn(const std::string& dir);
 /// The names of the shipped objects (folders of data/objects with an object.yaml), sorted.
 std::vector<std::string> ShippedObjectNames();
 
+/// The object's detector (a box detector's ONNX model): detector.onnx beside
+/// the file it was read from, where scripts/train_detectors.sh writes it in
+/// its object folder; empty when there is none.
+std::string ObjectDetectorPath(const ObjectModel& object);
+
 /// The point of an object that the commands placing it themselves (plan,
 /// record, dataset, mission) put where they are asked: the centre of its
 /// bounding box in o, whatever o's origin (the origin itself for the shipped

@@ -15,6 +15,7 @@
 #include "app/commands/replay_command.h"
 #include "app/report/report_folder.h"
 #include "app/report/summary_file.h"
+#include "core/config.h"
 #include "core/mesh.h"
 #include "core/object_model.h"
 
@@ -107,7 +108,13 @@ void RunPerceptionBenchmark(const PerceptionBenchmarkOptions& options, std::ostr
     const ObjectModel object = ObjectModel::Load(name);
     const std::string plain_mesh =
         WritePlainMesh(object, root / "objects" / (object.name + "_plain"));
-    const std::string detector = (fs::path(object.source).parent_path() / "detector.onnx").string();
+    const std::string detector = ObjectDetectorPath(object);
+    if (detector.empty()) {
+      throw ConfigError(object.source +
+                        ": the object has no detector (train one: "
+                        "scripts/train_detectors.sh " +
+                        object.reference + ")");
+    }
     for (const std::string& motion : options.motions) {
       const std::string tag = object.name + "_" + motion;
       RecordCommandOptions record;

@@ -313,10 +313,10 @@ void RunObjectShow(const std::string& what, bool folder_only, std::ostream& out)
                      model.mass_estimated ? " (estimated from the volume)" : "",
                      Vec(model.center_of_mass_o, "{:.4f}"));
   out << "  symmetry: " << DescribeSymmetry(model.symmetry) << "\n";
-  const fs::path detector = source.parent_path() / "detector.onnx";
+  const std::string detector = ObjectDetectorPath(model);
   out << "  detector: "
-      << (is_folder && fs::exists(detector)
-              ? detector.string()
+      << (!detector.empty()
+              ? detector
               : "none (train one: scripts/train_detectors.sh " + model.reference + ")")
       << "\n";
 }

@@ -111,12 +111,9 @@ int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
                             : object_name);
 
   std::unique_ptr<BoxDetector> detector;
-  std::string detector_path = options.detector;
+  std::string detector_path;
   if (options.use_detector) {
-    if (detector_path.empty()) {
-      const fs::path shipped = fs::path(object.source).parent_path() / "detector.onnx";
-      if (fs::exists(shipped)) detector_path = shipped.string();
-    }
+    detector_path = options.detector.empty() ? ObjectDetectorPath(object) : options.detector;
     if (!detector_path.empty()) detector = std::make_unique<BoxDetector>(detector_path);
   }
   std::optional<Eigen::Isometry3d> dMc;  // the camera mount, for a filter in the world

@@ -74,8 +74,8 @@ ObjectModel LoadMissionObject(const std::string& object, const World* world) {
 std::unique_ptr<ObjectTracker> MakeMissionTracker(const ObjectModel& object,
                                                   const MissionConfig& config) {
   std::unique_ptr<BoxDetector> detector;
-  const fs::path onnx = fs::path(object.source).parent_path() / "detector.onnx";
-  if (fs::exists(onnx)) detector = std::make_unique<BoxDetector>(onnx.string());
+  const std::string onnx = ObjectDetectorPath(object);
+  if (!onnx.empty()) detector = std::make_unique<BoxDetector>(onnx);
   const PerceptionOptions perception =
       config.perception.empty() ? PerceptionOptions{} : LoadPerceptionOptions(config.perception);
   return std::make_unique<ObjectTracker>(object, perception, std::move(detector));
