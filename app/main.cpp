@@ -2,7 +2,6 @@
 #include <CLI/CLI.hpp>
 #include <exception>
 #include <iostream>
-#include <vector>
 
 #include "app/benchmarks/fault_benchmark.h"
 #include "app/benchmarks/mission_benchmark.h"
@@ -155,101 +154,28 @@ int main(int argc, char** argv) {
   aerograsp::AddMissionOptions(mission_cmd, &mission);
   // ---- end mission ----
   // ---- object import: a user's own object ----
-  aerograsp::ObjectImportOptions object_import;
   CLI::App* object_cmd =
       app.add_subcommand("object", "Bring in a user's object (import) and describe one (show)");
   object_cmd->require_subcommand(1);
+  aerograsp::ObjectImportOptions object_import;
   CLI::App* import_cmd = object_cmd->add_subcommand(
       "import",
       "Check, repair and measure a mesh (PLY, OBJ, STL, ViSP .cao; mass, symmetry) and store it "
       "as an object every command finds by name (docs/objects.md)");
-  import_cmd->add_option("mesh", object_import.mesh_path, "Mesh file")
-      ->required()
-      ->check(CLI::ExistingFile);
-  import_cmd->add_option("--name", object_import.name, "Object name (--object NAME)")->required();
-  import_cmd->add_option("--units", object_import.units, "Length unit of the file")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"m", "cm", "mm"}));
-  import_cmd
-      ->add_option("--mass", object_import.mass_kg,
-                   "Mass, kg [the volume at 300 kg/m^3, an estimate]")
-      ->check(aerograsp::cli::Range(1e-6, 1e4));
-  import_cmd->add_option("--objects-dir", object_import.objects_dir,
-                         "Folder to store it in [$AEROGRASP_OBJECTS_DIR, else data/objects]");
-  import_cmd
-      ->add_option("--config", object_import.config_path,
-                   "Import settings [data/config/object_import.yaml]")
-      ->check(CLI::ExistingFile);
-  import_cmd->add_flag("--overwrite", object_import.overwrite,
-                       "Replace an object of that name in the folder");
-  std::string object_show;
-  bool object_show_folder = false;
+  aerograsp::AddObjectImportOptions(import_cmd, &object_import);
+  aerograsp::ObjectShowOptions object_show;
   CLI::App* show_cmd = object_cmd->add_subcommand(
       "show", "Where an object is and what it is (mesh, mass, symmetry, detector)");
-  show_cmd->add_option("object", object_show, "Object name or path")->required();
-  show_cmd->add_flag("--folder", object_show_folder, "Print the object's folder only");
+  aerograsp::AddObjectShowOptions(show_cmd, &object_show);
   // ---- end object import ----
   // ---- bench: perception and servo against tags on a test stand ----
   aerograsp::BenchCommandOptions bench;
-  std::vector<double> bench_board_pose;
   CLI::App* bench_cmd =
       app.add_subcommand("bench",
                          "Vehicle on a test stand, the object with a tag board moved by script "
                          "(simulator) or by hand (--hardware): perception against the tags, "
                          "servo error to the grasp or a hover point off it; report in DIR");
-  bench_cmd
-      ->add_option("--out", bench.out_dir, "Report folder (index.html, summary.json, frames.csv)")
-      ->required();
-  bench_cmd->add_flag("--overwrite", bench.overwrite, "Replace a report already in --out");
-  CLI::Option* bench_hardware =
-      bench_cmd
-          ->add_option("--hardware", bench.hardware_path,
-                       "Hardware YAML: the real camera and arms (the object moved by hand, the "
-                       "board where its bench section says), or data/config/hardware_sim.yaml "
-                       "(the real drivers against simulated devices)")
-          ->check(CLI::ExistingFile);
-  bench_cmd
-      ->add_option("--world", bench.world_config, "World YAML [data/config/world_default.yaml]")
-      ->check(CLI::ExistingFile);
-  bench_cmd->add_option("--object", bench.object,
-                        "Object: a shipped name or a model path [the world's]");
-  bench_cmd->add_option("--frames", bench.frames, "Camera frames")
-      ->capture_default_str()
-      ->check(aerograsp::cli::Range(1, 100000));
-  bench_cmd->add_option("--seed", bench.seed, "World seed")
-      ->capture_default_str()
-      ->check(aerograsp::cli::Seed());
-  aerograsp::AddTelemetryOptions(bench_cmd, &bench.telemetry);
-  bench_cmd
-      ->add_option(
-          "--hover-m", bench.hover_m,
-          "Servo to the grasp moved back this far along its approach (0: the grasp itself), m")
-      ->capture_default_str()
-      ->check(aerograsp::cli::Finite());
-  bench_cmd
-      ->add_option("--path-period", bench.path_period_s, "Period of the object's scripted path, s")
-      ->capture_default_str()
-      ->excludes(bench_hardware)
-      ->check(aerograsp::cli::Range(1.0, 1000.0));
-  bench_cmd
-      ->add_option("--path-scale", bench.path_scale,
-                   "Scale of the scripted path (1: +-6 cm fore and aft; 0: the object held still "
-                   "at the grasp point)")
-      ->capture_default_str()
-      ->excludes(bench_hardware)
-      ->check(aerograsp::cli::Finite());
-  bench_cmd
-      ->add_option(
-          "--board-pose", bench_board_pose,
-          "The tag board on the object, oMt: x y z (m) qw qx qy qz [centred on its top, face up]")
-      ->expected(7)
-      ->excludes(bench_hardware)
-      ->check(aerograsp::cli::Finite());
-  bench_cmd
-      ->add_option(
-          "--perception", bench.perception_config,
-          "Perception YAML (see data/config/perception_default.yaml) [the mission config's]")
-      ->check(CLI::ExistingFile);
+  aerograsp::AddBenchOptions(bench_cmd, &bench);
   // ---- end bench ----
 
   int code = aerograsp::kExitOk;
@@ -278,12 +204,8 @@ int main(int argc, char** argv) {
     if (*dataset_cmd) aerograsp::RunDatasetCommand(dataset, std::cout, std::cerr);
     if (*mission_cmd) code = aerograsp::RunMissionCommand(mission, std::cout, std::cerr);
     if (*import_cmd) aerograsp::RunObjectImport(object_import, std::cout);
-    if (*show_cmd) aerograsp::RunObjectShow(object_show, object_show_folder, std::cout);
-    if (*bench_cmd) {
-      if (!bench_board_pose.empty())
-        bench.oMt = aerograsp::PoseFromValues(bench_board_pose, "--board-pose");
-      aerograsp::RunBenchCommand(bench, std::cout, std::cerr);
-    }
+    if (*show_cmd) aerograsp::RunObjectShow(object_show.object, object_show.folder_only, std::cout);
+    if (*bench_cmd) aerograsp::RunBenchCommand(bench, std::cout, std::cerr);
   } catch (const std::exception& e) {
     std::cerr << "aerograsp: error: " << e.what() << "\n";
     return aerograsp::kExitError;

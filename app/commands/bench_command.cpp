@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -10,11 +11,14 @@
 #include <limits>
 #include <memory>
 #include <thread>
+#include <vector>
 
 #include "app/calibration/interrupt_guard.h"
 #include "app/calibration/tag_board_mesh.h"
+#include "app/cli_checks.h"
 #include "app/commands/bench_report.h"
 #include "app/commands/bench_stand.h"
+#include "app/commands/replay_command.h"
 #include "app/report/progress.h"
 #include "app/report/report_folder.h"
 #include "app/runtime/mission_arms.h"
@@ -468,6 +472,56 @@ void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out,
         fmt::format("bench: perception never found the object ({}) in {} frames; see {}/frames.csv",
                     object.name, frame, options.out_dir));
   }
+}
+
+void AddBenchOptions(CLI::App* cmd, BenchCommandOptions* o) {
+  // Seven numbers on the command line, a pose in the options once parsed.
+  const auto board_pose = std::make_shared<std::vector<double>>();
+  cmd->add_option("--out", o->out_dir, "Report folder (index.html, summary.json, frames.csv)")
+      ->required();
+  cmd->add_flag("--overwrite", o->overwrite, "Replace a report already in --out");
+  CLI::Option* hardware =
+      cmd->add_option("--hardware", o->hardware_path,
+                      "Hardware YAML: the real camera and arms (the object moved by hand, the "
+                      "board where its bench section says), or data/config/hardware_sim.yaml "
+                      "(the real drivers against simulated devices)")
+          ->check(CLI::ExistingFile);
+  cmd->add_option("--world", o->world_config, "World YAML [data/config/world_default.yaml]")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--object", o->object, "Object: a shipped name or a model path [the world's]");
+  cmd->add_option("--frames", o->frames, "Camera frames")
+      ->capture_default_str()
+      ->check(cli::Range(1, 100000));
+  cmd->add_option("--seed", o->seed, "World seed")->capture_default_str()->check(cli::Seed());
+  AddTelemetryOptions(cmd, &o->telemetry);
+  cmd->add_option(
+         "--hover-m", o->hover_m,
+         "Servo to the grasp moved back this far along its approach (0: the grasp itself), m")
+      ->capture_default_str()
+      ->check(cli::Finite());
+  cmd->add_option("--path-period", o->path_period_s, "Period of the object's scripted path, s")
+      ->capture_default_str()
+      ->excludes(hardware)
+      ->check(cli::Range(1.0, 1000.0));
+  cmd->add_option("--path-scale", o->path_scale,
+                  "Scale of the scripted path (1: +-6 cm fore and aft; 0: the object held still "
+                  "at the grasp point)")
+      ->capture_default_str()
+      ->excludes(hardware)
+      ->check(cli::Finite());
+  cmd->add_option(
+         "--board-pose", *board_pose,
+         "The tag board on the object, oMt: x y z (m) qw qx qy qz [centred on its top, face up]")
+      ->expected(7)
+      ->excludes(hardware)
+      ->check(cli::Finite());
+  cmd->add_option(
+         "--perception", o->perception_config,
+         "Perception YAML (see data/config/perception_default.yaml) [the mission config's]")
+      ->check(CLI::ExistingFile);
+  cmd->callback([o, board_pose] {
+    if (!board_pose->empty()) o->oMt = PoseFromValues(*board_pose, "--board-pose");
+  });
 }
 
 }  // namespace aerograsp

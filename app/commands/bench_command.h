@@ -28,6 +28,10 @@
 
 #include "app/commands/telemetry_options.h"
 
+namespace CLI {
+class App;
+}
+
 namespace aerograsp {
 
 struct BenchCommandOptions {
@@ -72,5 +76,9 @@ struct BenchCommandOptions {
 /// seen or the object never found (the report and summary.json are written
 /// first), or DIR cannot be written.
 void RunBenchCommand(const BenchCommandOptions& options, std::ostream& out, std::ostream& progress);
+
+/// Adds `bench`'s options to `cmd` (a CLI11 subcommand); the board's pose
+/// reaches `options` when the command line has been parsed.
+void AddBenchOptions(CLI::App* cmd, BenchCommandOptions* options);
 
 }  // namespace aerograsp

@@ -2,12 +2,15 @@
 
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <Eigen/Geometry>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
+#include "app/cli_checks.h"
 #include "core/config.h"
 #include "core/data_dir.h"
 #include "core/mesh.h"
@@ -319,6 +322,28 @@ void RunObjectShow(const std::string& what, bool folder_only, std::ostream& out)
               ? detector
               : "none (train one: scripts/train_detectors.sh " + model.reference + ")")
       << "\n";
+}
+
+void AddObjectImportOptions(CLI::App* cmd, ObjectImportOptions* o) {
+  std::vector<std::string> units;
+  for (const Unit& unit : kUnits) units.push_back(unit.name);
+  cmd->add_option("mesh", o->mesh_path, "Mesh file")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--name", o->name, "Object name (--object NAME)")->required();
+  cmd->add_option("--units", o->units, "Length unit of the file")
+      ->capture_default_str()
+      ->check(CLI::IsMember(units));
+  cmd->add_option("--mass", o->mass_kg, "Mass, kg [the volume at 300 kg/m^3, an estimate]")
+      ->check(cli::Range(1e-6, 1e4));
+  cmd->add_option("--objects-dir", o->objects_dir,
+                  "Folder to store it in [$AEROGRASP_OBJECTS_DIR, else data/objects]");
+  cmd->add_option("--config", o->config_path, "Import settings [data/config/object_import.yaml]")
+      ->check(CLI::ExistingFile);
+  cmd->add_flag("--overwrite", o->overwrite, "Replace an object of that name in the folder");
+}
+
+void AddObjectShowOptions(CLI::App* cmd, ObjectShowOptions* o) {
+  cmd->add_option("object", o->object, "Object name or path")->required();
+  cmd->add_flag("--folder", o->folder_only, "Print the object's folder only");
 }
 
 }  // namespace aerograsp

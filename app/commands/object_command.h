@@ -9,6 +9,10 @@
 
 #include "core/symmetry.h"
 
+namespace CLI {
+class App;
+}
+
 namespace aerograsp {
 
 /// The import's tuned values (data/config/object_import.yaml documents each).
@@ -36,6 +40,12 @@ struct ObjectImportOptions {
   bool overwrite = false;   ///< replace an object of that name in objects_dir
 };
 
+/// `object show`'s options.
+struct ObjectShowOptions {
+  std::string object;        ///< an object name or path
+  bool folder_only = false;  ///< print the object's folder alone
+};
+
 /// Imports the mesh and prints what was checked, repaired and found.
 /// @returns the folder written (objects_dir/NAME).
 /// @throws MeshError / ConfigError naming the file and what is wrong; nothing
@@ -48,5 +58,11 @@ std::string RunObjectImport(const ObjectImportOptions& options, std::ostream& ou
 /// @throws ConfigError / MeshError as ObjectModel::Load; ConfigError when
 /// `folder_only` and the object is a bare mesh file, not an object folder.
 void RunObjectShow(const std::string& what, bool folder_only, std::ostream& out);
+
+/// Adds `object import`'s options to `cmd` (a CLI11 subcommand).
+void AddObjectImportOptions(CLI::App* cmd, ObjectImportOptions* options);
+
+/// Adds `object show`'s options to `cmd` (a CLI11 subcommand).
+void AddObjectShowOptions(CLI::App* cmd, ObjectShowOptions* options);
 
 }  // namespace aerograsp
