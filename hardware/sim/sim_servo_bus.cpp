@@ -19,13 +19,22 @@ constexpr int kIdleLoad = 40;
 constexpr int kVoltage_dv = 74;  // PRESENT_VOLTAGE of a healthy servo: 7.4 V
 constexpr int kTemperature_c = 35;
 
-/// The driver takes `bytes` as the reply of servo `id`: a well-formed status packet of it.
-bool AnswersServo(const std::vector<std::uint8_t>& bytes, int id) {
+/// The driver takes `bytes` as the reply it waits for: a well-formed status
+/// packet of servo `id` with `params` parameter bytes (as hardware/scs/scs_bus.h
+/// does; another one is a late reply of an earlier request, which it skips).
+bool AnswersRequest(const std::vector<std::uint8_t>& bytes, int id, std::size_t params) {
   scs::PacketParser parser;
   for (std::uint8_t b : bytes) {
-    if (parser.Push(b) == scs::PacketParser::Result::kPacket) return parser.packet().id == id;
+    if (parser.Push(b) == scs::PacketParser::Result::kPacket)
+      return parser.packet().id == id && parser.packet().params.size() == params;
   }
   return false;
+}
+
+/// The parameter bytes of the reply the driver waits for after `request`: a
+/// READ's length, none for the others.
+std::size_t ReplyParams(const scs::Packet& request) {
+  return request.code == scs::kRead && request.params.size() == 2 ? request.params[1] : 0;
 }
 
 }  // namespace
@@ -220,42 +229,43 @@ void SimServoBus::Handle(const scs::Packet& packet, std::size_t wire_bytes) {
     }
     return;  // broadcasts are never answered
   }
+  const std::size_t awaited = ReplyParams(packet);
   Servo* servo = Find(packet.id);
   if (!servo || (faults_on_ && Contains(config_.silent_ids, servo->id))) {
-    Deliver(packet.id);  // no answer: the driver waits until its timeout
+    Deliver(packet.id, awaited);  // no answer: the driver waits until its timeout
     return;
   }
   switch (packet.code) {
     case scs::kPing:
-      Reply(*servo, 0, {}, wire_bytes);
+      Reply(*servo, 0, {}, awaited);
       return;
     case scs::kRead: {
       if (packet.params.size() != 2 || packet.params[0] + packet.params[1] > scs::reg::kCount) {
-        Reply(*servo, scs::kErrorRange, {}, wire_bytes);
+        Reply(*servo, scs::kErrorRange, {}, awaited);
         return;
       }
       const auto from = servo->regs.begin() + packet.params[0];
-      Reply(*servo, 0, std::vector<std::uint8_t>(from, from + packet.params[1]), wire_bytes);
+      Reply(*servo, 0, std::vector<std::uint8_t>(from, from + packet.params[1]), awaited);
       return;
     }
     case scs::kWrite: {
       if (packet.params.empty() || packet.params[0] + packet.params.size() - 1 > scs::reg::kCount) {
-        Reply(*servo, scs::kErrorRange, {}, wire_bytes);
+        Reply(*servo, scs::kErrorRange, {}, awaited);
         return;
       }
       std::copy(packet.params.begin() + 1, packet.params.end(),
                 servo->regs.begin() + packet.params[0]);
-      Reply(*servo, 0, {}, wire_bytes);
+      Reply(*servo, 0, {}, awaited);
       return;
     }
     default:
-      Reply(*servo, scs::kErrorInstruction, {}, wire_bytes);
+      Reply(*servo, scs::kErrorInstruction, {}, awaited);
       return;
   }
 }
 
 void SimServoBus::Reply(const Servo& servo, std::uint8_t error,
-                        const std::vector<std::uint8_t>& params, std::size_t /*request_bytes*/) {
+                        const std::vector<std::uint8_t>& params, std::size_t awaited_params) {
   // Called with mutex_ held (from Handle): unlocks it while writing what the
   // driver hears, and locks it again before returning.
   std::vector<std::uint8_t> bytes =
@@ -273,10 +283,10 @@ void SimServoBus::Reply(const Servo& servo, std::uint8_t error,
   wire_free_s_ = due_s;
   ++counters_.replies;
   pending_.push_back({due_s, servo.id, std::move(bytes)});
-  Deliver(servo.id);
+  Deliver(servo.id, awaited_params);
 }
 
-void SimServoBus::Deliver(int id) {
+void SimServoBus::Deliver(int id, std::size_t params) {
   // What the driver hears before its reply timeout, in order, up to the reply
   // it accepts; it sends its next request then, or at the timeout.
   const double until_s = driver_s_ + servos_config_.reply_timeout_s;
@@ -286,7 +296,7 @@ void SimServoBus::Deliver(int id) {
   while (arrived < pending_.size() && pending_[arrived].due_s <= until_s) {
     const Pending& p = pending_[arrived++];
     heard.insert(heard.end(), p.bytes.begin(), p.bytes.end());
-    if (AnswersServo(p.bytes, id)) {
+    if (AnswersRequest(p.bytes, id, params)) {
       answered_s = p.due_s;
       break;
     }

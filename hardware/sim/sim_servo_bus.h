@@ -1,6 +1,9 @@
 // A simulated Feetech SCS bus on a pseudo-terminal: every servo of both arms
 // with its register map, answering PING / READ / WRITE / SYNC_WRITE as the
-// real ones do, with the wire's timing (byte time at 1 Mbaud, the servos'
+// real ones do (a READ gets the registers it names, a WRITE an empty status;
+// an instruction it does not know gets an instruction-error status, a range
+// past the register map a range-error one; a malformed packet, a broadcast
+// or an absent servo no reply), with the wire's timing (byte time at 1 Mbaud, the servos'
 // return delay) and configurable faults (silent servos, corrupted reply
 // bytes, slow replies). The driver opens port_path() like a real adapter.
 //
@@ -98,12 +101,15 @@ class SimServoBus {
   void Serve();
   void Handle(const scs::Packet& packet, std::size_t wire_bytes);
   Servo* Find(int id);
+  /// Sends `servo`'s status packet; the driver waits for one of `awaited_params`
+  /// parameter bytes (Deliver).
   void Reply(const Servo& servo, std::uint8_t error, const std::vector<std::uint8_t>& params,
-             std::size_t request_bytes);
-  /// Writes what the driver hears while it waits for servo `id` (every reply
-  /// due within its reply timeout, up to the one it accepts) and moves the
-  /// driver's time on. Called with mutex_ held; unlocks it while writing.
-  void Deliver(int id);
+             std::size_t awaited_params);
+  /// Writes what the driver hears while it waits for servo `id`'s reply of
+  /// `params` parameter bytes (every reply due within its reply timeout, up to
+  /// the one it accepts: hardware/scs/scs_bus.h skips the others as late) and
+  /// moves the driver's time on. Called with mutex_ held; unlocks it while writing.
+  void Deliver(int id, std::size_t params);
 
   World* world_;
   ScsArmsConfig servos_config_;
