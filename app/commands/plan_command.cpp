@@ -22,6 +22,7 @@
 #include "app/report/statistics.h"
 #include "app/report/summary_file.h"
 #include "app/runtime/mission_config.h"
+#include "app/runtime/mission_startup.h"
 #include "core/config.h"
 #include "core/data_dir.h"
 #include "core/object_model.h"
@@ -151,7 +152,7 @@ void RunPlanCommand(const PlanCommandOptions& options, std::ostream& out) {
   config.edge_margin_m = options.edge_margin_m;
   std::optional<MissionConfig> mission;
   if (options.place) {
-    mission = MissionConfig::Load(DataPath("config/mission_default.yaml"));
+    mission = LoadMissionConfig(std::string());  // the default mission's
     config = mission->planner;
   }
   config.Validate("command line", "");

@@ -51,10 +51,14 @@ nlohmann::json AccuracyJson(const Accuracy& a, double diameter_m) {
   j["reacquisitions"] = a.reacquisitions;
   j["reacquire_max_frames"] = a.max_reacquire_frames;
   j["never_reacquired"] = a.never_reacquired;
-  for (auto& [key, value] : j.items()) {
+  NullNonFiniteFields(&j);
+  return j;
+}
+
+void NullNonFiniteFields(nlohmann::json* fields) {
+  for (auto& [key, value] : fields->items()) {
     if (value.is_number_float() && !std::isfinite(value.get<double>())) value = nullptr;
   }
-  return j;
 }
 
 void AccuracyCounter::Add(bool visible, const std::optional<Eigen::Isometry3d>& truth, bool found,

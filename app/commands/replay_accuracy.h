@@ -25,6 +25,10 @@ struct Accuracy {
 /// reacquisitions; the ADD-S threshold is a tenth of `diameter_m`).
 nlohmann::json AccuracyJson(const Accuracy& a, double diameter_m);
 
+/// `fields`' non-finite numbers (a figure of no frames) become null, as
+/// summary.json writes them.
+void NullNonFiniteFields(nlohmann::json* fields);
+
 /// Per-frame bookkeeping of accuracy for one estimator.
 class AccuracyCounter {
  public:

@@ -26,6 +26,7 @@
 #include "app/report/replay_report.h"
 #include "app/report/report_folder.h"
 #include "app/report/statistics.h"
+#include "app/report/summary_file.h"
 #include "app/runtime/telemetry_frames.h"
 #include "core/data_dir.h"
 #include "core/object_model.h"
@@ -373,13 +374,8 @@ int RunReplayCommand(const ReplayCommandOptions& options, std::ostream& out,
     }
     summary["visp_peer"] = p;
   }
-  for (auto& [key, value] : summary.items()) {
-    if (value.is_number_float() && !std::isfinite(value.get<double>())) value = nullptr;
-  }
-  const std::string summary_path = (fs::path(folder.path()) / "summary.json").string();
-  std::ofstream file(summary_path);
-  file << summary.dump(2) << "\n";
-  if (!file) throw std::runtime_error(summary_path + ": cannot be written");
+  NullNonFiniteFields(&summary);
+  const std::string summary_path = WriteSummaryFile(folder.path(), summary.dump(2));
   auto num = [&](const char* key, double scale) {
     return summary.contains(key) && summary[key].is_number()
                ? fmt::format("{:.2f}", scale * summary[key].get<double>())
