@@ -10,7 +10,6 @@
 #include "app/benchmarks/servo_benchmark.h"
 #include "app/benchmarks/servo_bus_benchmark.h"
 #include "app/calibration/calibrate_command.h"
-#include "app/cli_checks.h"
 #include "app/commands/bench_command.h"
 #include "app/commands/convert_command.h"
 #include "app/commands/dataset_command.h"
@@ -21,9 +20,7 @@
 #include "app/commands/record_command.h"
 #include "app/commands/replay_command.h"
 #include "app/commands/robot_command.h"
-#include "app/commands/telemetry_options.h"
 #include "app/exit_codes.h"
-#include "core/data_dir.h"
 
 #ifndef AEROGRASP_VERSION
 #define AEROGRASP_VERSION "unknown"
@@ -37,22 +34,9 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   aerograsp::RobotCommandOptions robot;
-  robot.config_path = aerograsp::DataPath("config/platform_4dof.yaml");
   CLI::App* robot_cmd = app.add_subcommand(
       "robot", "Print the platform: frame tree, camera, safe volume, arm chains, limits, reach");
-  robot_cmd->add_option("config", robot.config_path, "Platform YAML")
-      ->capture_default_str()
-      ->check(CLI::ExistingFile);
-  robot_cmd
-      ->add_option("--samples", robot.reach_samples,
-                   "Random configurations sampled for the workspace figures")
-      ->capture_default_str()
-      ->check(aerograsp::cli::Range(1, 10000000));
-  robot_cmd->add_option("--seed", robot.seed, "Seed of the workspace samples")
-      ->capture_default_str()
-      ->check(aerograsp::cli::Seed());
-  robot_cmd->add_option("--plot", robot.plot_path,
-                        "Write a PNG of the platform (side and front views, arms at home)");
+  aerograsp::AddRobotOptions(robot_cmd, &robot);
 
   aerograsp::RecordCommandOptions record;
   CLI::App* record_cmd = app.add_subcommand(

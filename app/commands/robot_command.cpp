@@ -3,11 +3,14 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <map>
 #include <random>
 
+#include "app/cli_checks.h"
 #include "app/report/platform_plot.h"
+#include "core/data_dir.h"
 #include "core/platform.h"
 #include "core/transforms.h"
 
@@ -174,6 +177,22 @@ void RunRobotCommand(const RobotCommandOptions& options, std::ostream& out) {
                       options.plot_path);
     fmt::print(out, "\nWrote {} (arms at home)\n", options.plot_path);
   }
+}
+
+void AddRobotOptions(CLI::App* cmd, RobotCommandOptions* o) {
+  o->config_path = DataPath("config/platform_4dof.yaml");
+  cmd->add_option("config", o->config_path, "Platform YAML")
+      ->capture_default_str()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--samples", o->reach_samples,
+                  "Random configurations sampled for the workspace figures")
+      ->capture_default_str()
+      ->check(cli::Range(1, 10000000));
+  cmd->add_option("--seed", o->seed, "Seed of the workspace samples")
+      ->capture_default_str()
+      ->check(cli::Seed());
+  cmd->add_option("--plot", o->plot_path,
+                  "Write a PNG of the platform (side and front views, arms at home)");
 }
 
 }  // namespace aerograsp

@@ -6,6 +6,10 @@
 #include <ostream>
 #include <string>
 
+namespace CLI {
+class App;
+}
+
 namespace aerograsp {
 
 struct RobotCommandOptions {
@@ -19,5 +23,9 @@ struct RobotCommandOptions {
 /// for each arm its chain, limits, reach and home pose.
 /// @throws ConfigError / UrdfError with the file and what is wrong.
 void RunRobotCommand(const RobotCommandOptions& options, std::ostream& out);
+
+/// Adds `robot`'s options to `cmd` (a CLI11 subcommand); the platform YAML
+/// defaults to data/config/platform_4dof.yaml.
+void AddRobotOptions(CLI::App* cmd, RobotCommandOptions* options);
 
 }  // namespace aerograsp
