@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "core/config.h"
@@ -20,6 +22,9 @@ void GraspPolicyConfig::Validate(const std::string& source, const std::string& p
   CheckRange(source, prefix + "settle_s", settle_s, 0.0, 5.0, "s");
   CheckRange(source, prefix + "max_attempts", max_attempts, 1, 100, "");
   CheckRange(source, prefix + "lost_timeout_s", lost_timeout_s, 1e-6, 60.0, "s");
+  CheckRange(source, prefix + "held_velocity_trust_s", held_velocity_trust_s, 0.0, 60.0, "s");
+  CheckRange(source, prefix + "held_min_speed_mps", held_min_speed_mps, 0.0, 1.0, "m/s");
+  CheckRange(source, prefix + "held_max_carry_m", held_max_carry_m, 0.0, 1.0, "m");
   CheckRange(source, prefix + "planning_timeout_s", planning_timeout_s, 1e-6, 600.0, "s");
   CheckRange(source, prefix + "switch_margin", switch_margin, 0.0, 10.0, "");
   CheckRange(source, prefix + "unreachable_to_switch", unreachable_to_switch, 1, 100, "");
@@ -225,6 +230,18 @@ int RankReaim(const std::vector<ArmGrasp>& candidates,
 bool HoldLastWorldPose(bool seen_before, bool found, double lost_for_s,
                        const GraspPolicyConfig& config) {
   return seen_before && !found && lost_for_s >= 0 && lost_for_s <= config.lost_timeout_s;
+}
+
+Eigen::Vector3d HeldWorldDisplacement(const Eigen::Vector3d& v_w_mps, double unseen_s,
+                                      const GraspPolicyConfig& config) {
+  const double speed = v_w_mps.norm();
+  const double tau = config.held_velocity_trust_s;
+  if (unseen_s <= 0.0 || tau <= 0.0 || speed < config.held_min_speed_mps) {
+    return Eigen::Vector3d::Zero();
+  }
+  const double travel_m =
+      std::min(speed * tau * (1.0 - std::exp(-unseen_s / tau)), config.held_max_carry_m);
+  return v_w_mps * (travel_m / speed);
 }
 
 }  // namespace aerograsp

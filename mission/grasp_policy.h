@@ -49,6 +49,13 @@ struct GraspPolicyConfig {
   double settle_s{0.2};
   int max_attempts{12};        ///< failed attempts (plans) before giving up, [1, 100]
   double lost_timeout_s{2.0};  ///< object lost this long while grasping: plan again, (0, 60] s
+  /// A briefly lost object held in the world moves on with its filtered
+  /// velocity, trusted less with time: at most this many seconds' worth
+  /// (v tau (1 - exp(-t / tau))), [0, 60] s; 0 holds it still.
+  double held_velocity_trust_s{1.0};
+  /// ... not at all below this speed (a still object stays still), [0, 1] m/s
+  double held_min_speed_mps{0.01};
+  double held_max_carry_m{0.05};  ///< ... and at most this far, [0, 1] m
   /// without a feasible grasp (or the object in view), (0, 600] s
   double planning_timeout_s{10.0};
   /// A ranked followed pair is left only for one scoring this much more, [0, 10] (score units).
@@ -182,5 +189,13 @@ int RankReaim(const std::vector<ArmGrasp>& candidates,
 /// it was seen within the tracking radius, it is held at its last world pose.
 bool HoldLastWorldPose(bool seen_before, bool found, double lost_for_s,
                        const GraspPolicyConfig& config);
+
+/// How far an object held at its last world pose has moved unseen_s after the
+/// frame it was last seen in, from its filtered world velocity v_w_mps: none
+/// below held_min_speed_mps, v tau (1 - exp(-unseen_s / tau)) with tau
+/// held_velocity_trust_s (the velocity trusted less as time passes), at most
+/// held_max_carry_m.
+Eigen::Vector3d HeldWorldDisplacement(const Eigen::Vector3d& v_w_mps, double unseen_s,
+                                      const GraspPolicyConfig& config);
 
 }  // namespace aerograsp

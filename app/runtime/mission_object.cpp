@@ -55,6 +55,9 @@ void TrackedObject::Update(double t, const ObjectEstimate& estimate, const Eigen
     logged_beyond_ = false;
     object_w_filtered_ =
         have_wMo_ ? object_w_filtered_ + alpha_ * (object_w - object_w_filtered_) : object_w;
+    object_v_w_filtered_ =
+        have_wMo_ ? object_v_w_filtered_ + alpha_ * (estimate_.v_f - object_v_w_filtered_)
+                  : estimate_.v_f;
     wMo_last_ = estimate_.fMo;
     have_wMo_ = true;
   }
@@ -69,14 +72,23 @@ bool TrackedObject::HeldInWorld(double t) const {
   return HoldLastWorldPose(have_wMo_, found_, lost_for_s(t), config_.policy);
 }
 
+Eigen::Vector3d TrackedObject::HeldDisplacement(double t) const {
+  return HeldWorldDisplacement(object_v_w_filtered_, t - last_found_stamp_s_, config_.policy);
+}
+
 Eigen::Isometry3d TrackedObject::dMo(double t, const Eigen::Isometry3d& wMd) const {
   // Held by one gripper: the object goes where that gripper goes.
   if (holder_ >= 0) return dMe_(holder_) * eMo_held_;
   // Briefly lost (the grippers hide the object as they close in): the object
-  // stays where it was last seen in the world, and the vehicle's own pose
-  // carries it into the body frame through the sway.
+  // is held where it was last seen in the world, moved on as far as its
+  // filtered velocity is trusted, and the vehicle's own pose carries it into
+  // the body frame through the sway.
   const Eigen::Isometry3d dMw = wMd.inverse();
-  if (HeldInWorld(t)) return dMw * wMo_last_;
+  if (HeldInWorld(t)) {
+    Eigen::Isometry3d wMo = wMo_last_;
+    wMo.translation() += HeldDisplacement(t);
+    return dMw * wMo;
+  }
   // The filter runs in the world (the object crawls slowly there, while the
   // camera sways): the vehicle's pose now brings it into the body, moved on
   // with its velocity.

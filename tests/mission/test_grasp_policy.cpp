@@ -1,6 +1,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "core/config.h"
 #include "mission/grasp_policy.h"
 
@@ -310,6 +312,45 @@ TEST(GraspPolicyConfigTest, ABadValueNamesTheFileKeyAndBound) {
     EXPECT_THAT(e.what(), HasSubstr("mission.yaml: policy.unreachable_to_switch"));
     EXPECT_THAT(e.what(), HasSubstr("1"));
   }
+}
+
+TEST(GraspPolicyConfigTest, ANegativeHeldCarryNamesItsKey) {
+  GraspPolicyConfig config;
+  config.held_max_carry_m = -0.01;
+  try {
+    config.Validate("mission.yaml", "policy.");
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("mission.yaml: policy.held_max_carry_m"));
+  }
+}
+
+TEST(GraspPolicyTest, AHeldObjectMovesOnWithItsVelocityTrustedLessWithTime) {
+  GraspPolicyConfig config;
+  config.held_velocity_trust_s = 1.0;
+  config.held_min_speed_mps = 0.01;
+  config.held_max_carry_m = 0.05;
+  const Eigen::Vector3d v(0.03, 0.0, 0.0);  // crawling at 3 cm/s
+  // Early on almost the full velocity: 0.1 s moves it about 3 mm.
+  EXPECT_NEAR(HeldWorldDisplacement(v, 0.1, config).x(), 0.03 * (1.0 - std::exp(-0.1)), 1e-12);
+  EXPECT_GT(HeldWorldDisplacement(v, 0.1, config).x(), 0.0028);
+  // Later less per second: 2 s moves it 26 mm, not 60 mm.
+  EXPECT_NEAR(HeldWorldDisplacement(v, 2.0, config).x(), 0.03 * (1.0 - std::exp(-2.0)), 1e-12);
+  EXPECT_DOUBLE_EQ(HeldWorldDisplacement(v, 2.0, config).y(), 0.0);
+  // Never more than one trust time's worth, nor beyond the bound.
+  EXPECT_LT(HeldWorldDisplacement(v, 60.0, config).norm(), 0.03 + 1e-12);
+  EXPECT_NEAR(HeldWorldDisplacement(Eigen::Vector3d(0.0, -0.3, 0.0), 5.0, config).y(), -0.05,
+              1e-12);
+}
+
+TEST(GraspPolicyTest, AStillOrUnseenForNoTimeObjectIsHeldStill) {
+  GraspPolicyConfig config;
+  config.held_min_speed_mps = 0.01;
+  EXPECT_TRUE(HeldWorldDisplacement(Eigen::Vector3d(0.005, 0.005, 0.0), 1.0, config).isZero());
+  EXPECT_TRUE(HeldWorldDisplacement(Eigen::Vector3d(0.03, 0.0, 0.0), 0.0, config).isZero());
+  EXPECT_TRUE(HeldWorldDisplacement(Eigen::Vector3d(0.03, 0.0, 0.0), -0.1, config).isZero());
+  config.held_velocity_trust_s = 0.0;  // off: held at the last world pose
+  EXPECT_TRUE(HeldWorldDisplacement(Eigen::Vector3d(0.03, 0.0, 0.0), 1.0, config).isZero());
 }
 
 }  // namespace
