@@ -99,7 +99,8 @@ bool VehicleLegs::Step(double t, const VehicleView& view) {
         if (g == GlobalState::kApproaching) global_->Found(t, leg_ == Leg::kApproach);
         if (global_->state() == GlobalState::kGrasping && vehicle_->Found(t)) leg_ = Leg::kTrack;
       } else if (g == GlobalState::kGrasping && view.lost_for_s > config_.policy.lost_timeout_s &&
-                 leg_ == Leg::kTrack && !view.one_gripper_carries) {
+                 leg_ == Leg::kTrack && !view.one_gripper_carries && !view.a_gripper_holds) {
+        // (Not while a gripper holds it: the flight would drag it away.)
         GoTo(t, config_.approach_w_m, Leg::kApproach, "search again");
       } else if ((g == GlobalState::kApproaching ||
                   (g == GlobalState::kGrasping && leg_ == Leg::kApproach)) &&

@@ -34,8 +34,9 @@ struct VehicleView {
   bool object_found = false;         ///< vision state found
   double lost_for_s = -1.0;          ///< object out of view this long; < 0: in view
   bool one_gripper_carries = false;  ///< a re-aim is under way: the vehicle does not search
-  bool a_gripper_holds = false;      ///< the vehicle does not chase what it carries
-  bool have_object_w = false;        ///< the object was seen within the tracking radius
+  /// The vehicle does not chase what it carries, nor search for it.
+  bool a_gripper_holds = false;
+  bool have_object_w = false;  ///< the object was seen within the tracking radius
   Eigen::Vector3d object_w_m = Eigen::Vector3d::Zero();  ///< its filtered position
   /// Its estimated velocity (m/s, in w) while in view; zero when lost.
   Eigen::Vector3d object_v_w_mps = Eigen::Vector3d::Zero();
