@@ -38,8 +38,6 @@ class TrackedObject {
   Eigen::Isometry3d dMo(double t_s, const Eigen::Isometry3d& wMd) const;
   /// Briefly lost, held at its last world pose (GraspPolicyConfig::lost_timeout_s).
   bool HeldInWorld(double t_s) const;
-  /// How far the held pose has moved on from the last world pose at t_s.
-  Eigen::Vector3d HeldDisplacement(double t_s) const;
   /// Seconds out of view at t_s; < 0 while in view.
   double lost_for_s(double t_s) const { return lost_since_s_ < 0 ? -1.0 : t_s - lost_since_s_; }
 
@@ -50,10 +48,11 @@ class TrackedObject {
   /// Seen within the tracking radius at least once; then its filtered world position.
   bool have_world_pose() const { return have_wMo_; }
   const Eigen::Vector3d& object_w_filtered() const { return object_w_filtered_; }
-  /// Its world velocity low-passed over the frames it was found in, m/s.
-  const Eigen::Vector3d& object_v_w_filtered() const { return object_v_w_filtered_; }
 
  private:
+  /// How far the held pose has moved on from the last world pose at t_s.
+  Eigen::Vector3d HeldDisplacement(double t_s) const;
+
   const MissionConfig& config_;
   ObjectSymmetry symmetry_;
   double alpha_;  // low-pass gain per frame
@@ -66,7 +65,7 @@ class TrackedObject {
   bool have_wMo_ = false;
   Eigen::Isometry3d wMo_last_ = Eigen::Isometry3d::Identity();  // at the last found frame
   Eigen::Vector3d object_w_filtered_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d object_v_w_filtered_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d object_v_w_filtered_ = Eigen::Vector3d::Zero();  // low-passed as the position
   bool logged_beyond_ = false;
   int holder_ = -1;
   Eigen::Isometry3d eMo_held_ = Eigen::Isometry3d::Identity();  // in the holding gripper
