@@ -96,28 +96,43 @@ void ArmIk::AnalyseChain() {
   kind_ = Kind::kYawPitchPitchRoll;
 }
 
+bool ArmIk::FitLimit(int i, double* v) const {
+  const double lo = model_.lower_limits()[i], hi = model_.upper_limits()[i];
+  if (*v < lo) *v += 2.0 * kPi;
+  if (*v > hi) *v -= 2.0 * kPi;
+  return !(*v < lo || *v > hi);
+}
+
 bool ArmIk::FitLimits(Eigen::VectorXd* q) const {
-  const Eigen::VectorXd& lo = model_.lower_limits();
-  const Eigen::VectorXd& hi = model_.upper_limits();
   for (int i = 0; i < q->size(); ++i) {
-    double& v = (*q)[i];
-    if (v < lo[i]) v += 2.0 * kPi;
-    if (v > hi[i]) v -= 2.0 * kPi;
-    if (v < lo[i] || v > hi[i]) return false;
+    if (!FitLimit(i, &(*q)[i])) return false;
   }
   return true;
+}
+
+bool ArmIk::Fits(int i, double angle) const {
+  double v = WrapPi(angle);
+  return FitLimit(i, &v);
 }
 
 bool ArmIk::CheckPosition(const Eigen::VectorXd& q, const Eigen::Vector3d& p_b) const {
   return (model_.ForwardKinematics(q).translation() - p_b).norm() <= options_.position_tolerance_m;
 }
 
+namespace {
+
+/// Nearest q_seed first; equally near ones keep their order.
+void StableSortBySeed(const Eigen::VectorXd& q_seed, std::vector<Eigen::VectorXd>* qs) {
+  std::stable_sort(qs->begin(), qs->end(), [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    return (a - q_seed).squaredNorm() < (b - q_seed).squaredNorm();
+  });
+}
+
+}  // namespace
+
 void ArmIk::SortBySeed(const Eigen::VectorXd& q_seed,
                        std::vector<Eigen::VectorXd>* solutions) const {
-  std::stable_sort(solutions->begin(), solutions->end(),
-                   [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-                     return (a - q_seed).squaredNorm() < (b - q_seed).squaredNorm();
-                   });
+  StableSortBySeed(q_seed, solutions);
   // Drop duplicates (e.g. a zero elbow discriminant gives the same solution twice).
   auto last = std::unique(solutions->begin(), solutions->end(),
                           [](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
@@ -133,6 +148,7 @@ void ArmIk::PlaceForearm(const Eigen::Vector3d& p_b,
   const Eigen::Vector3d h = v_perp.norm() > kGeomTol ? Eigen::Vector3d(v_perp.normalized()) : h0_;
   for (double yaw_sign : {1.0, -1.0}) {
     const double q0 = SignedAngle(h0_, yaw_sign * h, w_[0]);
+    if (!Fits(0, q0)) continue;  // every solution on this branch is out of the limits
     const Eigen::Matrix3d R0 = Eigen::AngleAxisd(q0, w_[0]).toRotationMatrix();
     const Eigen::Vector3d p1 = R0.transpose() * v;  // target in the q = 0 arm plane
     const double r = p1.norm();
@@ -147,9 +163,11 @@ void ArmIk::PlaceForearm(const Eigen::Vector3d& p_b,
       if (elbow_sign < 0.0 && across == 0.0) break;
       const Eigen::Vector3d e1 = along * p_hat + elbow_sign * across * n_hat;
       const double q1 = SignedAngle(u0_, e1.normalized(), w_[1]);
+      if (!Fits(1, q1)) continue;
       const Eigen::Vector3d f1 = (p1 - e1).normalized();
       const Eigen::Vector3d f2 = Eigen::AngleAxisd(-q1, w_[1]) * f1;
       const double q2 = SignedAngle(f0_, f2, w_[2]);
+      if (!Fits(2, q2)) continue;
       ForearmPlacement placement;
       placement.q[0] = q0;
       placement.q[1] = q1;
@@ -162,7 +180,7 @@ void ArmIk::PlaceForearm(const Eigen::Vector3d& p_b,
 }
 
 void ArmIk::AnalyticPosition(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b,
-                             double seed_roll, std::vector<Eigen::VectorXd>* solutions) const {
+                             double seed_roll, std::vector<Eigen::VectorXd>* candidates) const {
   std::vector<ForearmPlacement> placements;
   PlaceForearm(p_b, &placements);
   for (const ForearmPlacement& placement : placements) {
@@ -180,7 +198,7 @@ void ArmIk::AnalyticPosition(const Eigen::Vector3d& p_b, const Eigen::Vector3d& 
     for (int k = 0; k < n_rolls; ++k) {
       Eigen::VectorXd q(4);
       q << WrapPi(placement.q[0]), WrapPi(placement.q[1]), WrapPi(placement.q[2]), rolls[k];
-      if (FitLimits(&q) && CheckPosition(q, p_b)) solutions->push_back(q);
+      if (FitLimits(&q)) candidates->push_back(q);
     }
   }
 }
@@ -195,7 +213,16 @@ double RotationAbout(const Eigen::Vector3d& w, const Eigen::Vector3d& u, const E
 
 }  // namespace
 
-void ArmIk::WristPose(const Eigen::Isometry3d& bMe, std::vector<Eigen::VectorXd>* solutions) const {
+bool ArmIk::ReachesPose(const Eigen::VectorXd& q, const Eigen::Isometry3d& bMe,
+                        Eigen::Isometry3d* bMq) const {
+  *bMq = model_.ForwardKinematics(q);
+  const PoseError error = ComparePoses(*bMq, bMe);
+  return error.translation_m <= options_.position_tolerance_m &&
+         error.rotation_rad <= options_.orientation_tolerance_rad;
+}
+
+void ArmIk::WristPose(const Eigen::Isometry3d& bMe,
+                      std::vector<Eigen::VectorXd>* candidates) const {
   const Eigen::Matrix3d& Re = bMe.linear();
   const Eigen::Vector3d centre = bMe.translation() - Re * d_e_;
   std::vector<ForearmPlacement> placements;
@@ -220,48 +247,102 @@ void ArmIk::WristPose(const Eigen::Isometry3d& bMe, std::vector<Eigen::VectorXd>
       if (sign < 0.0 && gamma == 0.0) break;
       const Eigen::Vector3d z = alpha * w3 + beta * w4 + sign * gamma * w34;
       const double q3 = RotationAbout(w3, z, v);
+      if (!Fits(3, q3)) continue;
       const double q4 = RotationAbout(w4, w5, z);
+      if (!Fits(4, q4)) continue;
       const Eigen::Matrix3d R34 =
           Eigen::AngleAxisd(q3, w3).toRotationMatrix() * Eigen::AngleAxisd(q4, w4);
       const double q5 = RotationAbout(w5, x5, R34.transpose() * M * x5);
       Eigen::VectorXd q(6);
       q << WrapPi(placement.q[0]), WrapPi(placement.q[1]), WrapPi(placement.q[2]), WrapPi(q3),
           WrapPi(q4), WrapPi(q5);
-      if (!FitLimits(&q)) continue;
-      const PoseError error = ComparePoses(model_.ForwardKinematics(q), bMe);
-      if (error.translation_m <= options_.position_tolerance_m &&
-          error.rotation_rad <= options_.orientation_tolerance_rad) {
-        solutions->push_back(q);
-      }
+      if (FitLimits(&q)) candidates->push_back(q);
     }
   }
 }
 
-int ArmIk::SolvePose(const Eigen::Isometry3d& bMe_target, const Eigen::VectorXd& q_seed,
-                     std::vector<Eigen::VectorXd>* solutions) const {
+template <typename Check>
+int ArmIk::KeepChecked(const Eigen::VectorXd& q_seed, bool nearest_only, const Check& check,
+                       std::vector<Eigen::VectorXd>* candidates) const {
+  if (!nearest_only) {
+    candidates->erase(std::remove_if(candidates->begin(), candidates->end(),
+                                     [&check](const Eigen::VectorXd& q) { return !check(q); }),
+                      candidates->end());
+    SortBySeed(q_seed, candidates);
+    return static_cast<int>(candidates->size());
+  }
+  // Sorting before or after dropping the failed ones gives the passing ones
+  // the same order (the sort is stable): the first that passes is the first
+  // of the full list.
+  StableSortBySeed(q_seed, candidates);
+  for (Eigen::VectorXd& q : *candidates) {
+    if (!check(q)) continue;
+    Eigen::VectorXd nearest = std::move(q);
+    candidates->assign(1, std::move(nearest));
+    return 1;
+  }
+  candidates->clear();
+  return 0;
+}
+
+int ArmIk::Pose(const Eigen::Isometry3d& bMe_target, const Eigen::VectorXd& q_seed,
+                bool nearest_only, std::vector<Eigen::VectorXd>* solutions) const {
   assert(q_seed.size() == model_.dof());
   solutions->clear();
   if (!bMe_target.matrix().allFinite()) return 0;
   if (kind_ == Kind::kSphericalWrist) {
     WristPose(bMe_target, solutions);
-    SortBySeed(q_seed, solutions);
-    return static_cast<int>(solutions->size());
+    return KeepChecked(
+        q_seed, nearest_only,
+        [&](const Eigen::VectorXd& q) {
+          Eigen::Isometry3d reached;
+          return ReachesPose(q, bMe_target, &reached);
+        },
+        solutions);
   }
   Eigen::VectorXd q;
   if (SolvePoseNumeric(bMe_target, q_seed, &q)) solutions->push_back(q);
   return static_cast<int>(solutions->size());
 }
 
+int ArmIk::SolvePose(const Eigen::Isometry3d& bMe_target, const Eigen::VectorXd& q_seed,
+                     std::vector<Eigen::VectorXd>* solutions) const {
+  return Pose(bMe_target, q_seed, false, solutions);
+}
+
+bool ArmIk::SolvePoseNearest(const Eigen::Isometry3d& bMe_target, const Eigen::VectorXd& q_seed,
+                             Eigen::VectorXd* q) const {
+  std::vector<Eigen::VectorXd> solutions;
+  if (Pose(bMe_target, q_seed, true, &solutions) == 0) return false;
+  *q = std::move(solutions.front());
+  return true;
+}
+
 int ArmIk::SolvePosition(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b,
                          const Eigen::VectorXd& q_seed,
                          std::vector<Eigen::VectorXd>* solutions) const {
+  return Position(p_b, x_b, q_seed, false, solutions);
+}
+
+bool ArmIk::SolvePositionNearest(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b,
+                                 const Eigen::VectorXd& q_seed, Eigen::VectorXd* q) const {
+  std::vector<Eigen::VectorXd> solutions;
+  if (Position(p_b, x_b, q_seed, true, &solutions) == 0) return false;
+  *q = std::move(solutions.front());
+  return true;
+}
+
+int ArmIk::Position(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b,
+                    const Eigen::VectorXd& q_seed, bool nearest_only,
+                    std::vector<Eigen::VectorXd>* solutions) const {
   assert(q_seed.size() == model_.dof());
   solutions->clear();
   if (!p_b.allFinite() || !x_b.allFinite()) return 0;
   if (kind_ == Kind::kYawPitchPitchRoll) {
     AnalyticPosition(p_b, x_b, q_seed[3], solutions);
-    SortBySeed(q_seed, solutions);
-    return static_cast<int>(solutions->size());
+    return KeepChecked(
+        q_seed, nearest_only, [&](const Eigen::VectorXd& q) { return CheckPosition(q, p_b); },
+        solutions);
   }
   if (kind_ == Kind::kSphericalWrist) {
     // The seed's approach axis, the closing axis x_b turned normal to it.
@@ -275,7 +356,7 @@ int ArmIk::SolvePosition(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b,
     bMe.linear().col(1) = z.cross(x);
     bMe.linear().col(2) = z;
     bMe.translation() = p_b;
-    return SolvePose(bMe, q_seed, solutions);
+    return Pose(bMe, q_seed, nearest_only, solutions);
   }
   // Numeric, position only.
   Eigen::VectorXd q = model_.Clamp(q_seed);
@@ -346,10 +427,10 @@ int ArmIk::SolveGraspAxis(const Eigen::Vector3d& c_b, const Eigen::Vector3d& x_b
     return 0;
   }
   const Eigen::Vector3d x = x_b.normalized();
-  auto add = [&](const Eigen::VectorXd& q, double depth) {
+  auto add = [&](const Eigen::VectorXd& q, double depth, const Eigen::Isometry3d& bMe) {
     GraspAxisSolution s;
     s.q = q;
-    s.bMe = model_.ForwardKinematics(q);
+    s.bMe = bMe;
     s.depth_m = depth;
     solutions->push_back(std::move(s));
   };
@@ -395,18 +476,22 @@ int ArmIk::SolveGraspAxis(const Eigen::Vector3d& c_b, const Eigen::Vector3d& x_b
     }
     std::vector<Eigen::VectorXd> qs;
     for (const auto& [a, depth] : targets) {
-      AnalyticPosition(c_b + depth * a, x, q_seed[3], &qs);
+      const Eigen::Vector3d p_b = c_b + depth * a;
+      AnalyticPosition(p_b, x, q_seed[3], &qs);
       for (const Eigen::VectorXd& q : qs) {
         const Eigen::Isometry3d bMe = model_.ForwardKinematics(q);
+        if ((bMe.translation() - p_b).norm() > options_.position_tolerance_m) continue;
         // Keep the branches whose approach is the one solved for (the other
         // elbow branch reaches the same point with another approach).
         if (bMe.linear().col(2).dot(a) > std::cos(options_.orientation_tolerance_rad)) {
-          add(q, depth);
+          add(q, depth, bMe);
         }
       }
       qs.clear();
     }
-  } else {
+  } else if (kind_ == Kind::kSphericalWrist) {
+    // SolvePose's nearest solution per closing sign, checked against the
+    // forward kinematics nearest first until one passes.
     const Eigen::Vector3d e1 = AnyPerpendicular(x), e2 = x.cross(e1);
     const double depth = 0.5 * (depth_min_m + depth_max_m);
     const int n = std::max(1, options_.approach_samples);
@@ -416,22 +501,50 @@ int ArmIk::SolveGraspAxis(const Eigen::Vector3d& c_b, const Eigen::Vector3d& x_b
       const Eigen::Vector3d a = std::cos(phi) * e1 + std::sin(phi) * e2;
       // The fingers are symmetric: closing along -x is as good; the solution
       // nearest the seed of either.
-      const Eigen::VectorXd* nearest = nullptr;
+      bool found = false;
       Eigen::VectorXd best;
+      Eigen::Isometry3d best_bMe;
       for (double s : {1.0, -1.0}) {
         Eigen::Isometry3d bMe = Eigen::Isometry3d::Identity();
         bMe.linear().col(0) = s * x;
         bMe.linear().col(1) = a.cross(s * x);
         bMe.linear().col(2) = a;
         bMe.translation() = c_b + depth * a;
-        if (SolvePose(bMe, q_seed, &qs) == 0) continue;
-        if (!nearest || (qs.front() - q_seed).squaredNorm() < (best - q_seed).squaredNorm()) {
+        qs.clear();
+        WristPose(bMe, &qs);
+        Eigen::Isometry3d reached;
+        const auto reaches = [&](const Eigen::VectorXd& q) {
+          return ReachesPose(q, bMe, &reached);
+        };
+        if (KeepChecked(q_seed, true, reaches, &qs) == 0) continue;
+        if (!found || (qs.front() - q_seed).squaredNorm() < (best - q_seed).squaredNorm()) {
           best = qs.front();
-          nearest = &best;
+          best_bMe = reached;
+          found = true;
         }
-        if (kind_ == Kind::kNumeric) break;  // one numeric solve is costly enough
       }
-      if (nearest) add(best, depth);
+      if (found) add(best, depth, best_bMe);
+    }
+  } else {
+    // Numeric: one solve per approach angle is costly enough; closing along
+    // -x only when +x has none.
+    const Eigen::Vector3d e1 = AnyPerpendicular(x), e2 = x.cross(e1);
+    const double depth = 0.5 * (depth_min_m + depth_max_m);
+    const int n = std::max(1, options_.approach_samples);
+    Eigen::VectorXd q;
+    for (int i = 0; i < n; ++i) {
+      const double phi = 2.0 * kPi * i / n;
+      const Eigen::Vector3d a = std::cos(phi) * e1 + std::sin(phi) * e2;
+      for (double s : {1.0, -1.0}) {
+        Eigen::Isometry3d bMe = Eigen::Isometry3d::Identity();
+        bMe.linear().col(0) = s * x;
+        bMe.linear().col(1) = a.cross(s * x);
+        bMe.linear().col(2) = a;
+        bMe.translation() = c_b + depth * a;
+        if (!SolvePoseNumeric(bMe, q_seed, &q)) continue;
+        add(q, depth, model_.ForwardKinematics(q));
+        break;
+      }
     }
   }
   std::stable_sort(solutions->begin(), solutions->end(),

@@ -89,6 +89,17 @@ class ArmIk {
   int SolvePose(const Eigen::Isometry3d& bMe_target, const Eigen::VectorXd& q_seed,
                 std::vector<Eigen::VectorXd>* solutions) const;
 
+  /// The first solution SolvePose lists (the one nearest q_seed), without
+  /// checking the others against the forward kinematics. Returns false when
+  /// SolvePose finds none.
+  bool SolvePoseNearest(const Eigen::Isometry3d& bMe_target, const Eigen::VectorXd& q_seed,
+                        Eigen::VectorXd* q) const;
+
+  /// The first solution SolvePosition lists (the one nearest q_seed), the
+  /// same way. Returns false when SolvePosition finds none.
+  bool SolvePositionNearest(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b,
+                            const Eigen::VectorXd& q_seed, Eigen::VectorXd* q) const;
+
   /// What the closed form gives for a tool pose bMe (none without one), sorted
   /// by distance to q_seed: the spherical-wrist chain's full pose solutions
   /// (SolvePose); the 4-DoF chain's solutions for the tool point with the
@@ -119,15 +130,39 @@ class ArmIk {
     Eigen::Matrix3d R012;  ///< their rotation
   };
   void AnalyseChain();
-  /// Yaw, then elbow branches; appends to `placements`.
+  /// Yaw, then elbow branches, those whose three joints fit their limits
+  /// (Fits); appends to `placements`.
   void PlaceForearm(const Eigen::Vector3d& p_b, std::vector<ForearmPlacement>* placements) const;
-  /// Closed-form position IK, no sorting, appends to `solutions`.
+  /// Closed-form position IK: the joint vectors within the limits, not yet
+  /// checked against the forward kinematics (CheckPosition), no sorting;
+  /// appends to `candidates`.
   void AnalyticPosition(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b, double seed_roll,
-                        std::vector<Eigen::VectorXd>* solutions) const;
-  /// Closed-form pose IK of the spherical-wrist chain, no sorting, appends.
-  void WristPose(const Eigen::Isometry3d& bMe, std::vector<Eigen::VectorXd>* solutions) const;
+                        std::vector<Eigen::VectorXd>* candidates) const;
+  /// Closed-form pose IK of the spherical-wrist chain: the joint vectors within
+  /// the limits, not yet checked (ReachesPose), no sorting; appends.
+  void WristPose(const Eigen::Isometry3d& bMe, std::vector<Eigen::VectorXd>* candidates) const;
+  /// The forward kinematics of q (written to bMq) reach bMe within the tolerances.
+  bool ReachesPose(const Eigen::VectorXd& q, const Eigen::Isometry3d& bMe,
+                   Eigen::Isometry3d* bMq) const;
+  /// The closed-form candidates (AnalyticPosition or WristPose) that pass
+  /// `check`: all of them sorted by distance to q_seed (nearest_only false),
+  /// else only the nearest, checking them nearest first until one passes.
+  /// Either way the first is the same.
+  template <typename Check>
+  int KeepChecked(const Eigen::VectorXd& q_seed, bool nearest_only, const Check& check,
+                  std::vector<Eigen::VectorXd>* candidates) const;
+  int Pose(const Eigen::Isometry3d& bMe_target, const Eigen::VectorXd& q_seed, bool nearest_only,
+           std::vector<Eigen::VectorXd>* solutions) const;
+  int Position(const Eigen::Vector3d& p_b, const Eigen::Vector3d& x_b,
+               const Eigen::VectorXd& q_seed, bool nearest_only,
+               std::vector<Eigen::VectorXd>* solutions) const;
   /// Wraps each joint angle into its limits (+-2 pi) when possible.
   bool FitLimits(Eigen::VectorXd* q) const;
+  /// FitLimits for joint i alone.
+  bool FitLimit(int i, double* v) const;
+  /// Whether joint i's angle, wrapped into (-pi, pi], passes FitLimit: the
+  /// closed forms leave a branch early when one of its joints cannot.
+  bool Fits(int i, double angle) const;
   bool CheckPosition(const Eigen::VectorXd& q, const Eigen::Vector3d& p_b) const;
   void SortBySeed(const Eigen::VectorXd& q_seed, std::vector<Eigen::VectorXd>* solutions) const;
 

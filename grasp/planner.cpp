@@ -150,7 +150,7 @@ bool GraspPlanner::EvaluateArm(Side side, int pair, const Eigen::Isometry3d& dMo
   // The furthest any solution got, so the reason names the real obstacle.
   Infeasibility furthest = Infeasibility::kSafeVolume;
   auto note = [&furthest](Infeasibility w) { furthest = std::max(furthest, w); };
-  std::vector<Eigen::VectorXd> pre;
+  Eigen::VectorXd q_pre;
   for (const GraspAxisSolution& sol : solutions) {
     if (collision_->ArmInSafeVolume(side, sol.q, config_.safe_volume_margin_m)) {
       note(Infeasibility::kSafeVolume);
@@ -166,11 +166,10 @@ bool GraspPlanner::EvaluateArm(Side side, int pair, const Eigen::Isometry3d& dMo
     // may differ slightly from the grasp's; the roll keeps the closing axis.
     const Eigen::Vector3d z_b = sol.bMe.linear().col(2);
     const Eigen::Vector3d p_pre_b = sol.bMe.translation() - config_.precatch_distance_m * z_b;
-    if (ik.SolvePosition(p_pre_b, sol.bMe.linear().col(0), sol.q, &pre) == 0) {
+    if (!ik.SolvePositionNearest(p_pre_b, sol.bMe.linear().col(0), sol.q, &q_pre)) {
       note(Infeasibility::kPrecatchUnreachable);
       continue;
     }
-    const Eigen::VectorXd& q_pre = pre.front();
     if (collision_->ArmInSafeVolume(side, q_pre, config_.safe_volume_margin_m) ||
         collision_->ArmHitsMesh(side, q_pre, mesh_handle_, dMo, config_.object_margin_m,
                                 PlatformCollision::Fingers::kInclude)) {

@@ -116,6 +116,42 @@ TEST(ArmIkTest, SixDofPositionKeepsTheSeedsApproach) {
   EXPECT_GE(solved, 120);  // 3 cm back leaves the joint limits for some
 }
 
+// The nearest-only queries give exactly the first solution of the full ones
+// (the planner and the servo take only that one), and none when those have none.
+TEST(ArmIkTest, NearestQueriesGiveTheFullQueriesFirstSolution) {
+  for (const char* urdf : {"arm4.urdf", "arm6.urdf"}) {
+    const ArmModel arm = Arm(urdf);
+    const ArmIk ik(arm);
+    std::mt19937 rng(13);
+    std::vector<Eigen::VectorXd> sols;
+    Eigen::VectorXd nearest;
+    int found = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+      const Eigen::VectorXd q = RandomWithinLimits(arm, &rng);
+      const Eigen::Isometry3d bMe = arm.ForwardKinematics(q);
+      // Seeds away from q: the nearest solution is not always q's branch.
+      Eigen::VectorXd seed = q;
+      for (int i = 0; i < arm.dof(); ++i)
+        seed[i] += std::uniform_real_distribution<double>(-0.5, 0.5)(rng);
+      seed = arm.Clamp(seed);
+      // Moved back along the approach: some of these leave the workspace.
+      const Eigen::Vector3d p = bMe.translation() - 0.05 * bMe.linear().col(2);
+      const int n = ik.SolvePosition(p, bMe.linear().col(0), seed, &sols);
+      ASSERT_EQ(ik.SolvePositionNearest(p, bMe.linear().col(0), seed, &nearest), n > 0) << urdf;
+      if (n > 0) {
+        ++found;
+        EXPECT_EQ(nearest, sols.front()) << urdf;
+      }
+      if (!ik.closed_form_solves_pose()) continue;
+      const int m = ik.SolvePose(bMe, seed, &sols);
+      ASSERT_EQ(ik.SolvePoseNearest(bMe, seed, &nearest), m > 0) << urdf;
+      if (m > 0) EXPECT_EQ(nearest, sols.front()) << urdf;
+    }
+    EXPECT_GT(found, 30) << urdf;
+    EXPECT_LT(found, 300) << urdf;
+  }
+}
+
 TEST(ArmIkTest, OutOfReachHasNoSolution) {
   const ArmModel arm = Arm("arm4.urdf");
   const ArmIk ik(arm);
