@@ -31,6 +31,7 @@ void PerceptionOptions::Validate(const std::string& source, const std::string& p
   const FieldCheck Require{source, prefix};
   track.Validate(source, prefix + "track.");
   segment.Validate(source, prefix + "segment.");
+  self_filter.Validate(source, prefix + "self_filter.");
   Require(min_detection_score > 0.0f && min_detection_score < 1.0f, "min_detection_score",
           "must be in (0, 1)");
   Require(box_margin >= 0.0 && box_margin <= 2.0, "box_margin", "must be in [0, 2]");
@@ -480,15 +481,32 @@ std::vector<Eigen::Vector3d> ObjectTracker::SearchCentres(
   return centres_c;
 }
 
-FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& depth, double stamp_s,
-                                   const CameraIntrinsics& K, double depth_scale_m,
-                                   const std::optional<Eigen::Isometry3d>& wMc) {
+void ObjectTracker::SetRobot(const Platform& platform) {
+  self_filter_.reset();
+  if (options_.self_filter.enabled)
+    self_filter_ = std::make_unique<RobotSelfFilter>(platform, options_.self_filter);
+  robot_dMc_ = platform.dMc();
+}
+
+FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& camera_depth,
+                                   double stamp_s, const CameraIntrinsics& K, double depth_scale_m,
+                                   const std::optional<Eigen::Isometry3d>& wMc,
+                                   const std::optional<ArmJointPositions>& arm_joints) {
   FrameReport report;
+  const double t_start = ThreadCpuMs();
+  // The arms' own pixels out of the depth, before anything uses it.
+  const bool self_filtered = self_filter_ && arm_joints;
+  if (self_filtered) {
+    filtered_depth_ = camera_depth;
+    report.self_filter =
+        self_filter_->Apply(*arm_joints, robot_dMc_, K, depth_scale_m, &filtered_depth_);
+    report.times.self_filter_ms = ThreadCpuMs() - t_start;
+  }
+  const DepthImage& depth = self_filtered ? filtered_depth_ : camera_depth;
   // The filter frame f: the world when the camera's pose is given, else the camera.
   const Eigen::Isometry3d fMc =
       wMc && wMc->matrix().allFinite() ? *wMc : Eigen::Isometry3d::Identity();
   const Eigen::Isometry3d cMf = fMc.inverse();
-  const double t_start = ThreadCpuMs();
   // The stereo depth noise grows as the depth image's focal length in pixels
   // shrinks: the options give it for a 640-pixel-wide image.
   constexpr double kNoiseReferenceWidthPx = 640.0;

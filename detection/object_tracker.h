@@ -22,6 +22,7 @@
 #include "detection/pose_support.h"
 #include "detection/scene_cloud.h"
 #include "detection/scene_segmentation.h"
+#include "detection/self_filter.h"
 #include "detection/track_monitor.h"
 
 namespace aerograsp {
@@ -36,6 +37,9 @@ struct PerceptionOptions {
   SegmentationOptions segment;
   PoseEkfOptions ekf;
   TrackMonitorOptions track;
+  /// The arms' own pixels dropped from the depth before the cloud, ICP and the
+  /// support check, when Process is given the arms' joints (SetRobot).
+  SelfFilterOptions self_filter;
   float min_detection_score = 0.3f;  ///< detector peaks below this are ignored, (0, 1)
   double box_margin = 0.15;          ///< the crop is the box grown by this fraction per side
   /// The detector's box gives the search two centres: behind the median depth
@@ -119,7 +123,8 @@ struct ObjectEstimate {
 /// thread's, except global_ms, the whole process's during the global
 /// registration (it runs on all cores).
 struct StageTimes {
-  double detect_ms = 0, cloud_ms = 0, global_ms = 0, icp_ms = 0, filter_ms = 0, total_ms = 0;
+  double self_filter_ms = 0, detect_ms = 0, cloud_ms = 0, global_ms = 0, icp_ms = 0, filter_ms = 0,
+         total_ms = 0;
 };
 
 /// Everything about one frame, for reports and tests.
@@ -127,6 +132,8 @@ struct FrameReport {
   ObjectEstimate estimate;
   std::optional<Detection> detection;  ///< the best box, when the detector found one
   PixelBox crop;                       ///< the crop used (empty: no measurement attempted)
+  /// The robot's own pixels dropped (SetRobot and joints given), else all 0.
+  SelfFilterResult self_filter;
   int cloud_points = 0;
   bool measured = false;     ///< a pose passed ICP and the support check
   bool global_init = false;  ///< global registration ran this frame
@@ -175,17 +182,26 @@ class ObjectTracker {
   /// The mesh's colours there are not compared with the image (ForgetColorsInBox).
   void ForgetColorsInBox(const Eigen::Isometry3d& oMb, const Eigen::Vector3d& half_extents_m);
 
+  /// The camera rides on `platform` (its arms, their bases and dMc, the
+  /// camera-to-body calibration, are copied): frames given the arms' joints
+  /// have the arms' pixels dropped (PerceptionOptions::self_filter; nothing
+  /// when it is disabled).
+  void SetRobot(const Platform& platform);
+
   /// Processes one aligned colour + depth frame. Bad data (empty or all-zero
   /// depth, wrong sizes, no object) yields a lost or unmeasured estimate; never throws.
   /// With the camera's pose wMc at the frame (the vehicle's odometry) the
   /// filter runs in the world, where a crawling object moves slowly, instead
   /// of in the camera, which sways with the vehicle. Give it for every frame
-  /// of a track or for none.
+  /// of a track or for none. `arm_joints`: the arms' measured joints at the
+  /// frame's stamp (ArmJointHistory), for the self filter (SetRobot).
   FrameReport Process(const ColorImage& color, const DepthImage& depth, double stamp_s,
                       const CameraIntrinsics& K, double depth_scale_m,
-                      const std::optional<Eigen::Isometry3d>& wMc = std::nullopt);
+                      const std::optional<Eigen::Isometry3d>& wMc = std::nullopt,
+                      const std::optional<ArmJointPositions>& arm_joints = std::nullopt);
 
   const ModelCloud& model() const { return model_; }
+  const PerceptionOptions& options() const { return options_; }
   const GlobalSearchStats& global_stats() const { return global_stats_; }
   bool has_detector() const { return detector_ != nullptr; }
 
@@ -240,6 +256,9 @@ class ObjectTracker {
   ModelCloud model_;
   std::unique_ptr<BoxDetector> detector_;
   std::unique_ptr<GlobalRegistration> global_;
+  std::unique_ptr<RobotSelfFilter> self_filter_;  ///< SetRobot's, when enabled
+  Eigen::Isometry3d robot_dMc_ = Eigen::Isometry3d::Identity();
+  DepthImage filtered_depth_;  ///< this frame's depth without the arms
   /// The global registration's search under way, across frames.
   struct SearchState {
     bool active = false;

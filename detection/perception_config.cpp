@@ -105,6 +105,12 @@ void ReadSegment(const ConfigNode& n, SegmentationOptions* g) {
   g->seed = GetSeed(n, "seed", g->seed);
 }
 
+void ReadSelfFilter(const ConfigNode& n, SelfFilterOptions* f) {
+  n.RequireOnlyKeys({"enabled", "margin_m"});
+  f->enabled = n.GetBool("enabled", f->enabled);
+  f->margin_m = n.GetDouble("margin_m", f->margin_m);
+}
+
 }  // namespace
 
 PerceptionOptions LoadPerceptionOptions(const std::string& path,
@@ -117,6 +123,7 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path,
                         "segment",
                         "ekf",
                         "track",
+                        "self_filter",
                         "min_detection_score",
                         "box_margin",
                         "near_centre_quantile",
@@ -143,6 +150,7 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path,
   if (root.Has("segment")) ReadSegment(root.Child("segment"), &o.segment);
   if (root.Has("ekf")) ReadEkf(root.Child("ekf"), &o.ekf);
   if (root.Has("track")) ReadTrack(root.Child("track"), &o.track);
+  if (root.Has("self_filter")) ReadSelfFilter(root.Child("self_filter"), &o.self_filter);
   o.min_detection_score =
       static_cast<float>(root.GetDouble("min_detection_score", o.min_detection_score));
   o.box_margin = root.GetDouble("box_margin", o.box_margin);

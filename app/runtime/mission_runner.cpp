@@ -88,7 +88,8 @@ class Mission {
   std::shared_ptr<const GraspPlanner> planner_;  // shared with missions of this configuration
   Eigen::Matrix3d placement_dRo_ = Eigen::Matrix3d::Identity();  // the object's, upright
   std::unique_ptr<PlatformCollision> collision_;
-  Eigen::VectorXd q_[2];  // measured joints, read by the other arm's forbidden predicate
+  Eigen::VectorXd q_[2];           // measured joints, read by the other arm's forbidden predicate
+  ArmJointHistory joint_history_;  // the measured joints of the last second, for the frames
   std::unique_ptr<MissionEvaluator> evaluator_;  // simulation: compares with the truth
   std::unique_ptr<TrackedObject> object_pose_;
   std::unique_ptr<VehicleLegs> legs_;
@@ -148,6 +149,7 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
 
   object_ = std::make_unique<ObjectModel>(LoadMissionObject(options, world));
   tracker_ = MakeMissionTracker(*object_, config_);
+  tracker_->SetRobot(platform);  // the arms' own pixels leave the depth
   const std::shared_ptr<const MissionSetup> setup =
       MissionSetupFor(options, platform, *object_, config_);
   planner_ = setup->planner;
@@ -253,6 +255,7 @@ Eigen::Isometry3d Mission::dMoNow() const {
 
 void Mission::Perception() {
   const double t = Now();
+  joint_history_.Add(t, {q_[0], q_[1]});
   if (t + 1e-9 < next_frame_s_) return;
   next_frame_s_ += frame_period_s_;
   if (next_frame_s_ < t) next_frame_s_ = t + frame_period_s_;
@@ -290,10 +293,11 @@ void Mission::Perception() {
     tracker_->SetInitialPose(hw_->platform().dMc().inverse() * dMoNow());
   ObjectTracker* tracker = tracker_.get();
   const Eigen::Isometry3d wMc = wMd * hw_->platform().dMc();
-  perceiving_ = std::async(std::launch::async, [tracker, K, scale, wMc, frame] {
+  const std::optional<ArmJointPositions> q_frame = joint_history_.At(frame->stamp_s);
+  perceiving_ = std::async(std::launch::async, [tracker, K, scale, wMc, q_frame, frame] {
     Perceived p;
     p.frame = frame;
-    p.report = tracker->Process(frame->color, frame->depth, frame->stamp_s, K, scale, wMc);
+    p.report = tracker->Process(frame->color, frame->depth, frame->stamp_s, K, scale, wMc, q_frame);
     return p;
   });
 }

@@ -87,6 +87,8 @@ void ExpectSameOptions(const PerceptionOptions& a, const PerceptionOptions& b) {
   EXPECT_SAME_FIELD(gated_frames_to_reset);
   EXPECT_SAME_FIELD(weak_direction_ratio);
   EXPECT_SAME_FIELD(weak_direction_std_m);
+  EXPECT_SAME_FIELD(self_filter.enabled);
+  EXPECT_SAME_FIELD(self_filter.margin_m);
 #undef EXPECT_SAME_FIELD
 }
 
@@ -159,6 +161,8 @@ TEST_F(PerceptionConfigTest, UnknownKeysAreNamedWithTheirPath) {
               AllOf(HasSubstr("perception.yaml: icp.max_iteration: unknown key"),
                     HasSubstr("max_iterations")));
   EXPECT_THAT(ErrorOf("ekf:\n  gate: 10\n"), HasSubstr("perception.yaml: ekf.gate: unknown key"));
+  EXPECT_THAT(ErrorOf("self_filter:\n  margin: 0.01\n"),
+              HasSubstr("perception.yaml: self_filter.margin: unknown key"));
 }
 
 TEST_F(PerceptionConfigTest, WrongTypesAreNamedWithTheirPath) {
@@ -194,6 +198,9 @@ TEST_F(PerceptionConfigTest, ValuesOutOfRangeAreNamedWithTheirPathAndBound) {
               HasSubstr("perception.yaml: global.work_per_frame: must be in [0, 1e9] pairings"));
   EXPECT_THAT(ErrorOf("global:\n  work_per_frame: 2000000000\n"),
               HasSubstr("perception.yaml: global.work_per_frame: must be in [0, 1e9] pairings"));
+  EXPECT_THAT(
+      ErrorOf("self_filter:\n  margin_m: 0.15\n"),
+      HasSubstr("perception.yaml: self_filter.margin_m: 0.15 m is above the upper bound 0.1 m"));
   EXPECT_THAT(ErrorOf("global:\n  work_per_frame: many\n"),
               HasSubstr("perception.yaml: global.work_per_frame: expected an integer, got 'many'"));
   // A bound that depends on another field, possibly in another section.
