@@ -52,7 +52,7 @@ struct GraspPolicyConfig {
   /// A briefly lost object held in the world moves on with its filtered
   /// velocity, trusted less with time: at most this many seconds' worth
   /// (v tau (1 - exp(-t / tau))), [0, 60] s; 0 holds it still.
-  double held_velocity_trust_s{1.0};
+  double held_velocity_trust_s{0.0};
   /// ... not at all below this speed (a still object stays still), [0, 1] m/s
   double held_min_speed_mps{0.01};
   double held_max_carry_m{0.05};  ///< ... and at most this far, [0, 1] m
