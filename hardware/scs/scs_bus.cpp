@@ -64,9 +64,7 @@ BusStatus ScsBus::Exchange(const std::vector<std::uint8_t>& request, std::uint8_
           r == scs::PacketParser::Result::kBadLength) {
         corrupted = true;
       } else if (r == scs::PacketParser::Result::kPacket) {
-        // SCS replies carry no sequence number: a reply of another servo, or of
-        // another request, is one that came after its exchange's timeout.
-        if (parser_.packet().id != id || parser_.packet().params.size() != params) {
+        if (!scs::AnswersExchange(parser_.packet(), id, params)) {
           ++counters_.late_replies;
           continue;
         }

@@ -73,6 +73,13 @@ struct Packet {
   std::vector<std::uint8_t> params;
 };
 
+/// Whether `reply` answers an exchange with servo `id` that waits for `params`
+/// parameter bytes. SCS replies carry no sequence number: a reply of another
+/// servo, or with another length, is a late reply of an earlier exchange.
+inline bool AnswersExchange(const Packet& reply, std::uint8_t id, std::size_t params) {
+  return reply.id == id && reply.params.size() == params;
+}
+
 /// Frames a packet. Precondition: params.size() <= kMaxParams.
 std::vector<std::uint8_t> Encode(const Packet& packet);
 std::vector<std::uint8_t> EncodePing(std::uint8_t id);

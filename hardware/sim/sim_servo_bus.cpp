@@ -20,13 +20,13 @@ constexpr int kVoltage_dv = 74;  // PRESENT_VOLTAGE of a healthy servo: 7.4 V
 constexpr int kTemperature_c = 35;
 
 /// The driver takes `bytes` as the reply it waits for: a well-formed status
-/// packet of servo `id` with `params` parameter bytes (as hardware/scs/scs_bus.h
-/// does; another one is a late reply of an earlier request, which it skips).
+/// packet that answers its exchange (scs::AnswersExchange; another one is a
+/// late reply of an earlier request, which it skips).
 bool AnswersRequest(const std::vector<std::uint8_t>& bytes, int id, std::size_t params) {
   scs::PacketParser parser;
   for (std::uint8_t b : bytes) {
     if (parser.Push(b) == scs::PacketParser::Result::kPacket)
-      return parser.packet().id == id && parser.packet().params.size() == params;
+      return scs::AnswersExchange(parser.packet(), static_cast<std::uint8_t>(id), params);
   }
   return false;
 }
