@@ -418,6 +418,14 @@ int ArmIk::SolveClosedForm(const Eigen::Isometry3d& bMe, const Eigen::VectorXd& 
   return 0;
 }
 
+int ArmIk::GraspAxisDepths() const { return std::max(1, options_.depth_samples); }
+
+double ArmIk::GraspAxisDepth(int i, double depth_min_m, double depth_max_m) const {
+  const int n = GraspAxisDepths();
+  if (n == 1) return 0.5 * (depth_min_m + depth_max_m);
+  return depth_min_m + (depth_max_m - depth_min_m) * i / static_cast<double>(n - 1);
+}
+
 int ArmIk::SolveGraspAxis(const Eigen::Vector3d& c_b, const Eigen::Vector3d& x_b,
                           double depth_min_m, double depth_max_m, const Eigen::VectorXd& q_seed,
                           std::vector<GraspAxisSolution>* solutions) const {
@@ -493,11 +501,11 @@ int ArmIk::SolveGraspAxis(const Eigen::Vector3d& c_b, const Eigen::Vector3d& x_b
     // SolvePose's nearest solution per closing sign, checked against the
     // forward kinematics nearest first until one passes.
     const Eigen::Vector3d e1 = AnyPerpendicular(x), e2 = x.cross(e1);
-    const double depth = 0.5 * (depth_min_m + depth_max_m);
     const int n = std::max(1, options_.approach_samples);
     std::vector<Eigen::VectorXd> qs;
-    for (int i = 0; i < n; ++i) {
-      const double phi = 2.0 * kPi * i / n;
+    for (int k = 0; k < n * GraspAxisDepths(); ++k) {
+      const double depth = GraspAxisDepth(k / n, depth_min_m, depth_max_m);
+      const double phi = 2.0 * kPi * (k % n) / n;
       const Eigen::Vector3d a = std::cos(phi) * e1 + std::sin(phi) * e2;
       // The fingers are symmetric: closing along -x is as good; the solution
       // nearest the seed of either.
@@ -529,11 +537,11 @@ int ArmIk::SolveGraspAxis(const Eigen::Vector3d& c_b, const Eigen::Vector3d& x_b
     // Numeric: one solve per approach angle is costly enough; closing along
     // -x only when +x has none.
     const Eigen::Vector3d e1 = AnyPerpendicular(x), e2 = x.cross(e1);
-    const double depth = 0.5 * (depth_min_m + depth_max_m);
     const int n = std::max(1, options_.approach_samples);
     Eigen::VectorXd q;
-    for (int i = 0; i < n; ++i) {
-      const double phi = 2.0 * kPi * i / n;
+    for (int k = 0; k < n * GraspAxisDepths(); ++k) {
+      const double depth = GraspAxisDepth(k / n, depth_min_m, depth_max_m);
+      const double phi = 2.0 * kPi * (k % n) / n;
       const Eigen::Vector3d a = std::cos(phi) * e1 + std::sin(phi) * e2;
       for (double s : {1.0, -1.0}) {
         Eigen::Isometry3d bMe = Eigen::Isometry3d::Identity();

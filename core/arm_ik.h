@@ -30,8 +30,13 @@ struct IkOptions {
   double orientation_tolerance_rad{1e-4};  ///< FK check of each solution, (0, 0.1] rad
   int max_iterations{60};                  ///< numeric solver iterations per seed, [1, 1000]
   double damping{0.005};                   ///< numeric solver damping lambda, [0, 1]
-  /// numeric SolveGraspAxis: approach angles about the closing axis, [1, 64]
+  /// SolveGraspAxis without the 4-DoF closed form: approach angles about the
+  /// closing axis, [1, 64] ...
   int approach_samples{8};
+  /// ... and depths along the pads, evenly from depth_min_m to depth_max_m
+  /// (1: the middle only), [1, 16]. A few of each let the 6-DoF arm take the
+  /// grasps that only a slanted approach or a deeper or shallower hold reaches.
+  int depth_samples{1};
 };
 
 /// One grasp-axis solution: joints, the tool pose, and where the contacts sit.
@@ -114,8 +119,8 @@ class ArmIk {
   /// (where the contacts sit along the pads). Closed form for the 4-DoF chain
   /// (exact: the approach and depth that meet the yaw-plane condition);
   /// otherwise SolvePose at `approach_samples` approach angles, both closing
-  /// signs, and the middle depth, keeping per approach angle the solution
-  /// nearest q_seed. Solutions are sorted by distance to q_seed.
+  /// signs, and `depth_samples` depths, keeping per approach angle and depth
+  /// the solution nearest q_seed. Solutions are sorted by distance to q_seed.
   /// Returns the number written to `solutions` (cleared first).
   int SolveGraspAxis(const Eigen::Vector3d& c_b, const Eigen::Vector3d& x_b, double depth_min_m,
                      double depth_max_m, const Eigen::VectorXd& q_seed,
@@ -164,6 +169,10 @@ class ArmIk {
   /// closed forms leave a branch early when one of its joints cannot.
   bool Fits(int i, double angle) const;
   bool CheckPosition(const Eigen::VectorXd& q, const Eigen::Vector3d& p_b) const;
+  /// The sampled grasp-axis depths (IkOptions::depth_samples, at least 1) and
+  /// the i-th of them: evenly from depth_min_m to depth_max_m, the middle for one.
+  int GraspAxisDepths() const;
+  double GraspAxisDepth(int i, double depth_min_m, double depth_max_m) const;
   void SortBySeed(const Eigen::VectorXd& q_seed, std::vector<Eigen::VectorXd>* solutions) const;
 
   ArmModel model_;

@@ -23,6 +23,13 @@ bool Better(const DualGrasp& a, const DualGrasp& b) {
   return a.right.pair < b.right.pair;
 }
 
+IkOptions GraspAxisIkOptions(const GraspPlannerConfig& config) {
+  IkOptions options;
+  options.approach_samples = config.grasp_axis_approaches;
+  options.depth_samples = config.grasp_axis_depths;
+  return options;
+}
+
 }  // namespace
 
 const char* InfeasibilityName(Infeasibility why) {
@@ -69,6 +76,8 @@ void GraspPlannerConfig::Validate(const std::string& source, const std::string& 
   CheckRange(source, prefix + "cost_weight_per_rad", cost_weight_per_rad, 0.0, 10.0, "");
   CheckRange(source, prefix + "reach_margin_m", reach_margin_m, 0.0, 0.1, "m");
   CheckRange(source, prefix + "edge_margin_m", edge_margin_m, 0.0, 0.05, "m");
+  CheckRange(source, prefix + "grasp_axis_approaches", grasp_axis_approaches, 1, 64, "");
+  CheckRange(source, prefix + "grasp_axis_depths", grasp_axis_depths, 1, 16, "");
 }
 
 void GraspPlannerConfig::CheckFingers(const GripperConfig& gripper, const std::string& source,
@@ -84,7 +93,8 @@ GraspPlanner::GraspPlanner(const Platform& platform, GraspObject object, Contact
       contacts_(std::move(contacts)),
       config_(config),
       collision_(std::make_unique<PlatformCollision>(platform)),
-      ik_{ArmIk(platform.arm(Side::kLeft)), ArmIk(platform.arm(Side::kRight))} {
+      ik_{ArmIk(platform.arm(Side::kLeft), GraspAxisIkOptions(config)),
+          ArmIk(platform.arm(Side::kRight), GraspAxisIkOptions(config))} {
   config_.Validate("grasp planner config", "planner.");
   config_.CheckFingers(platform.config().gripper, "grasp planner config", "planner.");
   if (object_.mesh_o.triangles.empty()) {

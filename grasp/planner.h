@@ -59,6 +59,11 @@ struct GraspPlannerConfig {
   /// grasps clear of edges rank first (after robust ones). [0, 0.05] m; 0
   /// makes every pair clear.
   double edge_margin_m{0.0};
+  /// The grasp-axis IK of an arm without the 4-DoF closed form (the 6-DoF
+  /// arm; IkOptions): approach angles about the closing axis, [1, 64], and
+  /// depths along the pads, [1, 16], tried for each pair.
+  int grasp_axis_approaches{8};
+  int grasp_axis_depths{1};
 
   /// `prefix` is the key path of this section in its file, ending in "." ("" at
   /// the top). @throws ConfigError "<source>: <prefix><key>: ..." naming the

@@ -101,6 +101,8 @@ std::vector<Field> Fields(MissionConfig* c) {
                      {"planner", "cost_weight_per_rad", &g.cost_weight_per_rad},
                      {"planner", "reach_margin_m", &g.reach_margin_m},
                      {"planner", "edge_margin_m", &g.edge_margin_m},
+                     {"planner", "grasp_axis_approaches", &g.grasp_axis_approaches},
+                     {"planner", "grasp_axis_depths", &g.grasp_axis_depths},
                      {"planner.contacts", "resolution_m", &g.contacts.resolution_m},
                      {"planner.friction", "mu", &g.friction.mu},
                      {"planner.friction", "cone_edges", &g.friction.cone_edges},
@@ -168,6 +170,11 @@ GraspPlannerConfig MissionPlannerDefaults() {
   // sways (3 cm, 2 cm vertically) and the placement puts the object where
   // both arms have such pairs.
   c.reach_margin_m = 0.02;
+  // The 6-DoF arm's grasp-axis IK tries 16 approaches about the closing axis
+  // at 3 depths: at 8 and the middle depth it reached a few of the U-shape's
+  // pairs, none of them through the sway with the other arm clear.
+  c.grasp_axis_approaches = 16;
+  c.grasp_axis_depths = 3;
   return c;
 }
 

@@ -209,6 +209,42 @@ TEST(ArmIkTest, GraspAxisForSixDofArm) {
   CheckGraspAxis("arm6.urdf", 400, 0.8);
 }
 
+TEST(ArmIkTest, GraspAxisDepthSamplesSpanThePadsAndReachMore) {
+  // The 6-DoF arm's grasp-axis IK at 16 approaches and 3 depths: the depths
+  // are the range's ends and middle, and the grasps of random contact centres
+  // and closing axes it reaches include those 8 approaches at the middle reach.
+  const ArmModel arm = Arm("arm6.urdf");
+  const ArmIk coarse(arm);
+  IkOptions options;
+  options.approach_samples = 16;
+  options.depth_samples = 3;
+  const ArmIk fine(arm, options);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<GraspAxisSolution> sols;
+  int coarse_solved = 0, fine_solved = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Eigen::VectorXd q = RandomWithinLimits(arm, &rng);
+    const Eigen::Isometry3d bMe = arm.ForwardKinematics(q);
+    // A contact centre near a reachable tool point, a closing axis anywhere.
+    const Eigen::Vector3d c = bMe.translation() + 0.05 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d x = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+    const bool by_coarse = coarse.SolveGraspAxis(c, x, 0.025, 0.10, q, &sols) > 0;
+    coarse_solved += by_coarse;
+    const int n = fine.SolveGraspAxis(c, x, 0.025, 0.10, q, &sols);
+    fine_solved += n > 0;
+    if (by_coarse) EXPECT_GT(n, 0) << "trial " << trial;
+    for (const GraspAxisSolution& s : sols) {
+      const double d = s.depth_m;
+      EXPECT_TRUE(std::abs(d - 0.025) < 1e-12 || std::abs(d - 0.0625) < 1e-12 ||
+                  std::abs(d - 0.10) < 1e-12)
+          << d;
+      EXPECT_LT((s.bMe.translation() - (c + d * s.bMe.linear().col(2))).norm(), 2e-5);
+    }
+  }
+  EXPECT_GT(fine_solved, coarse_solved + 10);
+}
+
 TEST(ArmIkTest, NumericPoseReachesForwardKinematicsTarget) {
   const ArmModel arm = Arm("arm6.urdf");
   const ArmIk ik(arm);

@@ -318,5 +318,26 @@ TEST(GraspPlannerConfigTest, DefaultsAreValidAndBadDepthNamesItsKey) {
   }
 }
 
+TEST(GraspPlannerConfigTest, BadGraspAxisSamplingNamesItsKey) {
+  GraspPlannerConfig c;
+  c.grasp_axis_approaches = 0;
+  try {
+    c.Validate("plan.yaml", "planner.");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("plan.yaml: planner.grasp_axis_approaches: 0"));
+    EXPECT_THAT(e.what(), HasSubstr("below the lower bound 1"));
+  }
+  c = GraspPlannerConfig{};
+  c.grasp_axis_depths = 17;
+  try {
+    c.Validate("plan.yaml", "planner.");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("plan.yaml: planner.grasp_axis_depths: 17"));
+    EXPECT_THAT(e.what(), HasSubstr("above the upper bound 16"));
+  }
+}
+
 }  // namespace
 }  // namespace aerograsp
