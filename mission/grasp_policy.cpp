@@ -33,6 +33,7 @@ void GraspPolicyConfig::Validate(const std::string& source, const std::string& p
   CheckRange(source, prefix + "max_reaims", max_reaims, 0, 100, "");
   CheckRange(source, prefix + "reaim_wait_s", reaim_wait_s, 0.0, 60.0, "s");
   CheckRange(source, prefix + "home_tolerance_m", home_tolerance_m, 1e-6, 0.2, "m");
+  CheckRange(source, prefix + "close_target_offset_m", close_target_offset_m, 1e-6, 1.0, "m");
 }
 
 bool ShouldPlan(bool planner_idle, bool object_found, double off_m,
@@ -120,6 +121,10 @@ bool Closing(GraspPhase left, GraspPhase right) {
     return p == GraspPhase::kClose || p == GraspPhase::kDone;
   };
   return closing(left) || closing(right);
+}
+
+bool TargetOnObject(double target_offset_m, const GraspPolicyConfig& config) {
+  return target_offset_m < config.close_target_offset_m;
 }
 
 bool OnFollowedBranch(const Eigen::VectorXd& q_new_rad, const Eigen::VectorXd& q_last_rad,

@@ -16,7 +16,8 @@
 //  - IK-branch gate: a followed pair solved again is taken only on the IK
 //    branch it was followed on (OnFollowedBranch);
 //  - close: both arms at their pre-catch poses, settle_s there, then in and
-//    close; grasped when both grippers hold (NextPlannerStep);
+//    close, only on a target on the object as it is now (TargetOnObject);
+//    grasped when both grippers hold (NextPlannerStep);
 //  - retry: an arm's sequence timed out, the object lost for lost_timeout_s,
 //    or both grippers closed without holding (DecideAttempt);
 //  - re-aim: one gripper holds, the other's attempt ended: the free arm aims
@@ -73,6 +74,10 @@ struct GraspPolicyConfig {
   /// estimate is refined frame by frame), before the attempt ends, [0, 60] s.
   double reaim_wait_s{2.0};
   double home_tolerance_m{0.01};  ///< an arm this near its home tool position is back, (0, 0.2] m
+  /// An arm whose grasp target stands this far or more from its grasp on the
+  /// object as the estimate has it now (the re-solve and the carry both
+  /// refused while the object moved) does not close, (0, 1] m.
+  double close_target_offset_m{0.01};
 
   /// @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
   void Validate(const std::string& source, const std::string& prefix) const;
@@ -141,6 +146,10 @@ bool Closing(GraspPhase left, GraspPhase right);
 /// joint space is another branch or depth and would throw the arm across.
 bool OnFollowedBranch(const Eigen::VectorXd& q_new_rad, const Eigen::VectorXd& q_last_rad,
                       double since_s, const GraspPolicyConfig& config);
+
+/// Whether an arm at its grasp pose may close: its target lies within
+/// close_target_offset_m of its grasp on the object as the estimate has it now.
+bool TargetOnObject(double target_offset_m, const GraspPolicyConfig& config);
 
 /// Give up planning: no plan for planning_timeout_s. The cause, or none.
 std::optional<std::string> PlanningGiveUp(double planning_for_s, bool object_found,

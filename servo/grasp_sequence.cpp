@@ -101,7 +101,11 @@ GraspPhase GraspSequence::Step(const Eigen::VectorXd& q, double now_s, double dt
       }
       break;
     case GraspPhase::kGrasp:
-      advance(config_.grasp_tolerance, config_.grasp_timeout_s, GraspPhase::kClose);
+      if (!hold_close_) {
+        advance(config_.grasp_tolerance, config_.grasp_timeout_s, GraspPhase::kClose);
+      } else if (in_phase_s > config_.grasp_timeout_s) {
+        Enter(GraspPhase::kTimedOut, now_s);
+      }
       break;
     case GraspPhase::kClose:
       if (in_phase_s >= config_.close_time_s) Enter(GraspPhase::kDone, now_s);

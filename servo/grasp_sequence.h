@@ -72,6 +72,10 @@ class GraspSequence {
   /// reached (tracking it, its phase clock paused) instead of moving in: the
   /// two arms go in together (paper Fig. 7b, "approaching pose").
   void HoldAtPreCatch(bool hold) { hold_at_precatch_ = hold; }
+  /// While `hold` is set the grasp phase does not close, even at the grasp
+  /// pose (its target stands off the object: the pads would shut beside it);
+  /// its clock runs on, so a lasting hold ends in kTimedOut.
+  void HoldClose(bool hold) { hold_close_ = hold; }
   /// True while in the pre-catch phase with the pre-catch pose met.
   bool at_precatch() const { return at_precatch_; }
   /// The pre-catch pose for a grasp: bMg moved back precatch_distance_m along z_g.
@@ -90,6 +94,7 @@ class GraspSequence {
   double grasp_stamp_s_ = 0.0;
   bool switch_pending_ = false;  // passed to the servo with the next target
   bool hold_at_precatch_ = false;
+  bool hold_close_ = false;
   bool at_precatch_ = false;
 };
 

@@ -187,6 +187,12 @@ std::optional<std::string> GraspArms::Step(double t, double dt_s, const FollowVi
       anchor_oMp_[a] = bMo.inverse() * reached_bMp_[a];
       anchored_[a] = true;
     }
+    // A target that stood while the object moved (re-solve and carry both
+    // refused) is not closed on.
+    const double offset_m =
+        anchored_[a] ? (reached_bMg_[a].translation() - (bMo * anchor_oMg_[a]).translation()).norm()
+                     : 0.0;
+    sequence_[a]->HoldClose(!TargetOnObject(offset_m, policy_));
     sequence_[a]->SetGrasp(reached_bMg_[a], reached_bMp_[a], view.stamp_s, switch_pending_[a]);
     switch_pending_[a] = false;
     GraspCommand command;

@@ -86,7 +86,8 @@ std::vector<Field> Fields(MissionConfig* c) {
                      {"policy", "branch_drift_rad_per_s", &p.branch_drift_rad_per_s},
                      {"policy", "max_reaims", &p.max_reaims},
                      {"policy", "reaim_wait_s", &p.reaim_wait_s},
-                     {"policy", "home_tolerance_m", &p.home_tolerance_m}});
+                     {"policy", "home_tolerance_m", &p.home_tolerance_m},
+                     {"policy", "close_target_offset_m", &p.close_target_offset_m}});
   GraspPlannerConfig& g = c->planner;
   f.insert(f.end(), {{"planner", "depth_min_m", &g.depth_min_m},
                      {"planner", "depth_max_m", &g.depth_max_m},

@@ -162,6 +162,15 @@ TEST(GraspPolicyTest, AResolvedGraspOnAnotherIkBranchIsNotFollowed) {
 
 // ---- Close --------------------------------------------------------------------------
 
+TEST(GraspPolicyTest, AnArmDoesNotCloseOnATargetStandingOffTheObject) {
+  GraspPolicyConfig config;
+  config.close_target_offset_m = 0.01;
+  EXPECT_TRUE(TargetOnObject(0.0, config));
+  EXPECT_TRUE(TargetOnObject(0.009, config));
+  EXPECT_FALSE(TargetOnObject(0.01, config));
+  EXPECT_FALSE(TargetOnObject(0.1, config));
+}
+
 TEST(GraspPolicyTest, ArmsSettleAtTheirPreCatchPosesBeforeMovingInAndCloseWhenBothHold) {
   GraspPolicyConfig config;
   config.settle_s = 0.2;

@@ -175,6 +175,68 @@ TEST(GraspSequenceTest, HeldAtThePreCatchPoseUntilReleasedWithoutTimingOut) {
   EXPECT_FALSE(sequence.at_precatch());
 }
 
+TEST(GraspSequenceTest, AHeldCloseKeepsTheGripperOpenAtTheGraspPoseAndTimesOut) {
+  const ArmModel arm = Arm6();
+  ArmServo servo(arm, ServoConfig{});
+  GraspSequenceConfig config;
+  config.grasp_timeout_s = 2.0;
+  GraspSequence sequence(&servo, config);
+  const Eigen::Isometry3d bMg = Grasp(arm);
+  Eigen::VectorXd q = Home6();
+  sequence.Start(0.0);
+  GraspCommand cmd;
+  int k = 0;
+  for (; k < 1000 && sequence.phase() == GraspPhase::kPreCatch; ++k) {
+    sequence.SetGrasp(bMg, 0.01 * k);
+    sequence.Step(q, 0.01 * k, 0.01, &cmd);
+    q = cmd.joints.q_target_rad;
+  }
+  ASSERT_EQ(sequence.phase(), GraspPhase::kGrasp);
+  const double grasp_start_s = 0.01 * (k - 1);
+  sequence.HoldClose(true);
+  bool at_grasp = false;
+  for (; 0.01 * k < grasp_start_s + config.grasp_timeout_s - 0.05; ++k) {
+    sequence.SetGrasp(bMg, 0.01 * k);
+    sequence.Step(q, 0.01 * k, 0.01, &cmd);
+    q = cmd.joints.q_target_rad;
+    at_grasp = at_grasp || config.grasp_tolerance.Met(cmd.joints.error);
+    ASSERT_EQ(cmd.phase, GraspPhase::kGrasp) << k;
+    ASSERT_EQ(cmd.gripper, GripperCommand::kOpen) << k;
+  }
+  EXPECT_TRUE(at_grasp);
+  for (int end = k + 20; k < end; ++k) {
+    sequence.SetGrasp(bMg, 0.01 * k);
+    sequence.Step(q, 0.01 * k, 0.01, &cmd);
+    q = cmd.joints.q_target_rad;
+  }
+  EXPECT_EQ(cmd.phase, GraspPhase::kTimedOut);
+  EXPECT_EQ(cmd.gripper, GripperCommand::kOpen);
+}
+
+TEST(GraspSequenceTest, AReleasedHoldClosesAtTheGraspPose) {
+  const ArmModel arm = Arm6();
+  ArmServo servo(arm, ServoConfig{});
+  GraspSequenceConfig config;
+  GraspSequence sequence(&servo, config);
+  const Eigen::Isometry3d bMg = Grasp(arm);
+  Eigen::VectorXd q = Home6();
+  sequence.Start(0.0);
+  sequence.HoldClose(true);
+  GraspCommand cmd;
+  int k = 0;
+  for (; k < 300; ++k) {
+    sequence.SetGrasp(bMg, 0.01 * k);
+    sequence.Step(q, 0.01 * k, 0.01, &cmd);
+    q = cmd.joints.q_target_rad;
+  }
+  ASSERT_EQ(cmd.phase, GraspPhase::kGrasp);
+  sequence.HoldClose(false);
+  sequence.SetGrasp(bMg, 0.01 * k);
+  sequence.Step(q, 0.01 * k, 0.01, &cmd);
+  EXPECT_EQ(cmd.phase, GraspPhase::kClose);
+  EXPECT_EQ(cmd.gripper, GripperCommand::kClose);
+}
+
 TEST(GraspSequenceTest, AGivenPreCatchPoseIsTheOneServoedTo) {
   const ArmModel arm = Arm6();
   ArmServo servo(arm, ServoConfig{});
