@@ -192,7 +192,15 @@ std::optional<std::string> GraspArms::Step(double t, double dt_s, const FollowVi
     const double offset_m =
         anchored_[a] ? (reached_bMg_[a].translation() - (bMo * anchor_oMg_[a]).translation()).norm()
                      : 0.0;
-    sequence_[a]->HoldClose(!TargetOnObject(offset_m, policy_));
+    const bool hold_close = !TargetOnObject(offset_m, policy_);
+    if (hold_close && !close_held_[a] && sequence_[a]->phase() == GraspPhase::kGrasp) {
+      log_(
+          fmt::format("servo   {} arm: no close: its target stands {:.1f} mm from its grasp on "
+                      "the object as estimated now (target last solved {:.0f} ms before)",
+                      kArmNames[a], 1e3 * offset_m, 1e3 * (t - reached_stamp_s_[a])));
+    }
+    close_held_[a] = hold_close && sequence_[a]->phase() == GraspPhase::kGrasp;
+    sequence_[a]->HoldClose(hold_close);
     sequence_[a]->SetGrasp(reached_bMg_[a], reached_bMp_[a], view.stamp_s, switch_pending_[a]);
     switch_pending_[a] = false;
     GraspCommand command;

@@ -98,6 +98,7 @@ class GraspArms {
 
   const Platform& platform_;
   const GraspPlanner& planner_;
+  bool close_held_[2] = {false, false};  // a close held back was logged
   const GraspPolicyConfig policy_;
   const Eigen::VectorXd* q_;
   MissionEvaluator* evaluator_;
