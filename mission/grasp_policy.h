@@ -77,7 +77,7 @@ struct GraspPolicyConfig {
   /// An arm whose grasp target stands this far or more from its grasp on the
   /// object as the estimate has it now (the re-solve and the carry both
   /// refused while the object moved) does not close, (0, 1] m.
-  double close_target_offset_m{0.01};
+  double close_target_offset_m{0.03};
 
   /// @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
   void Validate(const std::string& source, const std::string& prefix) const;
