@@ -33,7 +33,7 @@ void GraspPolicyConfig::Validate(const std::string& source, const std::string& p
   CheckRange(source, prefix + "max_reaims", max_reaims, 0, 100, "");
   CheckRange(source, prefix + "reaim_wait_s", reaim_wait_s, 0.0, 60.0, "s");
   CheckRange(source, prefix + "home_tolerance_m", home_tolerance_m, 1e-6, 0.2, "m");
-  CheckRange(source, prefix + "close_target_offset_m", close_target_offset_m, 1e-6, 1.0, "m");
+  CheckRange(source, prefix + "close_target_offset_m", close_target_offset_m, 0.0, 1.0, "m");
 }
 
 bool ShouldPlan(bool planner_idle, bool object_found, double off_m,
@@ -124,7 +124,7 @@ bool Closing(GraspPhase left, GraspPhase right) {
 }
 
 bool TargetOnObject(double target_offset_m, const GraspPolicyConfig& config) {
-  return target_offset_m < config.close_target_offset_m;
+  return config.close_target_offset_m <= 0.0 || target_offset_m < config.close_target_offset_m;
 }
 
 bool OnFollowedBranch(const Eigen::VectorXd& q_new_rad, const Eigen::VectorXd& q_last_rad,

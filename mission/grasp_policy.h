@@ -76,8 +76,9 @@ struct GraspPolicyConfig {
   double home_tolerance_m{0.01};  ///< an arm this near its home tool position is back, (0, 0.2] m
   /// An arm whose grasp target stands this far or more from its grasp on the
   /// object as the estimate has it now (the re-solve and the carry both
-  /// refused while the object moved) does not close, (0, 1] m.
-  double close_target_offset_m{0.03};
+  /// refused while the object moved) does not close, [0, 1] m; 0: no such
+  /// check (an arm closes where its target stands once it is there).
+  double close_target_offset_m{0.0};
 
   /// @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
   void Validate(const std::string& source, const std::string& prefix) const;
@@ -148,7 +149,8 @@ bool OnFollowedBranch(const Eigen::VectorXd& q_new_rad, const Eigen::VectorXd& q
                       double since_s, const GraspPolicyConfig& config);
 
 /// Whether an arm at its grasp pose may close: its target lies within
-/// close_target_offset_m of its grasp on the object as the estimate has it now.
+/// close_target_offset_m of its grasp on the object as the estimate has it now
+/// (always when that is 0).
 bool TargetOnObject(double target_offset_m, const GraspPolicyConfig& config);
 
 /// Give up planning: no plan for planning_timeout_s. The cause, or none.

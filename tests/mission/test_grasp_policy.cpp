@@ -169,6 +169,8 @@ TEST(GraspPolicyTest, AnArmDoesNotCloseOnATargetStandingOffTheObject) {
   EXPECT_TRUE(TargetOnObject(0.009, config));
   EXPECT_FALSE(TargetOnObject(0.01, config));
   EXPECT_FALSE(TargetOnObject(0.1, config));
+  config.close_target_offset_m = 0.0;  // no check
+  EXPECT_TRUE(TargetOnObject(0.1, config));
 }
 
 TEST(GraspPolicyTest, ArmsSettleAtTheirPreCatchPosesBeforeMovingInAndCloseWhenBothHold) {
