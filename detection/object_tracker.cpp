@@ -120,19 +120,31 @@ void PerceptionOptions::Validate(const std::string& source, const std::string& p
   Require(ekf.max_predict_dt_s > 0.0, "ekf.max_predict_dt_s", "must be > 0 s");
 }
 
+std::shared_ptr<const ModelCloud> BuildTrackerModel(const ObjectModel& object,
+                                                    const ModelCloudOptions& options) {
+  auto model = std::make_shared<ModelCloud>(BuildModelCloud(object.mesh_o, options));
+  model->symmetry = object.symmetry;  // object.yaml's group when it has one
+  return model;
+}
+
 ObjectTracker::ObjectTracker(const ObjectModel& object, const PerceptionOptions& options,
                              std::unique_ptr<BoxDetector> detector)
+    : ObjectTracker(object, options, std::move(detector), nullptr) {}
+
+ObjectTracker::ObjectTracker(const ObjectModel& object, const PerceptionOptions& options,
+                             std::unique_ptr<BoxDetector> detector,
+                             std::shared_ptr<const ModelCloud> model)
     : options_(options),
+      model_(std::move(model)),
       detector_(std::move(detector)),
       ekf_(options.ekf),
       monitor_(options.track) {
   options_.Validate("perception options", "perception.");
-  model_ = BuildModelCloud(object.mesh_o, options_.model);
-  model_.symmetry = object.symmetry;  // object.yaml's group when it has one
+  if (!model_) model_ = BuildTrackerModel(object, options_.model);
   min_half_extent_m_ = 0.5 * object.dimensions_m.minCoeff();
   if (!(min_half_extent_m_ > 0.0))
     min_half_extent_m_ = 0.5 * (object.mesh_o.BoundsMax() - object.mesh_o.BoundsMin()).minCoeff();
-  global_ = std::make_unique<GlobalRegistration>(model_, options_.global);
+  global_ = std::make_unique<GlobalRegistration>(*model_, options_.global);
 }
 
 ObjectTracker::~ObjectTracker() = default;
@@ -145,7 +157,11 @@ void ObjectTracker::SetInitialPose(const Eigen::Isometry3d& cMo) {
 
 void ObjectTracker::ForgetColorsInBox(const Eigen::Isometry3d& oMb,
                                       const Eigen::Vector3d& half_extents_m) {
-  aerograsp::ForgetColorsInBox(&model_, oMb, half_extents_m);
+  // The model may be shared with other trackers: this one's becomes its own copy.
+  auto model = std::make_shared<ModelCloud>(*model_);
+  aerograsp::ForgetColorsInBox(model.get(), oMb, half_extents_m);
+  model_ = std::move(model);
+  global_ = std::make_unique<GlobalRegistration>(*model_, options_.global);
 }
 
 std::optional<Eigen::Vector3d> ObjectTracker::EstimateCentre(const PixelBox& box,
@@ -176,22 +192,22 @@ IcpResult ObjectTracker::Register(const SceneCloud& cloud, const ColorImage& col
                                   const DepthImage& depth, double depth_scale_m,
                                   const CameraIntrinsics& K, const Eigen::Isometry3d& cMo,
                                   double slide_range_m, int* outline_drop) const {
-  IcpResult icp = RefinePoseIcp(model_, cloud, cMo, frame_icp_);
+  IcpResult icp = RefinePoseIcp(*model_, cloud, cMo, frame_icp_);
   *outline_drop = -1;
   if (icp.ok && icp.weak_ratio < options_.weak_direction_ratio) {
     // The pairs leave a sliding direction: let the outline in the depth image decide it.
-    SlideFit slid = SlideToBestSupport(model_, icp.cMo, icp.weak_direction_o, color, depth,
+    SlideFit slid = SlideToBestSupport(*model_, icp.cMo, icp.weak_direction_o, color, depth,
                                        depth_scale_m, K, SupportOptions(), slide_range_m);
     // A short (tracking) slide that the outline supports less than a probe
     // beyond it: the object lies farther along (a drift the filter's velocity
     // fed while its ends were hidden); the full range finds it.
     if (slid.drop < 0 && slide_range_m < kFullSlideM) {
-      slid = SlideToBestSupport(model_, slid.cMo, icp.weak_direction_o, color, depth, depth_scale_m,
-                                K, SupportOptions(), kFullSlideM);
+      slid = SlideToBestSupport(*model_, slid.cMo, icp.weak_direction_o, color, depth,
+                                depth_scale_m, K, SupportOptions(), kFullSlideM);
     }
     *outline_drop = slid.drop;
     if (!slid.cMo.isApprox(icp.cMo)) {
-      const IcpResult again = RefinePoseIcp(model_, cloud, slid.cMo, frame_icp_);
+      const IcpResult again = RefinePoseIcp(*model_, cloud, slid.cMo, frame_icp_);
       if (again.ok) icp = again;
     }
   }
@@ -225,7 +241,7 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color,
     report->icp = icp;
     if (icp.ok) {
       report->support =
-          ScorePoseSupport(model_, icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
+          ScorePoseSupport(*model_, icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
       if (Passes(report->support)) {
         report->times.icp_ms = ThreadCpuMs() - t0;
         return true;
@@ -265,7 +281,7 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
     if (budget.Take(SegmentWorkBound(cloud.points_c.size(), options_.segment))) {
       s.segment_pending = false;
       SceneSegments pieces =
-          SegmentScene(cloud, K, model_.diameter_m, model_.box_radius_m, min_half_extent_m_,
+          SegmentScene(cloud, K, model_->diameter_m, model_->box_radius_m, min_half_extent_m_,
                        frame_icp_.depth_noise_per_m2, options_.segment);
       KeepReachable(&pieces.centres_c);
       if (!pieces.centres_c.empty()) {
@@ -294,7 +310,7 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
     const bool every_orientation =
         s.segmented || (report->detection.has_value() && TwoCentresInBox(options_));
     const std::int64_t score_work =
-        scored ? static_cast<std::int64_t>(SupportWorkBound(model_, SupportOptions())) : 0;
+        scored ? static_cast<std::int64_t>(SupportWorkBound(*model_, SupportOptions())) : 0;
     std::vector<IcpResult> tried = global_->Hypotheses(
         scene, frame_icp_, centres, s.next_hypothesis, &budget, score_work, every_orientation);
     s.next_hypothesis += tried.size();
@@ -302,7 +318,7 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
       std::vector<double> scores(tried.size(), 0.0);
       ParallelFor(tried.size(), [&](std::size_t k) {
         if (!tried[k].ok) return;
-        const PoseSupport support = ScorePoseSupport(model_, tried[k].cMo, color, depth,
+        const PoseSupport support = ScorePoseSupport(*model_, tried[k].cMo, color, depth,
                                                      depth_scale_m, K, SupportOptions());
         scores[k] = support.ratio() * support.agree;
       });
@@ -322,17 +338,17 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
   // object's reach of it: ICP, ICP and slide (Register), support.
   bool found = false;
   if (s.hypotheses_done) {
-    const double reach_m = model_.box_radius_m + options_.model.margin_m;
+    const double reach_m = model_->box_radius_m + options_.model.margin_m;
     std::vector<SceneCloud> near;
     std::vector<IcpResult> starts;
     while (s.next_candidate < s.candidates.size()) {
       const IcpResult& start = s.candidates[s.next_candidate];
       if (!budget.Take(static_cast<std::int64_t>(cloud.points_c.size()))) break;
-      SceneCloud local = GlobalRegistration::Near(cloud, start.cMo * model_.box_center_o, reach_m);
+      SceneCloud local = GlobalRegistration::Near(cloud, start.cMo * model_->box_center_o, reach_m);
       const std::size_t n = local.points_c.size();
       const std::int64_t work = static_cast<std::int64_t>(
-          3 * IcpWorkBound(n, frame_icp_) + SlideWorkBound(model_, SupportOptions(), kFullSlideM) +
-          SupportWorkBound(model_, SupportOptions()));
+          3 * IcpWorkBound(n, frame_icp_) + SlideWorkBound(*model_, SupportOptions(), kFullSlideM) +
+          SupportWorkBound(*model_, SupportOptions()));
       if (!budget.Take(work)) break;
       near.push_back(std::move(local));
       starts.push_back(start);
@@ -341,7 +357,7 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
     blocked = blocked || s.next_candidate < s.candidates.size();
     std::vector<IcpResult> refined(starts.size());
     ParallelFor(starts.size(), [&](std::size_t k) {
-      refined[k] = RefinePoseIcp(model_, near[k], starts[k].cMo, frame_icp_);
+      refined[k] = RefinePoseIcp(*model_, near[k], starts[k].cMo, frame_icp_);
     });
     // Refined candidates and their clouds, most inliers first.
     std::vector<std::pair<IcpResult, const SceneCloud*>> ranked;
@@ -356,7 +372,7 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
       feature_near.reserve(features.size());
       for (const IcpResult& r : features) {
         feature_near.push_back(
-            GlobalRegistration::Near(cloud, r.cMo * model_.box_center_o, reach_m));
+            GlobalRegistration::Near(cloud, r.cMo * model_->box_center_o, reach_m));
       }
       for (std::size_t k = 0; k < features.size(); ++k)
         ranked.emplace_back(features[k], &feature_near[k]);
@@ -380,7 +396,7 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
                                    reacquire_zone_c_->second);
       if (r.usable)
         r.support =
-            ScorePoseSupport(model_, r.icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
+            ScorePoseSupport(*model_, r.icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
     });
     double best_score = -1.0;
     for (const Registered& r : registered) {
@@ -410,7 +426,7 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
 
 void ObjectTracker::KeepReachable(std::vector<Eigen::Vector3d>* centres_c) const {
   const double zone_reach_m =
-      reacquire_zone_c_ ? reacquire_zone_c_->second + model_.box_radius_m : 0.0;
+      reacquire_zone_c_ ? reacquire_zone_c_->second + model_->box_radius_m : 0.0;
   centres_c->erase(std::remove_if(centres_c->begin(), centres_c->end(),
                                   [&](const Eigen::Vector3d& c) {
                                     return c.norm() < options_.min_global_range_m ||
@@ -448,7 +464,7 @@ std::vector<Eigen::Vector3d> ObjectTracker::SearchCentres(
     return centres_c;
   }
   // The last known place first; on the whole frame, then the rest of it, nearest first.
-  if (prior) centres_c.push_back(*prior * model_.box_center_o);
+  if (prior) centres_c.push_back(*prior * model_->box_center_o);
   if (report.crop.width() != depth.width || report.crop.height() != depth.height) return centres_c;
   // A grid of boxes over the frame.
   std::vector<Eigen::Vector3d> grid;
@@ -464,7 +480,7 @@ std::vector<Eigen::Vector3d> ObjectTracker::SearchCentres(
   if (prior) {
     // Only where a re-found pose may lie.
     if (reacquire_zone_c_) {
-      const double reach_m = reacquire_zone_c_->second + model_.box_radius_m;
+      const double reach_m = reacquire_zone_c_->second + model_->box_radius_m;
       grid.erase(std::remove_if(grid.begin(), grid.end(),
                                 [&](const Eigen::Vector3d& c) {
                                   return (c - reacquire_zone_c_->first).norm() > reach_m;
@@ -570,11 +586,11 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& ca
     if (report.detection) {
       report.crop = report.detection->box.Grown(options_.box_margin);
     } else if (ekf_.initialized()) {
-      report.crop = ScorePoseSupport(model_, *prior, {}, depth, depth_scale_m, K)
+      report.crop = ScorePoseSupport(*model_, *prior, {}, depth, depth_scale_m, K)
                         .box.Grown(options_.box_margin);
     } else if (!detector_ || whole_frame_fallback || initial_cMo_) {
       report.crop = initial_cMo_
-                        ? ScorePoseSupport(model_, *initial_cMo_, {}, depth, depth_scale_m, K)
+                        ? ScorePoseSupport(*model_, *initial_cMo_, {}, depth, depth_scale_m, K)
                               .box.Grown(options_.box_margin)
                         : PixelBox{0, 0, depth.width, depth.height};
     }
@@ -650,8 +666,8 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& ca
       gated_in_a_row_ = 0;
     } else {
       meas = WithSymmetricRotation(
-          meas, ClosestSymmetricRotation(meas.linear(), ekf_.fMo().linear(), model_.symmetry),
-          model_.symmetry);
+          meas, ClosestSymmetricRotation(meas.linear(), ekf_.fMo().linear(), model_->symmetry),
+          model_->symmetry);
       const EkfUpdate update = ekf_.Update(meas, R);
       report.nis = update.nis;
       if (update.accepted) {

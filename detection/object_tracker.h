@@ -163,6 +163,13 @@ struct GlobalSearchStats {
   int max_frames = 0;     ///< the most frames one search took (ended ones)
 };
 
+/// The model cloud a tracker of `object` builds with these options (its
+/// symmetries the object's): built once, it can be given to every tracker of
+/// the same object and options (the seeded missions of one configuration).
+/// @throws std::invalid_argument as BuildModelCloud.
+std::shared_ptr<const ModelCloud> BuildTrackerModel(const ObjectModel& object,
+                                                    const ModelCloudOptions& options);
+
 class ObjectTracker {
  public:
   /// `detector` may be null: then every crop is the whole frame (global
@@ -170,6 +177,10 @@ class ObjectTracker {
   /// @throws ConfigError naming the option and its bound for options out of range.
   ObjectTracker(const ObjectModel& object, const PerceptionOptions& options,
                 std::unique_ptr<BoxDetector> detector);
+  /// The same with the model cloud built already (BuildTrackerModel of this
+  /// object and options.model; null: built here), shared with other trackers.
+  ObjectTracker(const ObjectModel& object, const PerceptionOptions& options,
+                std::unique_ptr<BoxDetector> detector, std::shared_ptr<const ModelCloud> model);
   ~ObjectTracker();
   ObjectTracker(const ObjectTracker&) = delete;
   ObjectTracker& operator=(const ObjectTracker&) = delete;
@@ -200,7 +211,7 @@ class ObjectTracker {
                       const std::optional<Eigen::Isometry3d>& wMc = std::nullopt,
                       const std::optional<ArmJointPositions>& arm_joints = std::nullopt);
 
-  const ModelCloud& model() const { return model_; }
+  const ModelCloud& model() const { return *model_; }
   const PerceptionOptions& options() const { return options_; }
   const GlobalSearchStats& global_stats() const { return global_stats_; }
   bool has_detector() const { return detector_ != nullptr; }
@@ -253,7 +264,7 @@ class ObjectTracker {
 
   PerceptionOptions options_;
   IcpOptions frame_icp_;  ///< options_.icp with the depth noise scaled to this frame's width
-  ModelCloud model_;
+  std::shared_ptr<const ModelCloud> model_;  ///< never null; ForgetColorsInBox copies it
   std::unique_ptr<BoxDetector> detector_;
   std::unique_ptr<GlobalRegistration> global_;
   std::unique_ptr<RobotSelfFilter> self_filter_;  ///< SetRobot's, when enabled

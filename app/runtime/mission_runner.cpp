@@ -148,10 +148,10 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
   const Platform& platform = hw_->platform();
 
   object_ = std::make_unique<ObjectModel>(LoadMissionObject(options, world));
-  tracker_ = MakeMissionTracker(*object_, config_);
-  tracker_->SetRobot(platform);  // the arms' own pixels leave the depth
   const std::shared_ptr<const MissionSetup> setup =
       MissionSetupFor(options, platform, *object_, config_);
+  tracker_ = MakeMissionTracker(*object_, config_, setup->tracker_model);
+  tracker_->SetRobot(platform);  // the arms' own pixels leave the depth
   planner_ = setup->planner;
   const std::string placement = PlaceMissionObject(*setup, &config_);
   if (!placement.empty()) Log(Now(), placement);

@@ -71,14 +71,18 @@ ObjectModel LoadMissionObject(const std::string& object, const World* world) {
   return ObjectModel::Load(object.empty() ? "crawler" : object);
 }
 
+PerceptionOptions LoadMissionPerception(const MissionConfig& config) {
+  return config.perception.empty() ? PerceptionOptions{} : LoadPerceptionOptions(config.perception);
+}
+
 std::unique_ptr<ObjectTracker> MakeMissionTracker(const ObjectModel& object,
-                                                  const MissionConfig& config) {
+                                                  const MissionConfig& config,
+                                                  std::shared_ptr<const ModelCloud> model) {
   std::unique_ptr<BoxDetector> detector;
   const std::string onnx = ObjectDetectorPath(object);
   if (!onnx.empty()) detector = std::make_unique<BoxDetector>(onnx);
-  const PerceptionOptions perception =
-      config.perception.empty() ? PerceptionOptions{} : LoadPerceptionOptions(config.perception);
-  return std::make_unique<ObjectTracker>(object, perception, std::move(detector));
+  return std::make_unique<ObjectTracker>(object, LoadMissionPerception(config), std::move(detector),
+                                         std::move(model));
 }
 
 std::unique_ptr<GraspPlanner> MakeMissionPlanner(const Platform& platform,
@@ -99,7 +103,9 @@ std::shared_ptr<const MissionSetup> MissionSetupFor(const MissionOptions& option
                                                     const MissionConfig& config) {
   const std::string key =
       fmt::format("{}\n{}\n{}", config.source, platform.config().source, object.source);
-  if (options.setup && options.setup->key == key && options.setup->planner) return options.setup;
+  if (options.setup && options.setup->key == key && options.setup->planner &&
+      options.setup->tracker_model)
+    return options.setup;
   auto setup = std::make_shared<MissionSetup>();
   setup->key = key;
   setup->planner = MakeMissionPlanner(platform, object, config);
@@ -107,6 +113,7 @@ std::shared_ptr<const MissionSetup> MissionSetupFor(const MissionOptions& option
     setup->placement = ChoosePlacement(*setup->planner, config.grasp_dto_m, config.placement,
                                        platform.home(Side::kLeft), platform.home(Side::kRight));
   }
+  setup->tracker_model = BuildTrackerModel(object, LoadMissionPerception(config).model);
   if (options.setup) *options.setup = *setup;
   return setup;
 }

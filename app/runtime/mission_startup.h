@@ -9,12 +9,12 @@
 #include "app/runtime/mission_config.h"
 #include "app/runtime/mission_runner.h"
 #include "core/object_model.h"
+#include "detection/object_tracker.h"
 
 namespace aerograsp {
 
 class GraspPlanner;
 class Hardware;
-class ObjectTracker;
 class Platform;
 class World;
 struct DeviceHealthLimits;
@@ -46,10 +46,16 @@ ObjectModel LoadMissionObject(const MissionOptions& options, const World* world)
 /// or a model path; the crawler when empty).
 ObjectModel LoadMissionObject(const std::string& object, const World* world);
 
+/// The perception settings the config names (the code's defaults when none).
+/// @throws ConfigError on a bad file
+PerceptionOptions LoadMissionPerception(const MissionConfig& config);
+
 /// The tracker of `object` with the config's perception settings and the
-/// object's detector when it has one (detector.onnx beside its model).
-std::unique_ptr<ObjectTracker> MakeMissionTracker(const ObjectModel& object,
-                                                  const MissionConfig& config);
+/// object's detector when it has one (detector.onnx beside its model), on
+/// `model` (the setup's, BuildTrackerModel; null: built here).
+std::unique_ptr<ObjectTracker> MakeMissionTracker(
+    const ObjectModel& object, const MissionConfig& config,
+    std::shared_ptr<const ModelCloud> model = nullptr);
 
 /// The dual-grasp planner of `object` on `platform` with the config's settings.
 /// @throws ConfigError when the planner's fingers do not fit the gripper
@@ -57,11 +63,11 @@ std::unique_ptr<GraspPlanner> MakeMissionPlanner(const Platform& platform,
                                                  const ObjectModel& object,
                                                  const MissionConfig& config);
 
-/// The planner of `object` on `platform` (MakeMissionPlanner) and where the
+/// The planner of `object` on `platform` (MakeMissionPlanner), where the
 /// vehicle holds the object, searched for this object and these arms when the
-/// config's placement asks for it: options.setup's when it was built for this
-/// configuration (the same mission config, platform and object files), else
-/// built now, and options.setup (when given) filled with them.
+/// config's placement asks for it, and the tracker's model cloud: options.setup's when it was built
+/// for this configuration (the same mission config, platform and object files), else built now, and
+/// options.setup (when given) filled with them.
 std::shared_ptr<const MissionSetup> MissionSetupFor(const MissionOptions& options,
                                                     const Platform& platform,
                                                     const ObjectModel& object,

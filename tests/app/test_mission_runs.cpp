@@ -31,9 +31,12 @@ TEST(MissionSetupTest, ASharedSetupIsBuiltOnceAndFliesTheSameMission) {
   const std::string first = Log(options);
   ASSERT_TRUE(options.setup->planner);
   ASSERT_TRUE(options.setup->placement.has_value());
+  ASSERT_TRUE(options.setup->tracker_model);
   const GraspPlanner* planner = options.setup->planner.get();
+  const ModelCloud* tracker_model = options.setup->tracker_model.get();
   const std::string again = Log(options);
   EXPECT_EQ(options.setup->planner.get(), planner);  // reused, not built again
+  EXPECT_EQ(options.setup->tracker_model.get(), tracker_model);
   EXPECT_EQ(first, own);
   EXPECT_EQ(again, own);
 }
@@ -43,10 +46,12 @@ TEST(MissionSetupTest, AnotherConfigurationBuildsItsOwn) {
   options.setup = std::make_shared<MissionSetup>();
   Log(options);
   const GraspPlanner* crawler = options.setup->planner.get();
+  const std::shared_ptr<const ModelCloud> crawler_model = options.setup->tracker_model;
   const std::string crawler_key = options.setup->key;
   options.object = "pipe";
   Log(options);
   EXPECT_NE(options.setup->planner.get(), crawler);
+  EXPECT_NE(options.setup->tracker_model, crawler_model);
   EXPECT_NE(options.setup->key, crawler_key);
   EXPECT_EQ(options.setup->planner->object().name, "pipe");
 }

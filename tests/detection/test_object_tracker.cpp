@@ -111,6 +111,34 @@ TEST(ObjectTrackerTest, APlainMeshTracksTheTexturedObject) {
             2.0 * M_PI / 180);
 }
 
+// Trackers of one object and options may share one model cloud (the seeded
+// missions of one configuration): a tracker on the shared model measures every
+// frame as one that built its own, and forgetting colours in one tracker's
+// model leaves the shared one as it was.
+TEST(ObjectTrackerTest, ASharedModelTracksAsItsOwnAndForgettingColoursCopiesIt) {
+  const ObjectModel crawler = ObjectModel::Load("crawler");
+  const PerceptionOptions options;
+  const std::shared_ptr<const ModelCloud> shared = BuildTrackerModel(crawler, options.model);
+  ObjectTracker own(crawler, options, nullptr);
+  ObjectTracker on_shared(crawler, options, nullptr, shared);
+  EXPECT_EQ(&on_shared.model(), shared.get());
+  ColorImage color;
+  DepthImage depth;
+  for (int k = 0; k < 6; ++k) {
+    Scene().Render(TruthAt(k), true, &color, &depth);
+    const FrameReport a = own.Process(color, depth, k / 30.0, Scene().K(), 0.001);
+    const FrameReport b = on_shared.Process(color, depth, k / 30.0, Scene().K(), 0.001);
+    EXPECT_EQ(a.measured, b.measured) << k;
+    EXPECT_EQ(a.estimate.state, b.estimate.state) << k;
+    EXPECT_TRUE(a.estimate.cMo.isApprox(b.estimate.cMo, 0.0)) << k;
+  }
+  ASSERT_TRUE(shared->has_colors());
+  on_shared.ForgetColorsInBox(Eigen::Isometry3d::Identity(), Eigen::Vector3d(1.0, 1.0, 1.0));
+  EXPECT_NE(&on_shared.model(), shared.get());
+  EXPECT_FALSE(on_shared.model().color_known(0));
+  EXPECT_TRUE(shared->color_known(0));
+}
+
 // With a small budget the search (around the detector's box) spreads over
 // frames, and never does more work than the frames so far have paid for
 // (counted in pairings, not time); it still finds the object.
