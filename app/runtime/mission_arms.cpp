@@ -188,11 +188,11 @@ std::optional<std::string> GraspArms::Step(double t, double dt_s, const FollowVi
       anchored_[a] = true;
     }
     // A target that stood while the object moved (re-solve and carry both
-    // refused) is not closed on.
+    // refused) is not closed on, unless a gripper holds the object.
     const double offset_m =
         anchored_[a] ? (reached_bMg_[a].translation() - (bMo * anchor_oMg_[a]).translation()).norm()
                      : 0.0;
-    const bool hold_close = !TargetOnObject(offset_m, policy_);
+    const bool hold_close = !view.a_gripper_holds && !TargetOnObject(offset_m, policy_);
     if (hold_close && !close_held_[a] && sequence_[a]->phase() == GraspPhase::kGrasp) {
       log_(
           fmt::format("servo   {} arm: no close: its target stands {:.1f} mm from its grasp on "

@@ -41,6 +41,9 @@ struct FollowView {
   Eigen::Isometry3d dMo = Eigen::Isometry3d::Identity();  ///< the object now, in d
   double stamp_s = 0.0;               ///< when that pose was observed (targets age from it)
   bool object_held_in_world = false;  ///< briefly lost: held at its last world pose
+  /// A gripper holds the object (which its arm carries and moves): a target
+  /// standing off the estimate then says little, the close is not held back.
+  bool a_gripper_holds = false;
 };
 
 class GraspArms {

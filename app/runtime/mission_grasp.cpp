@@ -304,6 +304,7 @@ void GraspScheduler::Servo(double t, double dt_s) {
     FollowView view;
     view.dMo = dMo_now_();
     view.object_held_in_world = object_->HeldInWorld(t);
+    view.a_gripper_holds = a_gripper_holds_;
     view.stamp_s =
         view.object_held_in_world || object_->holder() >= 0 ? t : object_->last_found_stamp_s();
     emergency = arms_.Step(t, dt_s, view, policy_.followed, driver_);
