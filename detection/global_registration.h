@@ -36,6 +36,10 @@ struct GlobalRegistrationOptions {
   /// Independent RANSAC runs (seeds seed, seed+1, ...), >= 0; must be 0 when
   /// work_per_frame bounds the search.
   int attempts = 0;
+  /// Feature matching (attempts > 0) also on a whole-frame search (no
+  /// detector's box: the cloud is the whole frame, whole_frame_points); false:
+  /// only on a detector's crop, a whole-frame search is its hypotheses alone.
+  bool whole_frame_features = true;
   int orientations = 64;         ///< orientation hypotheses around a known centre (0: off)
   int refined_orientations = 3;  ///< the best of them refined with the full ICP
   double inlier_fraction = 0.3;  ///< of the scene points, for a RANSAC hypothesis to count

@@ -365,9 +365,9 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
       if (refined[k].ok) ranked.emplace_back(refined[k], &near[k]);
     }
     // Feature matching: only without a bound (its cost has none), once the
-    // hypotheses' candidates are all in.
+    // hypotheses' candidates are all in; on the whole frame only when asked.
     std::vector<SceneCloud> feature_near;
-    if (!budget.bounded() && !blocked) {
+    if (!budget.bounded() && !blocked && (options_.global.whole_frame_features || !s.whole_frame)) {
       const std::vector<IcpResult> features = global_->FeatureCandidates(cloud, frame_icp_);
       feature_near.reserve(features.size());
       for (const IcpResult& r : features) {

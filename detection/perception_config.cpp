@@ -55,11 +55,13 @@ void ReadIcp(const ConfigNode& n, IcpOptions* i) {
 
 void ReadGlobal(const ConfigNode& n, GlobalRegistrationOptions* g) {
   n.RequireOnlyKeys({"voxel_m", "feature_radius_m", "max_iterations", "attempts", "orientations",
-                     "refined_orientations", "inlier_fraction", "seed", "work_per_frame"});
+                     "refined_orientations", "inlier_fraction", "seed", "work_per_frame",
+                     "whole_frame_features"});
   g->voxel_m = n.GetDouble("voxel_m", g->voxel_m);
   g->feature_radius_m = n.GetDouble("feature_radius_m", g->feature_radius_m);
   g->max_iterations = n.GetInt("max_iterations", g->max_iterations);
   g->attempts = n.GetInt("attempts", g->attempts);
+  g->whole_frame_features = n.GetBool("whole_frame_features", g->whole_frame_features);
   g->orientations = n.GetInt("orientations", g->orientations);
   g->refined_orientations = n.GetInt("refined_orientations", g->refined_orientations);
   g->inlier_fraction = n.GetDouble("inlier_fraction", g->inlier_fraction);

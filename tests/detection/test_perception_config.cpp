@@ -44,6 +44,7 @@ void ExpectSameOptions(const PerceptionOptions& a, const PerceptionOptions& b) {
   EXPECT_SAME_FIELD(global.feature_radius_m);
   EXPECT_SAME_FIELD(global.max_iterations);
   EXPECT_SAME_FIELD(global.attempts);
+  EXPECT_SAME_FIELD(global.whole_frame_features);
   EXPECT_SAME_FIELD(global.orientations);
   EXPECT_SAME_FIELD(global.refined_orientations);
   EXPECT_SAME_FIELD(global.inlier_fraction);
@@ -217,6 +218,7 @@ TEST_F(PerceptionConfigTest, TheMissionFileSearchesWithoutABound) {
       LoadPerceptionOptions(DataPath("config/perception_mission.yaml"));
   EXPECT_EQ(mission.global.work_per_frame, 0);
   EXPECT_EQ(mission.global.attempts, 2);
+  EXPECT_FALSE(mission.global.whole_frame_features);
 }
 
 }  // namespace
