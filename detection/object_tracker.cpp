@@ -51,6 +51,8 @@ void PerceptionOptions::Validate(const std::string& source, const std::string& p
   Require(measurement_position_std_m > 0.0, "measurement_position_std_m", "must be > 0");
   Require(weak_direction_std_m >= 0.0 && weak_direction_std_m <= 1.0, "weak_direction_std_m",
           "must be in [0, 1] m");
+  Require(weak_direction_min_drop >= 0 && weak_direction_min_drop <= 100000,
+          "weak_direction_min_drop", "must be in [0, 100000] points");
   Require(measurement_rotation_std_rad > 0.0, "measurement_rotation_std_rad", "must be > 0");
   Require(icp.max_iterations >= 1 && icp.max_iterations <= 100, "icp.max_iterations",
           "must be in [1, 100]");
@@ -706,6 +708,9 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& ca
   e.stamp_s = stamp_s;
   e.confidence = confidence;
   e.state = state;
+  e.weak_direction_fixed = report.measured && !report.gated &&
+                           (report.icp.weak_ratio >= options_.weak_direction_ratio ||
+                            report.outline_drop >= options_.weak_direction_min_drop);
   if (ekf_.initialized()) {
     e.valid = true;
     e.fMo = ekf_.fMo();

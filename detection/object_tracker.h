@@ -88,6 +88,10 @@ struct PerceptionOptions {
   /// setting only with the camera's pose given to Process (a filter in the
   /// world, where the object moves slowly); 0 leaves the noise isotropic.
   double weak_direction_std_m = 0.0;
+  /// A slide along the weak direction whose outline support drops by at least
+  /// this many points a probe away fixes the pose along it
+  /// (ObjectEstimate::weak_direction_fixed), [0, 100000] points.
+  int weak_direction_min_drop = 50;
   /// Checks every field, the stages' options included (the bounds in their
   /// comments; detection/perception_config.h reads them from a file).
   /// `prefix` is the key path of this section in its file, ending in "." ("" at
@@ -116,6 +120,11 @@ struct ObjectEstimate {
   Eigen::Vector3d w_c = Eigen::Vector3d::Zero();  ///< rad/s in f, expressed in c
   double confidence = 0.0;                        ///< [0, 1]
   TrackState state = TrackState::kLost;
+  /// This frame measured the pose along every direction: ICP left no weak
+  /// direction, or the outline fixed the slide along it (at least
+  /// weak_direction_min_drop points). False when not measured, or along an
+  /// extrusion seen without its ends.
+  bool weak_direction_fixed = false;
 };
 
 /// Milliseconds of CPU time per stage of one frame (detect_ms 0 on a frame the

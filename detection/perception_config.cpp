@@ -143,7 +143,8 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path,
                         "measurement_rotation_std_rad",
                         "gated_frames_to_reset",
                         "weak_direction_ratio",
-                        "weak_direction_std_m"});
+                        "weak_direction_std_m",
+                        "weak_direction_min_drop"});
   PerceptionOptions o = defaults;
   if (root.Has("model")) ReadModel(root.Child("model"), &o.model);
   if (root.Has("cloud")) ReadCloud(root.Child("cloud"), &o.cloud);
@@ -175,6 +176,7 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path,
   o.gated_frames_to_reset = root.GetInt("gated_frames_to_reset", o.gated_frames_to_reset);
   o.weak_direction_ratio = root.GetDouble("weak_direction_ratio", o.weak_direction_ratio);
   o.weak_direction_std_m = root.GetDouble("weak_direction_std_m", o.weak_direction_std_m);
+  o.weak_direction_min_drop = root.GetInt("weak_direction_min_drop", o.weak_direction_min_drop);
 
   o.Validate(path, "");
   return o;

@@ -33,7 +33,7 @@ void GraspPolicyConfig::Validate(const std::string& source, const std::string& p
   CheckRange(source, prefix + "max_reaims", max_reaims, 0, 100, "");
   CheckRange(source, prefix + "reaim_wait_s", reaim_wait_s, 0.0, 60.0, "s");
   CheckRange(source, prefix + "home_tolerance_m", home_tolerance_m, 1e-6, 0.2, "m");
-  CheckRange(source, prefix + "close_target_offset_m", close_target_offset_m, 0.0, 1.0, "m");
+  CheckRange(source, prefix + "target_on_object_m", target_on_object_m, 1e-6, 0.2, "m");
 }
 
 bool ShouldPlan(bool planner_idle, bool object_found, double off_m,
@@ -123,10 +123,6 @@ bool Closing(GraspPhase left, GraspPhase right) {
   return closing(left) || closing(right);
 }
 
-bool TargetOnObject(double target_offset_m, const GraspPolicyConfig& config) {
-  return config.close_target_offset_m <= 0.0 || target_offset_m < config.close_target_offset_m;
-}
-
 bool OnFollowedBranch(const Eigen::VectorXd& q_new_rad, const Eigen::VectorXd& q_last_rad,
                       double since_s, const GraspPolicyConfig& config) {
   return (q_new_rad - q_last_rad).cwiseAbs().maxCoeff() <
@@ -140,6 +136,16 @@ std::optional<std::string> PlanningGiveUp(double planning_for_s, bool object_fou
              ? fmt::format("no feasible dual grasp within {:.0f} s", config.planning_timeout_s)
              : fmt::format("the object was not in view for {:.0f} s to plan again",
                            config.planning_timeout_s);
+}
+
+bool TargetOnObject(const Eigen::Vector3d& target_d, const Eigen::Vector3d& grasp_d,
+                    const GraspPolicyConfig& config) {
+  return (target_d - grasp_d).norm() <= config.target_on_object_m;
+}
+
+int CarryingGripper(const AttemptView& view) {
+  if (view.holds[0] == view.holds[1]) return -1;
+  return view.holds[0] ? 0 : 1;
 }
 
 AttemptDecision DecideAttempt(const AttemptView& view, const GraspPolicyState& state,
@@ -158,8 +164,7 @@ AttemptDecision DecideAttempt(const AttemptView& view, const GraspPolicyState& s
   // One gripper holds: it stays closed (opened, it would drop the object).
   // Once it has closed and the other's attempt has ended (closed on nothing,
   // timed out, or the object hidden by the fingers), the free arm aims again.
-  if (view.holds[0] != view.holds[1]) {
-    const int holder = view.holds[0] ? 0 : 1;
+  if (const int holder = CarryingGripper(view); holder >= 0) {
     const GraspPhase free_phase = view.phase[1 - holder];
     const bool free_ended =
         free_phase == GraspPhase::kDone || free_phase == GraspPhase::kTimedOut || !retry.empty();

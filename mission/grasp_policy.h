@@ -16,10 +16,12 @@
 //  - IK-branch gate: a followed pair solved again is taken only on the IK
 //    branch it was followed on (OnFollowedBranch);
 //  - close: both arms at their pre-catch poses, settle_s there, then in and
-//    close, only on a target on the object as it is now (TargetOnObject);
-//    grasped when both grippers hold (NextPlannerStep);
+//    close, each only on a target on the object (TargetOnObject); grasped
+//    when both grippers hold (NextPlannerStep);
 //  - retry: an arm's sequence timed out, the object lost for lost_timeout_s,
 //    or both grippers closed without holding (DecideAttempt);
+//  - carried: from the moment one gripper holds, the object moves with it
+//    (CarryingGripper) and that arm keeps still;
 //  - re-aim: one gripper holds, the other's attempt ended: the free arm aims
 //    at the pair clear of edges, nearest its joints, that clears the holding
 //    arm, at most max_reaims times an attempt; with no such pair the holder
@@ -74,11 +76,9 @@ struct GraspPolicyConfig {
   /// estimate is refined frame by frame), before the attempt ends, [0, 60] s.
   double reaim_wait_s{2.0};
   double home_tolerance_m{0.01};  ///< an arm this near its home tool position is back, (0, 0.2] m
-  /// An arm whose grasp target stands this far or more from its grasp on the
-  /// object as the estimate has it now (the re-solve and the carry both
-  /// refused while the object moved) does not close, [0, 1] m; 0: no such
-  /// check (an arm closes where its target stands once it is there).
-  double close_target_offset_m{0.0};
+  /// An arm closes only on a target this near its grasp on the object's
+  /// current estimate, (0, 0.2] m (TargetOnObject).
+  double target_on_object_m{0.01};
 
   /// @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
   void Validate(const std::string& source, const std::string& prefix) const;
@@ -148,11 +148,6 @@ bool Closing(GraspPhase left, GraspPhase right);
 bool OnFollowedBranch(const Eigen::VectorXd& q_new_rad, const Eigen::VectorXd& q_last_rad,
                       double since_s, const GraspPolicyConfig& config);
 
-/// Whether an arm at its grasp pose may close: its target lies within
-/// close_target_offset_m of its grasp on the object as the estimate has it now
-/// (always when that is 0).
-bool TargetOnObject(double target_offset_m, const GraspPolicyConfig& config);
-
 /// Give up planning: no plan for planning_timeout_s. The cause, or none.
 std::optional<std::string> PlanningGiveUp(double planning_for_s, bool object_found,
                                           const GraspPolicyConfig& config);
@@ -181,6 +176,10 @@ struct AttemptDecision {
   std::string reason;  ///< kRetry: one line
 };
 
+/// The gripper that carries the object: the only one holding it (0 left,
+/// 1 right), else -1. From its first hold the object moves with that gripper.
+int CarryingGripper(const AttemptView& view);
+
 /// Retry reasons and the re-aim rule (see the file comment).
 AttemptDecision DecideAttempt(const AttemptView& view, const GraspPolicyState& state,
                               const GraspPolicyConfig& config);
@@ -195,6 +194,14 @@ PlannerStep NextPlannerStep(PlannerState state, bool both_at_precatch, double ti
 /// (cost_rad). The index, or -1 when none clears.
 int RankReaim(const std::vector<ArmGrasp>& candidates,
               const std::function<bool(const ArmGrasp&)>& clears);
+
+/// The close gate: the arm's target (target_d) lies within target_on_object_m
+/// of its grasp on the object's current estimate (grasp_d), both in the body
+/// frame. A target that could not follow the object (out of reach, or on
+/// another IK branch, for a while) has fallen behind it and closing there
+/// closes on nothing.
+bool TargetOnObject(const Eigen::Vector3d& target_d, const Eigen::Vector3d& grasp_d,
+                    const GraspPolicyConfig& config);
 
 /// While the object is briefly lost (lost_for_s in [0, lost_timeout_s]) after
 /// it was seen within the tracking radius, it is held at its last world pose.

@@ -36,12 +36,17 @@ GraspSequence::GraspSequence(ArmServo* servo, const GraspSequenceConfig& config)
 
 void GraspSequence::Start(double now_s) {
   servo_->Reset();
+  target_on_object_ = true;
   Enter(GraspPhase::kPreCatch, now_s);
 }
 
 void GraspSequence::Enter(GraspPhase phase, double now_s) {
   phase_ = phase;
   phase_start_s_ = now_s;
+}
+
+void GraspSequence::GripperHolds(double now_s) {
+  if (phase_ == GraspPhase::kClose) Enter(GraspPhase::kDone, now_s);
 }
 
 void GraspSequence::SetGrasp(const Eigen::Isometry3d& bMg, double stamp_s, bool is_switch) {
@@ -101,7 +106,7 @@ GraspPhase GraspSequence::Step(const Eigen::VectorXd& q, double now_s, double dt
       }
       break;
     case GraspPhase::kGrasp:
-      if (!hold_close_) {
+      if (target_on_object_) {
         advance(config_.grasp_tolerance, config_.grasp_timeout_s, GraspPhase::kClose);
       } else if (in_phase_s > config_.grasp_timeout_s) {
         Enter(GraspPhase::kTimedOut, now_s);

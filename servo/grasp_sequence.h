@@ -68,14 +68,19 @@ class GraspSequence {
   GraspPhase Step(const Eigen::VectorXd& q, double now_s, double dt_s, GraspCommand* out);
 
   GraspPhase phase() const { return phase_; }
+  /// The gripper reports that it holds the object: a close in progress ends
+  /// here (kDone) and the arm keeps still from now on. The object moves with a
+  /// gripper that holds it, so servoing on towards a target taken from the
+  /// object's estimate would only drag the object (and the estimate) along.
+  void GripperHolds(double now_s);
+  /// While false the grasp pose does not count as reached (the arm servoes
+  /// on but does not close, its phase clock running): the caller says whether
+  /// the target still lies on the object. True by default and after Start.
+  void SetTargetOnObject(bool on_object) { target_on_object_ = on_object; }
   /// While `hold` is set the sequence stays at the pre-catch pose once it is
   /// reached (tracking it, its phase clock paused) instead of moving in: the
   /// two arms go in together (paper Fig. 7b, "approaching pose").
   void HoldAtPreCatch(bool hold) { hold_at_precatch_ = hold; }
-  /// While `hold` is set the grasp phase does not close, even at the grasp
-  /// pose (its target stands off the object: the pads would shut beside it);
-  /// its clock runs on, so a lasting hold ends in kTimedOut.
-  void HoldClose(bool hold) { hold_close_ = hold; }
   /// True while in the pre-catch phase with the pre-catch pose met.
   bool at_precatch() const { return at_precatch_; }
   /// The pre-catch pose for a grasp: bMg moved back precatch_distance_m along z_g.
@@ -94,8 +99,8 @@ class GraspSequence {
   double grasp_stamp_s_ = 0.0;
   bool switch_pending_ = false;  // passed to the servo with the next target
   bool hold_at_precatch_ = false;
-  bool hold_close_ = false;
   bool at_precatch_ = false;
+  bool target_on_object_ = true;
 };
 
 }  // namespace aerograsp

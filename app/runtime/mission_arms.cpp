@@ -187,24 +187,24 @@ std::optional<std::string> GraspArms::Step(double t, double dt_s, const FollowVi
       anchor_oMp_[a] = bMo.inverse() * reached_bMp_[a];
       anchored_[a] = true;
     }
-    // A target that stood while the object moved (re-solve and carry both
-    // refused) is not closed on, unless a gripper holds the object.
-    const double offset_m =
-        anchored_[a] ? (reached_bMg_[a].translation() - (bMo * anchor_oMg_[a]).translation()).norm()
-                     : 0.0;
-    const bool hold_close = !view.a_gripper_holds && !TargetOnObject(offset_m, policy_);
-    if (hold_close && !close_held_[a] && sequence_[a]->phase() == GraspPhase::kGrasp) {
+    // The anchor is the followed grasp on the object as last solved exactly.
+    const Eigen::Vector3d grasp_b = (bMo * anchor_oMg_[a]).translation();
+    const bool on_object =
+        !anchored_[a] || TargetOnObject(reached_bMg_[a].translation(), grasp_b, policy_);
+    if (!on_object && target_on_object_[a] && sequence_[a]->phase() == GraspPhase::kGrasp) {
       log_(
-          fmt::format("servo   {} arm: no close: its target stands {:.1f} mm from its grasp on "
-                      "the object as estimated now (target last solved {:.0f} ms before)",
-                      kArmNames[a], 1e3 * offset_m, 1e3 * (t - reached_stamp_s_[a])));
+          fmt::format("servo   {} arm: its target is {:.1f} mm off its grasp on the object (out of "
+                      "reach for {:.0f} ms): not closing there",
+                      kArmNames[a], 1e3 * (reached_bMg_[a].translation() - grasp_b).norm(),
+                      1e3 * (t - reached_stamp_s_[a])));
     }
-    close_held_[a] = hold_close && sequence_[a]->phase() == GraspPhase::kGrasp;
-    sequence_[a]->HoldClose(hold_close);
+    target_on_object_[a] = on_object;
+    sequence_[a]->SetTargetOnObject(on_object);
     sequence_[a]->SetGrasp(reached_bMg_[a], reached_bMp_[a], view.stamp_s, switch_pending_[a]);
     switch_pending_[a] = false;
     GraspCommand command;
     const GraspPhase phase_before = sequence_[a]->phase();
+    if (view.holds[a]) sequence_[a]->GripperHolds(t);
     sequence_[a]->Step(q_[a], t, dt_s, &command);
     if (evaluator_ && phase_before != GraspPhase::kClose && command.phase == GraspPhase::kClose) {
       ClosingView closing;

@@ -41,9 +41,7 @@ struct FollowView {
   Eigen::Isometry3d dMo = Eigen::Isometry3d::Identity();  ///< the object now, in d
   double stamp_s = 0.0;               ///< when that pose was observed (targets age from it)
   bool object_held_in_world = false;  ///< briefly lost: held at its last world pose
-  /// A gripper holds the object (which its arm carries and moves): a target
-  /// standing off the estimate then says little, the close is not held back.
-  bool a_gripper_holds = false;
+  bool holds[2] = {false, false};     ///< the grippers' last readings (left, right)
 };
 
 class GraspArms {
@@ -101,8 +99,8 @@ class GraspArms {
 
   const Platform& platform_;
   const GraspPlanner& planner_;
-  bool close_held_[2] = {false, false};  // a close held back was logged
   const GraspPolicyConfig policy_;
+  bool target_on_object_[2] = {true, true};  // at the last cycle (TargetOnObject)
   const Eigen::VectorXd* q_;
   MissionEvaluator* evaluator_;
   std::function<void(const std::string&)> log_;

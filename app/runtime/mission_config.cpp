@@ -60,6 +60,7 @@ std::vector<Field> Fields(MissionConfig* c) {
       {"", "object_filter_s", &c->object_filter_s},
       {"", "vehicle_lag_s", &c->vehicle_lag_s},
       {"", "predict_max_s", &c->predict_max_s},
+      {"", "length_fit_s", &c->length_fit_s},
       {"", "search_timeout_s", &c->search_timeout_s},
       {"", "timeout_s", &c->timeout_s},
       {"", "servo_margin_m", &c->servo_margin_m},
@@ -87,7 +88,7 @@ std::vector<Field> Fields(MissionConfig* c) {
                      {"policy", "max_reaims", &p.max_reaims},
                      {"policy", "reaim_wait_s", &p.reaim_wait_s},
                      {"policy", "home_tolerance_m", &p.home_tolerance_m},
-                     {"policy", "close_target_offset_m", &p.close_target_offset_m}});
+                     {"policy", "target_on_object_m", &p.target_on_object_m}});
   GraspPlannerConfig& g = c->planner;
   f.insert(f.end(), {{"planner", "depth_min_m", &g.depth_min_m},
                      {"planner", "depth_max_m", &g.depth_max_m},
@@ -270,6 +271,7 @@ void MissionConfig::Validate(const std::string& source, const std::string& prefi
   CheckRange(s, prefix + "object_filter_s", object_filter_s, 1e-6, 10.0, "s");
   CheckRange(s, prefix + "vehicle_lag_s", vehicle_lag_s, 0.0, 5.0, "s");
   CheckRange(s, prefix + "predict_max_s", predict_max_s, 0.0, 1.0, "s");
+  CheckRange(s, prefix + "length_fit_s", length_fit_s, 0.0, 30.0, "s");
   CheckRange(s, prefix + "search_timeout_s", search_timeout_s, 1e-6, 600.0, "s");
   CheckRange(s, prefix + "timeout_s", timeout_s, 1e-6, 3600.0, "s");
   CheckRange(s, prefix + "servo_margin_m", servo_margin_m, 0.0, 0.05, "m");

@@ -60,6 +60,10 @@ struct MissionConfig {
   /// The estimate is moved on with its velocity to the present, at most this
   /// far ahead of its frame, [0, 1] s.
   double predict_max_s{0.2};
+  /// While an attempt runs, the object's position along its length comes
+  /// from its motion fitted over the frames of this long before the attempt
+  /// (the fingers hide its ends), [0, 30] s; 0: from every frame.
+  double length_fit_s{3.0};
   /// at the waypoint without finding the object: give up, (0, 600] s
   double search_timeout_s{20.0};
   double timeout_s{180.0};       ///< the whole mission, (0, 3600] s

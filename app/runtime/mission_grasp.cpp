@@ -140,6 +140,7 @@ bool GraspScheduler::StartPlan(double t, const AskedPlan& asked) {
   logged_no_grasp_ = false;
   retracting_ = false;
   policy_.followed = {best->left.pair, best->right.pair};
+  object_->LockLength();
   arms_.Start(*best, query.dMo, t);
   ++result_->attempts;
   sm_.arms->Move(t, "servoing to the pre-catch poses");
@@ -155,6 +156,7 @@ void GraspScheduler::StopArms(double t, const std::string& cause) {
   arms_.Hold(driver_);
   for (int a = 0; a < 2; ++a) driver_->SetGripper(kSides[a], GripperCommand::kOpen);
   a_gripper_holds_ = false;  // opened, neither holds
+  gripper_holds_[0] = gripper_holds_[1] = false;
 }
 
 void GraspScheduler::Plan(double t) {
@@ -189,6 +191,13 @@ void GraspScheduler::Plan(double t) {
     const GripperState g = driver_->Gripper(kSides[a]);
     view.holds[a] = g.holding;
     view.aperture_m[a] = g.aperture_m;
+    gripper_holds_[a] = g.holding;
+  }
+  const int carrier = CarryingGripper(view);
+  if (carrier >= 0 && object_->holder() < 0) {
+    object_->CarriedBy(carrier, dMo_now_());
+    log_(fmt::format("planner: the {} gripper holds the object: it moves with that gripper now",
+                     kArmNames[carrier]));
   }
   view.lost_for_s = object_->lost_for_s(t);
   view.one_gripper_carries = object_->holder() >= 0;
@@ -304,7 +313,7 @@ void GraspScheduler::Servo(double t, double dt_s) {
     FollowView view;
     view.dMo = dMo_now_();
     view.object_held_in_world = object_->HeldInWorld(t);
-    view.a_gripper_holds = a_gripper_holds_;
+    for (int a = 0; a < 2; ++a) view.holds[a] = gripper_holds_[a];
     view.stamp_s =
         view.object_held_in_world || object_->holder() >= 0 ? t : object_->last_found_stamp_s();
     emergency = arms_.Step(t, dt_s, view, policy_.followed, driver_);

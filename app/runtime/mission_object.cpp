@@ -14,6 +14,7 @@ TrackedObject::TrackedObject(const MissionConfig& config, ObjectSymmetry symmetr
                              std::function<void(const std::string&)> log)
     : config_(config),
       symmetry_(std::move(symmetry)),
+      frame_period_s_(frame_period_s),
       alpha_(std::min(1.0, frame_period_s / config.object_filter_s)),
       dMe_(std::move(dMe)),
       log_(std::move(log)) {}
@@ -21,6 +22,30 @@ TrackedObject::TrackedObject(const MissionConfig& config, ObjectSymmetry symmetr
 void TrackedObject::Update(double t, const ObjectEstimate& estimate, const Eigen::Isometry3d& dMc) {
   estimate_ = estimate;
   found_ = estimate_.valid && estimate_.state == TrackState::kFound;
+  // The frames that placed the object along its length too fit its motion.
+  const Eigen::Vector3d measured_w = estimate_.fMo.translation();
+  if (found_ && estimate_.weak_direction_fixed && holder_ < 0 && config_.length_fit_s > 0.0 &&
+      !BeyondTrackingRadius(measured_w, config_)) {
+    length_frames_.push_back({estimate_.stamp_s, measured_w});
+    const double oldest_s = estimate_.stamp_s - config_.length_fit_s;
+    length_frames_.erase(
+        std::remove_if(length_frames_.begin(), length_frames_.end(),
+                       [&](const StampedPosition& p) { return p.stamp_s < oldest_s; }),
+        length_frames_.end());
+    if (length_) {
+      if (auto refit = FitAxisMotion(length_frames_, length_->axis_w, MinLengthFrames()))
+        length_ = refit;
+    }
+  }
+  if (length_ && estimate_.valid) {
+    // Along its length the object is where its fitted motion puts it.
+    const Eigen::Vector3d& u = length_->axis_w;
+    const Eigen::Vector3d p_w = estimate_.fMo.translation();
+    const Eigen::Isometry3d fMo_before = estimate_.fMo;
+    estimate_.fMo.translation() = length_->Constrain(p_w, estimate_.stamp_s);
+    estimate_.cMo = estimate_.cMo * fMo_before.inverse() * estimate_.fMo;
+    estimate_.v_f += (length_->v_mps - u.dot(estimate_.v_f)) * u;
+  }
   if (found_) {
     lost_since_s_ = -1.0;
     last_found_stamp_s_ = estimate_.stamp_s;
@@ -45,7 +70,13 @@ void TrackedObject::Update(double t, const ObjectEstimate& estimate, const Eigen
     // Its symmetric twin nearest the held pose, turned about the symmetry's centre.
     eMo = WithSymmetricRotation(
         eMo, ClosestSymmetricRotation(eMo.linear(), eMo_held_.linear(), symmetry_), symmetry_);
-    eMo_held_.translation() += alpha_ * (eMo.translation() - eMo_held_.translation());
+    // Along its length only from a frame that saw it (the fingers hide its ends).
+    Eigen::Vector3d step_e = eMo.translation() - eMo_held_.translation();
+    if (!estimate_.weak_direction_fixed) {
+      const Eigen::Vector3d x_e = eMo_held_.linear().col(0);
+      step_e -= x_e.dot(step_e) * x_e;
+    }
+    eMo_held_.translation() += alpha_ * step_e;
     eMo_held_.linear() = Eigen::Quaterniond(eMo_held_.linear())
                              .slerp(alpha_, Eigen::Quaterniond(eMo.linear()))
                              .normalized()
@@ -61,6 +92,30 @@ void TrackedObject::Update(double t, const ObjectEstimate& estimate, const Eigen
     wMo_last_ = estimate_.fMo;
     have_wMo_ = true;
   }
+}
+
+int TrackedObject::MinLengthFrames() const {
+  // Half the window's frames at the camera's rate.
+  return std::max(2, static_cast<int>(0.5 * config_.length_fit_s / frame_period_s_));
+}
+
+bool TrackedObject::LockLength() {
+  if (config_.length_fit_s <= 0.0 || !estimate_.valid) return false;
+  length_ = FitAxisMotion(length_frames_, estimate_.fMo.linear().col(0), MinLengthFrames());
+  if (length_) {
+    log_(
+        fmt::format("vision: along its length the object moves {:+.1f} mm/s (fitted over {} "
+                    "frames); that fit, not each frame, places it along its length until the "
+                    "attempt ends",
+                    1e3 * length_->v_mps, length_frames_.size()));
+  }
+  return length_.has_value();
+}
+
+void TrackedObject::Released() {
+  holder_ = -1;
+  length_.reset();
+  length_frames_.clear();
 }
 
 void TrackedObject::CarriedBy(int a, const Eigen::Isometry3d& dMo) {
@@ -87,6 +142,7 @@ Eigen::Isometry3d TrackedObject::dMo(double t, const Eigen::Isometry3d& wMd) con
   if (HeldInWorld(t)) {
     Eigen::Isometry3d wMo = wMo_last_;
     wMo.translation() += HeldDisplacement(t);
+    if (length_) wMo.translation() = length_->Constrain(wMo.translation(), t);
     return dMw * wMo;
   }
   // The filter runs in the world (the object crawls slowly there, while the

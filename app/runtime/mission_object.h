@@ -1,17 +1,21 @@
 // The object as the mission knows it, in one place: the tracker's estimate
 // (filtered in the world), its last pose seen within the tracking radius, a
-// low-passed world position the vehicle follows, and, while one gripper
-// carries it, where it sits in that gripper. dMo() answers where the object is
-// in the body frame now.
+// low-passed world position the vehicle follows, its motion along its length
+// fitted before an attempt (the fingers then hide its ends), and, while one
+// gripper carries it, where it sits in that gripper. dMo() answers where the
+// object is in the body frame now.
 #pragma once
 
 #include <Eigen/Geometry>
 #include <functional>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "app/runtime/mission_config.h"
 #include "detection/model_cloud.h"
 #include "detection/object_tracker.h"
+#include "mission/object_motion.h"
 
 namespace aerograsp {
 
@@ -28,8 +32,18 @@ class TrackedObject {
   /// Gripper a holds the object (the other re-aims): from now on it moves with
   /// that gripper, starting where the body-frame pose dMo puts it.
   void CarriedBy(int a, const Eigen::Isometry3d& dMo);
-  /// No gripper carries it any more (the attempt ended).
-  void Released() { holder_ = -1; }
+  /// No gripper carries it any more (the attempt ended): frames fit its
+  /// motion along its length again (LockLength).
+  void Released();
+  /// An attempt begins: until it ends, the object's position along its
+  /// length (x of o, the longest side) comes from its motion fitted over the
+  /// last length_fit_s of frames that placed it along its length
+  /// (ObjectEstimate::weak_direction_fixed; refitted on each new one), not
+  /// from each frame. False (nothing changes) when length_fit_s is 0 or too
+  /// few frames saw it.
+  bool LockLength();
+  /// The fitted motion while locked, else none.
+  const std::optional<AxisMotion>& length_motion() const { return length_; }
 
   /// The object in the body frame at t_s with the vehicle at wMd: in the
   /// holding gripper, at its last world pose moved on with its filtered
@@ -50,11 +64,14 @@ class TrackedObject {
   const Eigen::Vector3d& object_w_filtered() const { return object_w_filtered_; }
 
  private:
+  /// Frames a fit of the motion along the length needs.
+  int MinLengthFrames() const;
   /// How far the held pose has moved on from the last world pose at t_s.
   Eigen::Vector3d HeldDisplacement(double t_s) const;
 
   const MissionConfig& config_;
   ObjectSymmetry symmetry_;
+  double frame_period_s_;
   double alpha_;  // low-pass gain per frame
   std::function<Eigen::Isometry3d(int)> dMe_;
   std::function<void(const std::string&)> log_;
@@ -69,6 +86,8 @@ class TrackedObject {
   bool logged_beyond_ = false;
   int holder_ = -1;
   Eigen::Isometry3d eMo_held_ = Eigen::Isometry3d::Identity();  // in the holding gripper
+  std::vector<StampedPosition> length_frames_;  // found frames of the last length_fit_s
+  std::optional<AxisMotion> length_;            // while an attempt runs
 };
 
 }  // namespace aerograsp

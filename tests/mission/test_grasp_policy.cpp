@@ -162,17 +162,6 @@ TEST(GraspPolicyTest, AResolvedGraspOnAnotherIkBranchIsNotFollowed) {
 
 // ---- Close --------------------------------------------------------------------------
 
-TEST(GraspPolicyTest, AnArmDoesNotCloseOnATargetStandingOffTheObject) {
-  GraspPolicyConfig config;
-  config.close_target_offset_m = 0.01;
-  EXPECT_TRUE(TargetOnObject(0.0, config));
-  EXPECT_TRUE(TargetOnObject(0.009, config));
-  EXPECT_FALSE(TargetOnObject(0.01, config));
-  EXPECT_FALSE(TargetOnObject(0.1, config));
-  config.close_target_offset_m = 0.0;  // no check
-  EXPECT_TRUE(TargetOnObject(0.1, config));
-}
-
 TEST(GraspPolicyTest, ArmsSettleAtTheirPreCatchPosesBeforeMovingInAndCloseWhenBothHold) {
   GraspPolicyConfig config;
   config.settle_s = 0.2;
@@ -279,6 +268,17 @@ TEST(GraspPolicyTest, TheHoldingGripperFinishesClosingBeforeTheFreeArmReaims) {
             AttemptAction::kContinue);
 }
 
+TEST(GraspPolicyTest, TheObjectIsCarriedByTheOnlyGripperHoldingIt) {
+  AttemptView view;
+  EXPECT_EQ(CarryingGripper(view), -1);
+  view.holds[1] = true;
+  EXPECT_EQ(CarryingGripper(view), 1);
+  view.holds[0] = true;  // both: grasped, not carried by one
+  EXPECT_EQ(CarryingGripper(view), -1);
+  view.holds[1] = false;
+  EXPECT_EQ(CarryingGripper(view), 0);
+}
+
 TEST(GraspPolicyTest, PlanningGivesUpAfterItsTimeoutSayingWhy) {
   GraspPolicyConfig config;
   config.planning_timeout_s = 10.0;
@@ -310,6 +310,17 @@ TEST(GraspPolicyTest, ABrieflyLostObjectIsHeldAtItsLastWorldPose) {
   EXPECT_FALSE(HoldLastWorldPose(true, false, 2.5, config));   // lost too long
   EXPECT_FALSE(HoldLastWorldPose(true, true, -1.0, config));   // in view
   EXPECT_FALSE(HoldLastWorldPose(false, false, 1.0, config));  // never seen within the radius
+}
+
+TEST(GraspPolicyTest, AnArmClosesOnlyOnATargetNearItsGraspOnTheObject) {
+  GraspPolicyConfig config;
+  config.target_on_object_m = 0.01;
+  const Eigen::Vector3d grasp_d(0.1, -0.2, 0.45);
+  EXPECT_TRUE(TargetOnObject(grasp_d, grasp_d, config));
+  EXPECT_TRUE(TargetOnObject(grasp_d + Eigen::Vector3d(0.006, 0.0, -0.006), grasp_d, config));
+  EXPECT_FALSE(TargetOnObject(grasp_d + Eigen::Vector3d(0.0, 0.011, 0.0), grasp_d, config));
+  config.target_on_object_m = 0.0;
+  EXPECT_THROW(config.Validate("mission.yaml", "policy."), ConfigError);
 }
 
 TEST(GraspPolicyConfigTest, ABadValueNamesTheFileKeyAndBound) {

@@ -89,6 +89,108 @@ TEST(GraspSequenceTest, PreCatchThenGraspThenClose) {
   EXPECT_NEAR(close_steps * 0.01, config.close_time_s, 0.015);
 }
 
+TEST(GraspSequenceTest, AGripperThatHoldsEndsTheCloseAndTheArmKeepsStill) {
+  const ArmModel arm = Arm6();
+  ArmServo servo(arm, ServoConfig{});
+  GraspSequence sequence(&servo, GraspSequenceConfig{});
+  const Eigen::Isometry3d bMg = Grasp(arm);
+  Eigen::VectorXd q = Home6();
+  sequence.Start(0.0);
+  double t = 0.0;
+  GraspCommand cmd;
+  for (int k = 0; k < 800 && sequence.phase() != GraspPhase::kClose; ++k, t += 0.01) {
+    sequence.SetGrasp(bMg, t);
+    sequence.Step(q, t, 0.01, &cmd);
+    q = cmd.joints.q_target_rad;
+  }
+  ASSERT_EQ(sequence.phase(), GraspPhase::kClose);
+  // The object's estimate moves 3 cm while the pads close; the gripper then holds.
+  const Eigen::Isometry3d bMg_moved = Eigen::Translation3d(0.03, 0.0, 0.0) * bMg;
+  sequence.SetGrasp(bMg_moved, t);
+  sequence.Step(q, t, 0.01, &cmd);
+  EXPECT_EQ(cmd.phase, GraspPhase::kClose);
+  EXPECT_GT((cmd.joints.q_target_rad - q).norm(), 0.0);  // still servoing while closing
+  q = cmd.joints.q_target_rad;
+  t += 0.01;
+  const Eigen::VectorXd q_at_hold = q;
+  sequence.GripperHolds(t);
+  for (int k = 0; k < 50; ++k, t += 0.01) {
+    sequence.SetGrasp(bMg_moved, t);
+    sequence.Step(q, t, 0.01, &cmd);
+    EXPECT_EQ(cmd.phase, GraspPhase::kDone);
+    EXPECT_EQ(cmd.gripper, GripperCommand::kClose);
+    EXPECT_EQ(cmd.joints.q_target_rad, q_at_hold);
+    q = cmd.joints.q_target_rad;
+  }
+}
+
+TEST(GraspSequenceTest, ATargetOffTheObjectIsNotClosedOnAndTimesOut) {
+  const ArmModel arm = Arm6();
+  ArmServo servo(arm, ServoConfig{});
+  GraspSequenceConfig config;
+  GraspSequence sequence(&servo, config);
+  const Eigen::Isometry3d bMg = Grasp(arm);
+  Eigen::VectorXd q = Home6();
+  sequence.Start(0.0);
+  double t = 0.0;
+  GraspCommand cmd;
+  for (int k = 0; k < 800 && sequence.phase() != GraspPhase::kGrasp; ++k, t += 0.01) {
+    sequence.SetGrasp(bMg, t);
+    sequence.Step(q, t, 0.01, &cmd);
+    q = cmd.joints.q_target_rad;
+  }
+  ASSERT_EQ(sequence.phase(), GraspPhase::kGrasp);
+  sequence.SetTargetOnObject(false);
+  const double grasp_start_s = t;
+  for (; sequence.phase() == GraspPhase::kGrasp && t < grasp_start_s + 10.0; t += 0.01) {
+    sequence.SetGrasp(bMg, t);
+    sequence.Step(q, t, 0.01, &cmd);
+    EXPECT_EQ(cmd.gripper, GripperCommand::kOpen);
+    q = cmd.joints.q_target_rad;
+  }
+  // At its target all along, never closed there, and out of time as a grasp that is not met.
+  EXPECT_LE(ComputeApproachError(arm.ForwardKinematics(q), bMg).position_b.norm(),
+            config.grasp_tolerance.position_m);
+  EXPECT_EQ(sequence.phase(), GraspPhase::kTimedOut);
+  EXPECT_NEAR(t - grasp_start_s, config.grasp_timeout_s, 0.02);
+}
+
+TEST(GraspSequenceTest, ATargetBackOnTheObjectIsClosedOn) {
+  const ArmModel arm = Arm6();
+  ArmServo servo(arm, ServoConfig{});
+  GraspSequence sequence(&servo, GraspSequenceConfig{});
+  const Eigen::Isometry3d bMg = Grasp(arm);
+  Eigen::VectorXd q = Home6();
+  sequence.Start(0.0);
+  sequence.SetTargetOnObject(false);
+  double t = 0.0;
+  GraspCommand cmd;
+  for (int k = 0; k < 300; ++k, t += 0.01) {  // 3 s: the grasp pose is met, held back
+    sequence.SetGrasp(bMg, t);
+    sequence.Step(q, t, 0.01, &cmd);
+    q = cmd.joints.q_target_rad;
+  }
+  EXPECT_EQ(sequence.phase(), GraspPhase::kGrasp);
+  sequence.SetTargetOnObject(true);
+  sequence.SetGrasp(bMg, t);
+  sequence.Step(q, t, 0.01, &cmd);
+  EXPECT_EQ(cmd.phase, GraspPhase::kClose);
+  EXPECT_EQ(cmd.gripper, GripperCommand::kClose);
+}
+
+TEST(GraspSequenceTest, GripperHoldsOutsideTheCloseChangesNothing) {
+  const ArmModel arm = Arm6();
+  ArmServo servo(arm, ServoConfig{});
+  GraspSequence sequence(&servo, GraspSequenceConfig{});
+  sequence.Start(0.0);
+  sequence.SetGrasp(Grasp(arm), 0.0);
+  sequence.GripperHolds(0.0);
+  EXPECT_EQ(sequence.phase(), GraspPhase::kPreCatch);
+  GraspCommand cmd;
+  sequence.Step(Home6(), 0.0, 0.01, &cmd);
+  EXPECT_EQ(cmd.gripper, GripperCommand::kOpen);
+}
+
 TEST(GraspSequenceTest, UnreachableGraspTimesOutAndHolds) {
   const ArmModel arm = Arm6();
   ArmServo servo(arm, ServoConfig{});
@@ -173,68 +275,6 @@ TEST(GraspSequenceTest, HeldAtThePreCatchPoseUntilReleasedWithoutTimingOut) {
   sequence.Step(q, 5.0, 0.01, &cmd);
   EXPECT_EQ(cmd.phase, GraspPhase::kGrasp);
   EXPECT_FALSE(sequence.at_precatch());
-}
-
-TEST(GraspSequenceTest, AHeldCloseKeepsTheGripperOpenAtTheGraspPoseAndTimesOut) {
-  const ArmModel arm = Arm6();
-  ArmServo servo(arm, ServoConfig{});
-  GraspSequenceConfig config;
-  config.grasp_timeout_s = 2.0;
-  GraspSequence sequence(&servo, config);
-  const Eigen::Isometry3d bMg = Grasp(arm);
-  Eigen::VectorXd q = Home6();
-  sequence.Start(0.0);
-  GraspCommand cmd;
-  int k = 0;
-  for (; k < 1000 && sequence.phase() == GraspPhase::kPreCatch; ++k) {
-    sequence.SetGrasp(bMg, 0.01 * k);
-    sequence.Step(q, 0.01 * k, 0.01, &cmd);
-    q = cmd.joints.q_target_rad;
-  }
-  ASSERT_EQ(sequence.phase(), GraspPhase::kGrasp);
-  const double grasp_start_s = 0.01 * (k - 1);
-  sequence.HoldClose(true);
-  bool at_grasp = false;
-  for (; 0.01 * k < grasp_start_s + config.grasp_timeout_s - 0.05; ++k) {
-    sequence.SetGrasp(bMg, 0.01 * k);
-    sequence.Step(q, 0.01 * k, 0.01, &cmd);
-    q = cmd.joints.q_target_rad;
-    at_grasp = at_grasp || config.grasp_tolerance.Met(cmd.joints.error);
-    ASSERT_EQ(cmd.phase, GraspPhase::kGrasp) << k;
-    ASSERT_EQ(cmd.gripper, GripperCommand::kOpen) << k;
-  }
-  EXPECT_TRUE(at_grasp);
-  for (int end = k + 20; k < end; ++k) {
-    sequence.SetGrasp(bMg, 0.01 * k);
-    sequence.Step(q, 0.01 * k, 0.01, &cmd);
-    q = cmd.joints.q_target_rad;
-  }
-  EXPECT_EQ(cmd.phase, GraspPhase::kTimedOut);
-  EXPECT_EQ(cmd.gripper, GripperCommand::kOpen);
-}
-
-TEST(GraspSequenceTest, AReleasedHoldClosesAtTheGraspPose) {
-  const ArmModel arm = Arm6();
-  ArmServo servo(arm, ServoConfig{});
-  GraspSequenceConfig config;
-  GraspSequence sequence(&servo, config);
-  const Eigen::Isometry3d bMg = Grasp(arm);
-  Eigen::VectorXd q = Home6();
-  sequence.Start(0.0);
-  sequence.HoldClose(true);
-  GraspCommand cmd;
-  int k = 0;
-  for (; k < 300; ++k) {
-    sequence.SetGrasp(bMg, 0.01 * k);
-    sequence.Step(q, 0.01 * k, 0.01, &cmd);
-    q = cmd.joints.q_target_rad;
-  }
-  ASSERT_EQ(cmd.phase, GraspPhase::kGrasp);
-  sequence.HoldClose(false);
-  sequence.SetGrasp(bMg, 0.01 * k);
-  sequence.Step(q, 0.01 * k, 0.01, &cmd);
-  EXPECT_EQ(cmd.phase, GraspPhase::kClose);
-  EXPECT_EQ(cmd.gripper, GripperCommand::kClose);
 }
 
 TEST(GraspSequenceTest, AGivenPreCatchPoseIsTheOneServoedTo) {
