@@ -164,7 +164,9 @@ TEST_F(MissionTelemetryTest, TransformsStaticFirstThenBodyToolsAndObjectEachCycl
   EXPECT_EQ(a.arms[1].arm, "right");
   EXPECT_THAT(a.arms[0].joint_names, ::testing::ElementsAre("j0", "j1", "j2", "j3"));
   EXPECT_EQ(a.arms[0].position_rad.size(), 4);
-  EXPECT_GT(a.arms[0].gripper_aperture_m, 0.0);
+  // The grippers' openings are reported (open at the start, whatever they hold at the end).
+  EXPECT_GT(sink_->arms.front().arms[0].gripper_aperture_m, 0.0);
+  EXPECT_GT(sink_->arms.front().arms[1].gripper_aperture_m, 0.0);
 }
 
 TEST_F(MissionTelemetryTest, PosesImagesTransitionsAndTheFollowedPair) {
