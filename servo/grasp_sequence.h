@@ -77,6 +77,7 @@ class GraspSequence {
   /// on but does not close, its phase clock running): the caller says whether
   /// the target still lies on the object. True by default and after Start.
   void SetTargetOnObject(bool on_object) { target_on_object_ = on_object; }
+  bool target_on_object() const { return target_on_object_; }
   /// While `hold` is set the sequence stays at the pre-catch pose once it is
   /// reached (tracking it, its phase clock paused) instead of moving in: the
   /// two arms go in together (paper Fig. 7b, "approaching pose").

@@ -191,14 +191,14 @@ std::optional<std::string> GraspArms::Step(double t, double dt_s, const FollowVi
     const Eigen::Vector3d grasp_b = (bMo * anchor_oMg_[a]).translation();
     const bool on_object =
         !anchored_[a] || TargetOnObject(reached_bMg_[a].translation(), grasp_b, policy_);
-    if (!on_object && target_on_object_[a] && sequence_[a]->phase() == GraspPhase::kGrasp) {
+    if (!on_object && sequence_[a]->target_on_object() &&
+        sequence_[a]->phase() == GraspPhase::kGrasp) {
       log_(
           fmt::format("servo   {} arm: its target is {:.1f} mm off its grasp on the object (out of "
                       "reach for {:.0f} ms): not closing there",
                       kArmNames[a], 1e3 * (reached_bMg_[a].translation() - grasp_b).norm(),
                       1e3 * (t - reached_stamp_s_[a])));
     }
-    target_on_object_[a] = on_object;
     sequence_[a]->SetTargetOnObject(on_object);
     sequence_[a]->SetGrasp(reached_bMg_[a], reached_bMp_[a], view.stamp_s, switch_pending_[a]);
     switch_pending_[a] = false;

@@ -100,7 +100,6 @@ class GraspArms {
   const Platform& platform_;
   const GraspPlanner& planner_;
   const GraspPolicyConfig policy_;
-  bool target_on_object_[2] = {true, true};  // at the last cycle (TargetOnObject)
   const Eigen::VectorXd* q_;
   MissionEvaluator* evaluator_;
   std::function<void(const std::string&)> log_;

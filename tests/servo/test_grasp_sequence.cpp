@@ -89,6 +89,18 @@ TEST(GraspSequenceTest, PreCatchThenGraspThenClose) {
   EXPECT_NEAR(close_steps * 0.01, config.close_time_s, 0.015);
 }
 
+// Steps the sequence toward bMg every 0.01 s (from *t_s, the arm at *q) until
+// it reaches `phase`, for at most 8 s.
+void StepUntil(GraspSequence* sequence, const Eigen::Isometry3d& bMg, GraspPhase phase,
+               Eigen::VectorXd* q, double* t_s) {
+  GraspCommand cmd;
+  for (int k = 0; k < 800 && sequence->phase() != phase; ++k, *t_s += 0.01) {
+    sequence->SetGrasp(bMg, *t_s);
+    sequence->Step(*q, *t_s, 0.01, &cmd);
+    *q = cmd.joints.q_target_rad;
+  }
+}
+
 TEST(GraspSequenceTest, AGripperThatHoldsEndsTheCloseAndTheArmKeepsStill) {
   const ArmModel arm = Arm6();
   ArmServo servo(arm, ServoConfig{});
@@ -97,13 +109,9 @@ TEST(GraspSequenceTest, AGripperThatHoldsEndsTheCloseAndTheArmKeepsStill) {
   Eigen::VectorXd q = Home6();
   sequence.Start(0.0);
   double t = 0.0;
-  GraspCommand cmd;
-  for (int k = 0; k < 800 && sequence.phase() != GraspPhase::kClose; ++k, t += 0.01) {
-    sequence.SetGrasp(bMg, t);
-    sequence.Step(q, t, 0.01, &cmd);
-    q = cmd.joints.q_target_rad;
-  }
+  StepUntil(&sequence, bMg, GraspPhase::kClose, &q, &t);
   ASSERT_EQ(sequence.phase(), GraspPhase::kClose);
+  GraspCommand cmd;
   // The object's estimate moves 3 cm while the pads close; the gripper then holds.
   const Eigen::Isometry3d bMg_moved = Eigen::Translation3d(0.03, 0.0, 0.0) * bMg;
   sequence.SetGrasp(bMg_moved, t);
@@ -133,13 +141,9 @@ TEST(GraspSequenceTest, ATargetOffTheObjectIsNotClosedOnAndTimesOut) {
   Eigen::VectorXd q = Home6();
   sequence.Start(0.0);
   double t = 0.0;
-  GraspCommand cmd;
-  for (int k = 0; k < 800 && sequence.phase() != GraspPhase::kGrasp; ++k, t += 0.01) {
-    sequence.SetGrasp(bMg, t);
-    sequence.Step(q, t, 0.01, &cmd);
-    q = cmd.joints.q_target_rad;
-  }
+  StepUntil(&sequence, bMg, GraspPhase::kGrasp, &q, &t);
   ASSERT_EQ(sequence.phase(), GraspPhase::kGrasp);
+  GraspCommand cmd;
   sequence.SetTargetOnObject(false);
   const double grasp_start_s = t;
   for (; sequence.phase() == GraspPhase::kGrasp && t < grasp_start_s + 10.0; t += 0.01) {
