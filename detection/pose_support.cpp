@@ -15,6 +15,9 @@ namespace {
 /// mm moves only the points at the ends).
 constexpr int kSlidePoints = 2000;
 
+/// Model points nearer to the camera than this (m, along its axis) are not scored.
+constexpr float kMinDepthM = 0.05f;
+
 /// Whether the model hides its own point i from the camera at c_o (frame o):
 /// marching from the point towards the camera, the ray meets the model's
 /// surface well above the point's own tangent plane (a track beside the body,
@@ -91,6 +94,37 @@ class SupportScorer {
     }
   }
 
+  /// Keeps the samples Score may count at cMo translated by up to
+  /// max_offset_m times direction_c: those that face away from the
+  /// camera, or lie behind it, at every such pose are dropped (by a margin
+  /// far above float rounding, so Score skips each of them there anyway), and
+  /// the rest are ordered facing the camera at cMo first. Score's counts and
+  /// box do not depend on the samples' order: the same support, with fewer
+  /// samples visited and fewer mispredicted branches.
+  void KeepFacing(const Eigen::Vector3d& direction_c, double max_offset_m) {
+    constexpr double kMarginM = 1e-4;  // against about 1e-6 m of float rounding at a few metres
+    std::vector<std::size_t> order;
+    std::vector<std::size_t> away;
+    for (std::size_t k = 0; k < index_.size(); ++k) {
+      const Eigen::Vector3d p = p_c_[k].cast<double>(), n = n_c_[k].cast<double>();
+      const double facing_min = n.dot(p) - std::abs(n.dot(direction_c)) * max_offset_m;
+      const double z_max = p.z() + std::abs(direction_c.z()) * max_offset_m;
+      if (facing_min > kMarginM || z_max < kMinDepthM - kMarginM) continue;
+      (n_c_[k].dot(p_c_[k]) < 0.0f ? order : away).push_back(k);
+    }
+    order.insert(order.end(), away.begin(), away.end());
+    std::vector<std::size_t> index;
+    std::vector<Eigen::Vector3f> p_c, n_c;
+    for (const std::size_t k : order) {
+      index.push_back(index_[k]);
+      p_c.push_back(p_c_[k]);
+      n_c.push_back(n_c_[k]);
+    }
+    index_ = std::move(index);
+    p_c_ = std::move(p_c);
+    n_c_ = std::move(n_c);
+  }
+
   /// Whether the surface seen at pixel (u, v), z_obs m deep, is the model's
   /// own at cMo translated by shift_c: within the tolerance's floor
   /// (min_tolerance_m) of a model point. A front-facing point behind it is
@@ -116,7 +150,7 @@ class SupportScorer {
     const Eigen::Vector3f c_o = -(cRo_.transpose() * (t_c_ + shift_c));
     for (std::size_t k = 0; k < index_.size(); ++k) {
       const Eigen::Vector3f p = p_c_[k] + shift_c;
-      if (p.z() < 0.05f || n_c_[k].dot(p) >= 0.0f) continue;
+      if (p.z() < kMinDepthM || n_c_[k].dot(p) >= 0.0f) continue;
       const Eigen::Vector2d uv = K_.Project(p.cast<double>());
       const int u = static_cast<int>(RoundHalfAway(uv.x())),
                 v = static_cast<int>(RoundHalfAway(uv.y()));
@@ -175,8 +209,9 @@ class SupportScorer {
 PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo,
                              const ColorImage& color, const DepthImage& depth, double depth_scale_m,
                              const CameraIntrinsics& K, const PoseSupportOptions& options) {
-  return SupportScorer(model, cMo, color, depth, depth_scale_m, K, options)
-      .Score(Eigen::Vector3f::Zero());
+  SupportScorer scorer(model, cMo, color, depth, depth_scale_m, K, options);
+  scorer.KeepFacing(Eigen::Vector3d::UnitZ(), 0.0);
+  return scorer.Score(Eigen::Vector3f::Zero());
 }
 
 std::size_t SupportWorkBound(const ModelCloud& model, const PoseSupportOptions& options) {
@@ -206,8 +241,11 @@ SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cM
   PoseSupportOptions dense = options;
   dense.max_points = std::max(options.max_points, kSlidePoints);
   const auto [fine_m, coarse_m] = SlideSteps(step_m);
-  const SupportScorer scorer(model, cMo, color, depth, depth_scale_m, K, dense);
+  SupportScorer scorer(model, cMo, color, depth, depth_scale_m, K, dense);
   const Eigen::Vector3d direction_c = cMo.linear() * direction_o;
+  // The farthest slide scored: a coarse offset, then the fine steps or the probes around it.
+  const int coarse_steps = static_cast<int>(std::lround(range_m / coarse_m));
+  scorer.KeepFacing(direction_c, coarse_steps * coarse_m + std::max(3.0 * fine_m, probe_m));
   const auto slid = [&](double offset_m) {
     Eigen::Isometry3d candidate = cMo;
     candidate.translation() += direction_c * offset_m;
@@ -238,7 +276,7 @@ SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cM
       }
     }
   };
-  search(0.0, coarse_m, static_cast<int>(std::lround(range_m / coarse_m)));
+  search(0.0, coarse_m, coarse_steps);
   search(best_offset_m, fine_m, 3);
   fit.cMo = slid(best_offset_m);
   fit.drop = best_score - std::max(score(best_offset_m - probe_m), score(best_offset_m + probe_m));
