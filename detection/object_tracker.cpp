@@ -27,6 +27,16 @@ struct FieldCheck {
 
 }  // namespace
 
+bool OutlineInCrop(const PixelBox& outline, const PixelBox& crop, double min_fraction) {
+  if (min_fraction <= 0.0) return true;
+  if (outline.empty() || crop.empty()) return false;
+  const PixelBox inside{std::max(outline.x0, crop.x0), std::max(outline.y0, crop.y0),
+                        std::min(outline.x1, crop.x1), std::min(outline.y1, crop.y1)};
+  if (inside.empty()) return false;
+  return double(inside.width()) * inside.height() >=
+         min_fraction * double(outline.width()) * outline.height();
+}
+
 void PerceptionOptions::Validate(const std::string& source, const std::string& prefix) const {
   const FieldCheck Require{source, prefix};
   track.Validate(source, prefix + "track.");
@@ -40,6 +50,7 @@ void PerceptionOptions::Validate(const std::string& source, const std::string& p
   Require(min_support_ratio > 0.0 && min_support_ratio <= 1.0, "min_support_ratio",
           "must be in (0, 1]");
   Require(min_coverage > 0.0 && min_coverage <= 1.0, "min_coverage", "must be in (0, 1]");
+  Require(min_box_overlap >= 0.0 && min_box_overlap <= 1.0, "min_box_overlap", "must be in [0, 1]");
   Require(min_cloud_points >= 10, "min_cloud_points", "must be >= 10");
   Require(min_global_range_m >= 0.0 && min_global_range_m < max_global_range_m,
           "min_global_range_m", "must be in [0, max_global_range_m) m");
@@ -223,9 +234,11 @@ PoseSupportOptions ObjectTracker::SupportOptions() const {
   return support;
 }
 
-bool ObjectTracker::Passes(const PoseSupport& support) const {
-  return support.projected >= 20 && support.ratio() >= options_.min_support_ratio &&
-         support.coverage() >= options_.min_coverage;
+bool ObjectTracker::Passes(const PoseSupport& support, const FrameReport& report) const {
+  if (support.projected < 20 || support.ratio() < options_.min_support_ratio ||
+      support.coverage() < options_.min_coverage)
+    return false;
+  return !report.detection || OutlineInCrop(support.box, report.crop, options_.min_box_overlap);
 }
 
 bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color,
@@ -244,7 +257,7 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color,
     if (icp.ok) {
       report->support =
           ScorePoseSupport(*model_, icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
-      if (Passes(report->support)) {
+      if (Passes(report->support, *report)) {
         report->times.icp_ms = ThreadCpuMs() - t0;
         return true;
       }
@@ -404,7 +417,7 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
     for (const Registered& r : registered) {
       if (!r.usable) continue;
       const double score = r.support.ratio() * r.support.agree;
-      if (Passes(r.support) && score > best_score) {
+      if (Passes(r.support, *report) && score > best_score) {
         best_score = score;
         report->icp = r.icp;
         report->support = r.support;

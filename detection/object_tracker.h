@@ -49,6 +49,12 @@ struct PerceptionOptions {
   /// a pose must explain this fraction of the compared depth, (0, 1]
   double min_support_ratio = 0.9;
   double min_coverage = 0.4;  ///< ... and this fraction of the visible model, (0, 1]
+  /// On a frame with a detector's box, a pose passes only when at least this
+  /// fraction of its projected outline (PoseSupport::box) lies inside the
+  /// crop (the box grown by box_margin), [0, 1]; 0: no check. A pose fitted
+  /// on the crop's edge (a look-alike surface around the object: the support
+  /// pipe under a pipe, slid along it) is not the detected object.
+  double min_box_overlap = 0.0;
   int min_cloud_points = 60;  ///< fewer points in the crop: no measurement, >= 10
   /// cloud size when the crop is the whole frame (no detector, no prior), [50, 100000]
   int whole_frame_points = 8000;
@@ -104,6 +110,11 @@ struct PerceptionOptions {
 inline bool TwoCentresInBox(const PerceptionOptions& options) {
   return options.near_centre_quantile < 0.5;
 }
+
+/// Whether a pose whose projected outline is `outline` (PoseSupport::box) lies
+/// in a detector's crop: at least `min_fraction` of the outline's area inside
+/// `crop`. Always with min_fraction 0; never for an empty outline otherwise.
+bool OutlineInCrop(const PixelBox& outline, const PixelBox& crop, double min_fraction);
 
 /// What the pipeline knows about the object after a frame.
 struct ObjectEstimate {
@@ -255,8 +266,9 @@ class ObjectTracker {
   /// no longer needed (the track was measured without it, a pose was given).
   enum class SearchEnd { kFound, kExhausted, kAbandoned };
   void EndSearch(SearchEnd end);
-  /// A pose explains enough of the depth (min_support_ratio, min_coverage).
-  bool Passes(const PoseSupport& support) const;
+  /// A pose explains enough of the depth (min_support_ratio, min_coverage)
+  /// and, on a frame with a detector's box, lies in its crop (min_box_overlap).
+  bool Passes(const PoseSupport& support, const FrameReport& report) const;
   /// The rough centres of the object (m, in c) for the global registration, likeliest first.
   std::vector<Eigen::Vector3d> SearchCentres(const FrameReport& report, const DepthImage& depth,
                                              double depth_scale_m, const CameraIntrinsics& K,

@@ -541,6 +541,40 @@ TEST(ObjectTrackerTest, BadInputsGiveALostStateNotACrash) {
   }
 }
 
+TEST(ObjectTrackerTest, AnOutlineCountsInACropByTheShareOfItsAreaInside) {
+  const PixelBox crop{100, 100, 300, 200};
+  // Inside, half inside (to the right), a quarter inside (a corner), outside.
+  EXPECT_TRUE(OutlineInCrop({150, 120, 250, 180}, crop, 1.0));
+  EXPECT_TRUE(OutlineInCrop({250, 120, 350, 180}, crop, 0.5));
+  EXPECT_FALSE(OutlineInCrop({250, 120, 350, 180}, crop, 0.6));
+  EXPECT_TRUE(OutlineInCrop({250, 150, 350, 250}, crop, 0.25));
+  EXPECT_FALSE(OutlineInCrop({250, 150, 350, 250}, crop, 0.3));
+  EXPECT_FALSE(OutlineInCrop({400, 120, 500, 180}, crop, 0.01));
+  // 0: no check; an empty outline is in no crop.
+  EXPECT_TRUE(OutlineInCrop({400, 120, 500, 180}, crop, 0.0));
+  EXPECT_FALSE(OutlineInCrop({}, crop, 0.3));
+}
+
+// The detector's box keeps a tracked pose: every frame of a tracked crawler
+// lies in the box's crop (a pose slid off it along a look-alike would not).
+TEST(ObjectTrackerTest, ATrackedPoseLiesInTheDetectorsCrop) {
+  PerceptionOptions options;
+  options.min_box_overlap = 0.9;
+  ObjectTracker tracker(ObjectModel::Load("crawler"), options,
+                        std::make_unique<BoxDetector>(DataPath("objects/crawler/detector.onnx")));
+  tracker.SetInitialPose(TruthAt(0));
+  ColorImage color;
+  DepthImage depth;
+  for (int k = 0; k < 6; ++k) {
+    Scene().Render(TruthAt(k), true, &color, &depth);
+    const FrameReport r = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001);
+    ASSERT_TRUE(r.detection) << "frame " << k;
+    ASSERT_TRUE(r.measured) << "frame " << k;
+    EXPECT_TRUE(OutlineInCrop(r.support.box, r.crop, 0.9)) << "frame " << k;
+    EXPECT_LT(ComparePoses(TruthAt(k), r.icp.cMo).translation_m, 0.005) << "frame " << k;
+  }
+}
+
 TEST(ObjectTrackerTest, BadOptionsAreRejectedByName) {
   PerceptionOptions options;
   options.icp.start_distance_m = 0.2;  // beyond the model grid's margin
