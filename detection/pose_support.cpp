@@ -243,9 +243,10 @@ SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cM
   const auto [fine_m, coarse_m] = SlideSteps(step_m);
   SupportScorer scorer(model, cMo, color, depth, depth_scale_m, K, dense);
   const Eigen::Vector3d direction_c = cMo.linear() * direction_o;
-  // The farthest slide scored: a coarse offset, then the fine steps or the probes around it.
+  // The farthest slide scored: the farthest coarse offset, three fine steps
+  // from it, and a probe beyond those.
   const int coarse_steps = static_cast<int>(std::lround(range_m / coarse_m));
-  scorer.KeepFacing(direction_c, coarse_steps * coarse_m + std::max(3.0 * fine_m, probe_m));
+  scorer.KeepFacing(direction_c, coarse_steps * coarse_m + 3.0 * fine_m + std::abs(probe_m));
   const auto slid = [&](double offset_m) {
     Eigen::Isometry3d candidate = cMo;
     candidate.translation() += direction_c * offset_m;
