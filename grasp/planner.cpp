@@ -75,6 +75,7 @@ void GraspPlannerConfig::Validate(const std::string& source, const std::string& 
   CheckRange(source, prefix + "task_weight", task_weight, 0.0, 100.0, "");
   CheckRange(source, prefix + "cost_weight_per_rad", cost_weight_per_rad, 0.0, 10.0, "");
   CheckRange(source, prefix + "reach_margin_m", reach_margin_m, 0.0, 0.1, "m");
+  CheckRange(source, prefix + "robust_branch_rad", robust_branch_rad, 0.0, 6.3, "rad");
   CheckRange(source, prefix + "edge_margin_m", edge_margin_m, 0.0, 0.05, "m");
   CheckRange(source, prefix + "grasp_axis_approaches", grasp_axis_approaches, 1, 64, "");
   CheckRange(source, prefix + "grasp_axis_depths", grasp_axis_depths, 1, 16, "");
@@ -202,16 +203,21 @@ bool GraspPlanner::EvaluateArm(Side side, int pair, const Eigen::Isometry3d& dMo
   return false;
 }
 
-bool GraspPlanner::Robust(Side side, int pair, const Eigen::Isometry3d& dMo,
+bool GraspPlanner::Robust(Side side, const ArmGrasp& g, const Eigen::Isometry3d& dMo,
                           const Eigen::VectorXd& q) const {
   if (config_.reach_margin_m <= 0.0) return true;
-  ArmGrasp unused;
+  const bool same_branch = config_.robust_branch_rad > 0.0;
+  ArmGrasp moved_grasp;
   Infeasibility why;
   for (int axis = 0; axis < 3; ++axis) {
     for (double sign : {-1.0, 1.0}) {
       Eigen::Isometry3d moved = dMo;
       moved.translation()[axis] += sign * config_.reach_margin_m;
-      if (!EvaluateArm(side, pair, moved, q, &unused, &why)) return false;
+      if (!EvaluateArm(side, g.pair, moved, same_branch ? g.q_grasp : q, &moved_grasp, &why) ||
+          (same_branch &&
+           (moved_grasp.q_grasp - g.q_grasp).cwiseAbs().maxCoeff() > config_.robust_branch_rad)) {
+        return false;
+      }
     }
   }
   return true;
@@ -230,7 +236,7 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
     for (int i = 0; i < n; ++i) {
       ++stats.candidates;
       if (EvaluateArm(side, i, query.dMo, q, &grasp, &why)) {
-        grasp.robust = Robust(side, i, query.dMo, q);
+        grasp.robust = Robust(side, grasp, query.dMo, q);
         feasible.push_back(grasp);
       }
       ++stats.by_reason[static_cast<int>(why)];

@@ -53,6 +53,12 @@ struct GraspPlannerConfig {
   /// tracking error move it so while the arms servo); robust dual grasps rank
   /// first. [0, 0.1] m; 0 makes every feasible pair robust.
   double reach_margin_m{0.0};
+  /// ... and on the same IK branch: with the object moved, the arm's solution
+  /// nearest the unmoved one differs from it by at most this much in every
+  /// joint (the mission follows a pair only on the branch it was planned on;
+  /// a 6-DoF grasp with a wrist joint near its limit is feasible through the
+  /// sway only on other branches). [0, 6.3] rad; 0: any branch counts.
+  double robust_branch_rad{0.0};
   /// A pair counts as clear of edges when its contacts stay on their faces
   /// with the object shifted this far along them (ContactsClearOfEdges): a
   /// pose estimate off by as much still puts the pads on the object. Dual
@@ -203,9 +209,10 @@ class GraspPlanner {
   double torque_scale_m_ = 1.0;
   std::unique_ptr<PlatformCollision> collision_;
   int mesh_handle_ = -1;
-  /// True when the arm's grasp of `pair` stays feasible with the object moved
-  /// by reach_margin_m along each axis of d.
-  bool Robust(Side side, int pair, const Eigen::Isometry3d& dMo, const Eigen::VectorXd& q) const;
+  /// True when the arm's grasp `g` stays feasible with the object moved by
+  /// reach_margin_m along each axis of d (on g's branch: robust_branch_rad).
+  bool Robust(Side side, const ArmGrasp& g, const Eigen::Isometry3d& dMo,
+              const Eigen::VectorXd& q) const;
 
   ArmIk ik_[2];
   std::vector<std::vector<Wrench>> wrenches_;  // per pair

@@ -111,7 +111,12 @@ void GraspArms::Hold(ArmsDriver* driver) {
 
 bool GraspArms::SolveFollowed(int a, int pair, const Eigen::Isometry3d& dMo, double t_s) {
   Infeasibility why = Infeasibility::kNone;
-  if (!planner_.EvaluateArm(kSides[a], pair, dMo, q_[a], &solved_[a], &why)) return false;
+  // Seeded with the last accepted grasp joints, not the measured ones: the
+  // solution nearest them is the followed branch (the 6-DoF arm's sampled
+  // approaches lie 0.1-0.4 rad apart, and one nearer the arm on its way in
+  // would be refused by the branch gate below).
+  if (!planner_.EvaluateArm(kSides[a], pair, dMo, reached_q_grasp_[a], &solved_[a], &why))
+    return false;
   if (!OnFollowedBranch(solved_[a].q_grasp, reached_q_grasp_[a], t_s - reached_stamp_s_[a],
                         policy_)) {
     return false;

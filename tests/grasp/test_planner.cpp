@@ -257,6 +257,42 @@ TEST_F(ShippedPlanTest, RobustGraspsStayFeasibleWhenTheObjectMovesAndRankFirst) 
   }
 }
 
+TEST_F(ShippedPlanTest, RobustOnTheBranchMeansTheNearestMovedSolutionStaysNear) {
+  GraspPlannerConfig any_branch;
+  any_branch.reach_margin_m = 0.01;
+  GraspPlannerConfig one_branch = any_branch;
+  one_branch.robust_branch_rad = 0.2;
+  const ContactSet contacts =
+      ComputeContactPairs(object_.mesh_o, platform_.config().gripper, ContactOptions{});
+  const GraspPlanner any_planner(platform_, object_, contacts, any_branch);
+  const GraspPlanner branch_planner(platform_, object_, contacts, one_branch);
+  const PlanResult any = any_planner.Plan(query_);
+  const PlanResult plan = branch_planner.Plan(query_);
+  ASSERT_EQ(plan.left.size(), any.left.size());
+  int robust = 0, fragile = 0;
+  for (std::size_t i = 0; i < plan.left.size(); ++i) {
+    const ArmGrasp& g = plan.left[i];
+    // Robust on the branch: at each moved place the solution nearest g's
+    // joints is feasible and within 0.2 rad of them in every joint.
+    bool all = true;
+    for (int axis = 0; axis < 3; ++axis) {
+      for (double sign : {-1.0, 1.0}) {
+        Eigen::Isometry3d moved = query_.dMo;
+        moved.translation()[axis] += sign * 0.01;
+        ArmGrasp near;
+        Infeasibility why;
+        all = all && branch_planner.EvaluateArm(g.side, g.pair, moved, g.q_grasp, &near, &why) &&
+              (near.q_grasp - g.q_grasp).cwiseAbs().maxCoeff() <= 0.2;
+      }
+    }
+    EXPECT_EQ(g.robust, all) << "pair " << g.pair;
+    if (g.robust) EXPECT_TRUE(any.left[i].robust) << "pair " << g.pair;
+    (g.robust ? robust : fragile)++;
+  }
+  EXPECT_GT(robust, 0);
+  EXPECT_GT(fragile, 0);
+}
+
 TEST_F(ShippedPlanTest, GraspsClearOfEdgesRankFirstAndGetTheExactEpsilon) {
   GraspPlannerConfig config;
   config.edge_margin_m = 0.015;
@@ -315,6 +351,14 @@ TEST(GraspPlannerConfigTest, DefaultsAreValidAndBadDepthNamesItsKey) {
     FAIL();
   } catch (const ConfigError& e) {
     EXPECT_THAT(e.what(), HasSubstr("plan.yaml: planner.reach_margin_m: 0.5 m is above"));
+  }
+  c = GraspPlannerConfig{};
+  c.robust_branch_rad = 7.0;
+  try {
+    c.Validate("plan.yaml", "planner.");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("plan.yaml: planner.robust_branch_rad: 7 rad is above"));
   }
 }
 
