@@ -37,8 +37,9 @@ void TrackedObject::Update(double t, const ObjectEstimate& estimate, const Eigen
         length_ = refit;
     }
   }
-  if (length_ && estimate_.valid) {
-    // Along its length the object is where its fitted motion puts it.
+  if (length_ && estimate_.valid && holder_ < 0) {
+    // Along its length the object is where its fitted motion puts it (not
+    // once a gripper carries it: then it moves with that gripper).
     const Eigen::Vector3d& u = length_->axis_w;
     const Eigen::Vector3d p_w = estimate_.fMo.translation();
     const Eigen::Isometry3d fMo_before = estimate_.fMo;

@@ -35,11 +35,11 @@ class TrackedObject {
   /// No gripper carries it any more (the attempt ended): frames fit its
   /// motion along its length again (LockLength).
   void Released();
-  /// An attempt begins: until it ends, the object's position along its
-  /// length (x of o, the longest side) comes from its motion fitted over the
-  /// last length_fit_s of frames that placed it along its length
-  /// (ObjectEstimate::weak_direction_fixed; refitted on each new one), not
-  /// from each frame. False (nothing changes) when length_fit_s is 0 or too
+  /// An attempt begins: until it ends or a gripper carries the object, its
+  /// position along its length (x of o, the longest side) comes from its
+  /// motion fitted over the last length_fit_s of frames that placed it along
+  /// its length (ObjectEstimate::weak_direction_fixed; refitted on each new
+  /// one), not from each frame. False (nothing changes) when length_fit_s is 0 or too
   /// few frames saw it.
   bool LockLength();
   /// The fitted motion while locked, else none.
