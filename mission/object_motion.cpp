@@ -1,6 +1,8 @@
 #include "mission/object_motion.h"
 
 #include <algorithm>
+#include <cmath>
+#include <utility>
 
 namespace aerograsp {
 
@@ -34,6 +36,63 @@ std::optional<AxisMotion> FitAxisMotion(const std::vector<StampedPosition>& posi
   m.v_mps = sts / stt;
   m.s0_m = mean_s - m.v_mps * mean_t;  // at t0_s
   return m;
+}
+
+void LengthMotion::DropOlderThan(double stamp_s) {
+  frames_.erase(std::remove_if(frames_.begin(), frames_.end(),
+                               [&](const StampedPosition& p) { return p.stamp_s < stamp_s; }),
+                frames_.end());
+}
+
+void LengthMotion::Add(const StampedPosition& frame) {
+  if (motion_) {
+    const double off_m = motion_->axis_w.dot(frame.p_w) - motion_->At(frame.stamp_s);
+    if (std::abs(off_m) > options_.break_m) {
+      disagreeing_.push_back(frame);
+      if (static_cast<int>(disagreeing_.size()) < options_.break_frames) return;
+      // The motion changed: the fit starts again from these frames.
+      frames_ = std::move(disagreeing_);
+      disagreeing_.clear();
+      ++breaks_;
+      Refit();
+      return;
+    }
+    disagreeing_.clear();
+  }
+  frames_.push_back(frame);
+  DropOlderThan(frame.stamp_s - options_.window_s);
+  if (motion_) Refit();
+}
+
+void LengthMotion::Refit() {
+  if (auto fit = FitAxisMotion(frames_, motion_->axis_w, options_.refit_min_frames)) {
+    motion_ = fit;
+    return;
+  }
+  if (breaks_ == 0) return;  // the locked fit stands
+  // Too few frames since the motion changed for a speed: it stands where they put it.
+  double s_m = 0.0, t0_s = frames_.front().stamp_s;
+  for (const StampedPosition& p : frames_) {
+    s_m += motion_->axis_w.dot(p.p_w) / static_cast<double>(frames_.size());
+    t0_s = std::max(t0_s, p.stamp_s);
+  }
+  motion_->t0_s = t0_s;
+  motion_->s0_m = s_m;
+  motion_->v_mps = 0.0;
+}
+
+bool LengthMotion::Lock(const Eigen::Vector3d& axis_w) {
+  motion_ = FitAxisMotion(frames_, axis_w, options_.lock_min_frames);
+  disagreeing_.clear();
+  breaks_ = 0;
+  return motion_.has_value();
+}
+
+void LengthMotion::Reset() {
+  frames_.clear();
+  disagreeing_.clear();
+  motion_.reset();
+  breaks_ = 0;
 }
 
 }  // namespace aerograsp

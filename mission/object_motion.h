@@ -7,6 +7,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <optional>
 #include <vector>
 
@@ -35,5 +36,51 @@ struct AxisMotion {
 /// min_samples positions or all at one time.
 std::optional<AxisMotion> FitAxisMotion(const std::vector<StampedPosition>& positions,
                                         const Eigen::Vector3d& axis_w, int min_samples);
+
+/// How the motion along the length is fitted and followed.
+struct LengthFitOptions {
+  double window_s = 3.0;     ///< frames older than this before the newest are dropped
+  int lock_min_frames = 2;   ///< frames a fit needs when the attempt begins (Lock)
+  int refit_min_frames = 2;  ///< frames a refit needs once locked
+  /// A frame this far along the axis from the fit disagrees with it, m.
+  double break_m = 0.02;
+  /// This many disagreeing frames in a row say the motion changed (the
+  /// object stopped or turned): the fit starts again from them.
+  int break_frames = 3;
+};
+
+/// The object's motion along its length, followed over the frames that place
+/// it along its length. Before Lock the frames of the last window_s are kept;
+/// once locked each new frame refits the motion, unless it disagrees with it
+/// (break_m): break_frames such frames in a row start a new fit from them
+/// alone, standing still where they put the object until refit_min_frames
+/// of them give a speed. A single disagreeing frame is set aside.
+class LengthMotion {
+ public:
+  explicit LengthMotion(const LengthFitOptions& options) : options_(options) {}
+
+  /// A frame that placed the object along its length.
+  void Add(const StampedPosition& frame);
+  /// The attempt begins: fits along axis_w; false (not locked) with too few frames.
+  bool Lock(const Eigen::Vector3d& axis_w);
+  /// The attempt ended: frames are gathered afresh.
+  void Reset();
+
+  /// The fitted motion while locked, else none.
+  const std::optional<AxisMotion>& motion() const { return motion_; }
+  std::size_t frames() const { return frames_.size(); }
+  /// Times the motion changed (a new fit began) since the lock.
+  int breaks() const { return breaks_; }
+
+ private:
+  void DropOlderThan(double stamp_s);
+  void Refit();
+
+  LengthFitOptions options_;
+  std::vector<StampedPosition> frames_;
+  std::vector<StampedPosition> disagreeing_;  // in a row, set aside
+  std::optional<AxisMotion> motion_;
+  int breaks_ = 0;
+};
 
 }  // namespace aerograsp

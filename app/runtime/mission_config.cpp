@@ -61,6 +61,9 @@ std::vector<Field> Fields(MissionConfig* c) {
       {"", "vehicle_lag_s", &c->vehicle_lag_s},
       {"", "predict_max_s", &c->predict_max_s},
       {"", "length_fit_s", &c->length_fit_s},
+      {"", "length_break_m", &c->length_break_m},
+      {"", "length_break_frames", &c->length_break_frames},
+      {"", "length_refit_frames", &c->length_refit_frames},
       {"", "search_timeout_s", &c->search_timeout_s},
       {"", "timeout_s", &c->timeout_s},
       {"", "servo_margin_m", &c->servo_margin_m},
@@ -277,6 +280,9 @@ void MissionConfig::Validate(const std::string& source, const std::string& prefi
   CheckRange(s, prefix + "vehicle_lag_s", vehicle_lag_s, 0.0, 5.0, "s");
   CheckRange(s, prefix + "predict_max_s", predict_max_s, 0.0, 1.0, "s");
   CheckRange(s, prefix + "length_fit_s", length_fit_s, 0.0, 30.0, "s");
+  CheckRange(s, prefix + "length_break_m", length_break_m, 1e-6, 1.0, "m");
+  CheckRange(s, prefix + "length_break_frames", length_break_frames, 1, 30, "");
+  CheckRange(s, prefix + "length_refit_frames", length_refit_frames, 2, 300, "");
   CheckRange(s, prefix + "search_timeout_s", search_timeout_s, 1e-6, 600.0, "s");
   CheckRange(s, prefix + "timeout_s", timeout_s, 1e-6, 3600.0, "s");
   CheckRange(s, prefix + "servo_margin_m", servo_margin_m, 0.0, 0.05, "m");

@@ -64,6 +64,13 @@ struct MissionConfig {
   /// from its motion fitted over the frames of this long before the attempt
   /// (the fingers hide its ends), [0, 30] s; 0: from every frame.
   double length_fit_s{3.0};
+  /// A frame this far from the fitted motion along the length disagrees with
+  /// it, (0, 1] m; length_break_frames such frames in a row (the object
+  /// stopped or turned) start a new fit from them, [1, 30].
+  double length_break_m{0.02};
+  int length_break_frames{3};
+  /// Frames a refit of that motion needs once an attempt runs, [2, 300].
+  int length_refit_frames{8};
   /// at the waypoint without finding the object: give up, (0, 600] s
   double search_timeout_s{20.0};
   double timeout_s{180.0};       ///< the whole mission, (0, 3600] s

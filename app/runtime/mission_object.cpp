@@ -17,7 +17,8 @@ TrackedObject::TrackedObject(const MissionConfig& config, ObjectSymmetry symmetr
       frame_period_s_(frame_period_s),
       alpha_(std::min(1.0, frame_period_s / config.object_filter_s)),
       dMe_(std::move(dMe)),
-      log_(std::move(log)) {}
+      log_(std::move(log)),
+      length_(LengthOptions(config, frame_period_s)) {}
 
 void TrackedObject::Update(double t, const ObjectEstimate& estimate, const Eigen::Isometry3d& dMc) {
   estimate_ = estimate;
@@ -26,26 +27,25 @@ void TrackedObject::Update(double t, const ObjectEstimate& estimate, const Eigen
   const Eigen::Vector3d measured_w = estimate_.fMo.translation();
   if (found_ && estimate_.weak_direction_fixed && holder_ < 0 && config_.length_fit_s > 0.0 &&
       !BeyondTrackingRadius(measured_w, config_)) {
-    length_frames_.push_back({estimate_.stamp_s, measured_w});
-    const double oldest_s = estimate_.stamp_s - config_.length_fit_s;
-    length_frames_.erase(
-        std::remove_if(length_frames_.begin(), length_frames_.end(),
-                       [&](const StampedPosition& p) { return p.stamp_s < oldest_s; }),
-        length_frames_.end());
-    if (length_) {
-      if (auto refit = FitAxisMotion(length_frames_, length_->axis_w, MinLengthFrames()))
-        length_ = refit;
+    const int breaks_before = length_.breaks();
+    length_.Add({estimate_.stamp_s, measured_w});
+    if (length_.breaks() > breaks_before) {
+      log_(fmt::format(
+          "vision: {} frames in a row place the object over {:.0f} mm off its fitted motion "
+          "along its length: it stopped or turned; fitted again from them",
+          config_.length_break_frames, 1e3 * config_.length_break_m));
     }
   }
-  if (length_ && estimate_.valid && holder_ < 0) {
+  const std::optional<AxisMotion>& length = length_.motion();
+  if (length && estimate_.valid && holder_ < 0) {
     // Along its length the object is where its fitted motion puts it (not
     // once a gripper carries it: then it moves with that gripper).
-    const Eigen::Vector3d& u = length_->axis_w;
+    const Eigen::Vector3d& u = length->axis_w;
     const Eigen::Vector3d p_w = estimate_.fMo.translation();
     const Eigen::Isometry3d fMo_before = estimate_.fMo;
-    estimate_.fMo.translation() = length_->Constrain(p_w, estimate_.stamp_s);
+    estimate_.fMo.translation() = length->Constrain(p_w, estimate_.stamp_s);
     estimate_.cMo = estimate_.cMo * fMo_before.inverse() * estimate_.fMo;
-    estimate_.v_f += (length_->v_mps - u.dot(estimate_.v_f)) * u;
+    estimate_.v_f += (length->v_mps - u.dot(estimate_.v_f)) * u;
   }
   if (found_) {
     lost_since_s_ = -1.0;
@@ -95,28 +95,31 @@ void TrackedObject::Update(double t, const ObjectEstimate& estimate, const Eigen
   }
 }
 
-int TrackedObject::MinLengthFrames() const {
+LengthFitOptions TrackedObject::LengthOptions(const MissionConfig& config, double frame_period_s) {
+  LengthFitOptions o;
+  o.window_s = config.length_fit_s;
   // Half the window's frames at the camera's rate.
-  return std::max(2, static_cast<int>(0.5 * config_.length_fit_s / frame_period_s_));
+  o.lock_min_frames = std::max(2, static_cast<int>(0.5 * config.length_fit_s / frame_period_s));
+  o.refit_min_frames = config.length_refit_frames;
+  o.break_m = config.length_break_m;
+  o.break_frames = config.length_break_frames;
+  return o;
 }
 
 bool TrackedObject::LockLength() {
   if (config_.length_fit_s <= 0.0 || !estimate_.valid) return false;
-  length_ = FitAxisMotion(length_frames_, estimate_.fMo.linear().col(0), MinLengthFrames());
-  if (length_) {
-    log_(
-        fmt::format("vision: along its length the object moves {:+.1f} mm/s (fitted over {} "
-                    "frames); that fit, not each frame, places it along its length until the "
-                    "attempt ends",
-                    1e3 * length_->v_mps, length_frames_.size()));
-  }
-  return length_.has_value();
+  if (!length_.Lock(estimate_.fMo.linear().col(0))) return false;
+  log_(
+      fmt::format("vision: along its length the object moves {:+.1f} mm/s (fitted over {} "
+                  "frames); that fit, refitted on each frame that sees the object whole, places "
+                  "it along its length until the attempt ends",
+                  1e3 * length_.motion()->v_mps, length_.frames()));
+  return true;
 }
 
 void TrackedObject::Released() {
   holder_ = -1;
-  length_.reset();
-  length_frames_.clear();
+  length_.Reset();
 }
 
 void TrackedObject::CarriedBy(int a, const Eigen::Isometry3d& dMo) {
@@ -143,7 +146,8 @@ Eigen::Isometry3d TrackedObject::dMo(double t, const Eigen::Isometry3d& wMd) con
   if (HeldInWorld(t)) {
     Eigen::Isometry3d wMo = wMo_last_;
     wMo.translation() += HeldDisplacement(t);
-    if (length_) wMo.translation() = length_->Constrain(wMo.translation(), t);
+    if (const auto& length = length_.motion())
+      wMo.translation() = length->Constrain(wMo.translation(), t);
     return dMw * wMo;
   }
   // The filter runs in the world (the object crawls slowly there, while the

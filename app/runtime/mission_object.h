@@ -39,11 +39,12 @@ class TrackedObject {
   /// position along its length (x of o, the longest side) comes from its
   /// motion fitted over the last length_fit_s of frames that placed it along
   /// its length (ObjectEstimate::weak_direction_fixed; refitted on each new
-  /// one), not from each frame. False (nothing changes) when length_fit_s is 0 or too
-  /// few frames saw it.
+  /// one, again from the newest when they say it stopped or turned:
+  /// LengthMotion), not from each frame. False (nothing changes) when
+  /// length_fit_s is 0 or too few frames saw it.
   bool LockLength();
   /// The fitted motion while locked, else none.
-  const std::optional<AxisMotion>& length_motion() const { return length_; }
+  const std::optional<AxisMotion>& length_motion() const { return length_.motion(); }
 
   /// The object in the body frame at t_s with the vehicle at wMd: in the
   /// holding gripper, at its last world pose moved on with its filtered
@@ -64,8 +65,7 @@ class TrackedObject {
   const Eigen::Vector3d& object_w_filtered() const { return object_w_filtered_; }
 
  private:
-  /// Frames a fit of the motion along the length needs.
-  int MinLengthFrames() const;
+  static LengthFitOptions LengthOptions(const MissionConfig& config, double frame_period_s);
   /// How far the held pose has moved on from the last world pose at t_s.
   Eigen::Vector3d HeldDisplacement(double t_s) const;
 
@@ -86,8 +86,7 @@ class TrackedObject {
   bool logged_beyond_ = false;
   int holder_ = -1;
   Eigen::Isometry3d eMo_held_ = Eigen::Isometry3d::Identity();  // in the holding gripper
-  std::vector<StampedPosition> length_frames_;  // found frames of the last length_fit_s
-  std::optional<AxisMotion> length_;            // while an attempt runs
+  LengthMotion length_;  // fitted on the frames that place the object along its length
 };
 
 }  // namespace aerograsp

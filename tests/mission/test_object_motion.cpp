@@ -69,5 +69,77 @@ TEST(ObjectMotionTest, AStillObjectFitsNoSpeed) {
   EXPECT_NEAR(m->At(m->t0_s + 5.0), 0.3, 0.012);
 }
 
+// The crawl of 3 cm/s that turns back at turn_s (the end of its travel).
+StampedPosition TurningCrawl(double t_s, double turn_s) {
+  const double s = t_s <= turn_s ? 0.03 * t_s : 0.03 * (2.0 * turn_s - t_s);
+  return {t_s, Eigen::Vector3d(s, 0.4, -0.2)};
+}
+
+LengthFitOptions Options() {
+  LengthFitOptions o;
+  o.window_s = 3.0;
+  o.lock_min_frames = 45;
+  o.refit_min_frames = 8;
+  o.break_m = 0.02;
+  o.break_frames = 3;
+  return o;
+}
+
+TEST(LengthMotionTest, LocksOnlyWithEnoughFrames) {
+  LengthMotion length(Options());
+  for (int k = 0; k < 30; ++k) length.Add(TurningCrawl(k / 30.0, 100.0));
+  EXPECT_FALSE(length.Lock(Eigen::Vector3d::UnitX()));
+  EXPECT_FALSE(length.motion().has_value());
+  for (int k = 30; k < 90; ++k) length.Add(TurningCrawl(k / 30.0, 100.0));
+  ASSERT_TRUE(length.Lock(Eigen::Vector3d::UnitX()));
+  EXPECT_NEAR(length.motion()->v_mps, 0.03, 1e-9);
+}
+
+TEST(LengthMotionTest, FollowsATurnFromTheFramesAfterIt) {
+  LengthMotion length(Options());
+  double t = 0.0;
+  for (; t < 3.0; t += 1.0 / 30.0) length.Add(TurningCrawl(t, 3.5));
+  ASSERT_TRUE(length.Lock(Eigen::Vector3d::UnitX()));
+  // Then a frame now and then (the arms hide the ends), through the turn.
+  for (; t < 5.0; t += 0.1) length.Add(TurningCrawl(t, 3.5));
+  EXPECT_EQ(length.breaks(), 1);
+  EXPECT_NEAR(length.motion()->v_mps, -0.03, 1e-6);
+  EXPECT_NEAR(length.motion()->At(t + 0.5), TurningCrawl(t + 0.5, 3.5).p_w.x(), 1e-6);
+}
+
+TEST(LengthMotionTest, StandsStillUntilTheNewMotionHasFrames) {
+  LengthMotion length(Options());
+  double t = 0.0;
+  for (; t < 3.0; t += 1.0 / 30.0) length.Add(TurningCrawl(t, 100.0));
+  ASSERT_TRUE(length.Lock(Eigen::Vector3d::UnitX()));
+  // Three frames 0.12 m ahead of the fit start a new one, standing still.
+  for (int k = 0; k < 3; ++k) length.Add({t + 3.0 + k / 30.0, Eigen::Vector3d(0.30, 0.0, 0.0)});
+  EXPECT_EQ(length.breaks(), 1);
+  EXPECT_DOUBLE_EQ(length.motion()->v_mps, 0.0);
+  EXPECT_NEAR(length.motion()->At(t + 10.0), 0.30, 1e-12);
+}
+
+TEST(LengthMotionTest, SetsASingleStrayFrameAside) {
+  LengthMotion length(Options());
+  double t = 0.0;
+  for (; t < 3.0; t += 1.0 / 30.0) length.Add(TurningCrawl(t, 100.0));
+  ASSERT_TRUE(length.Lock(Eigen::Vector3d::UnitX()));
+  length.Add({t, Eigen::Vector3d(0.5, 0.0, 0.0)});  // 0.41 m off: the tracker slid
+  length.Add(TurningCrawl(t + 0.1, 100.0));
+  EXPECT_EQ(length.breaks(), 0);
+  EXPECT_NEAR(length.motion()->v_mps, 0.03, 1e-9);
+  EXPECT_NEAR(length.motion()->At(t + 1.0), 0.03 * (t + 1.0), 1e-9);
+}
+
+TEST(LengthMotionTest, ResetForgetsFramesAndFit) {
+  LengthMotion length(Options());
+  for (int k = 0; k < 90; ++k) length.Add(TurningCrawl(k / 30.0, 100.0));
+  ASSERT_TRUE(length.Lock(Eigen::Vector3d::UnitX()));
+  length.Reset();
+  EXPECT_FALSE(length.motion().has_value());
+  EXPECT_EQ(length.frames(), 0u);
+  EXPECT_FALSE(length.Lock(Eigen::Vector3d::UnitX()));
+}
+
 }  // namespace
 }  // namespace aerograsp
