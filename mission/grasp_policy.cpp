@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <tuple>
 
 #include "core/config.h"
 
@@ -32,6 +33,7 @@ void GraspPolicyConfig::Validate(const std::string& source, const std::string& p
   CheckRange(source, prefix + "branch_drift_rad_per_s", branch_drift_rad_per_s, 0.0, 10.0, "rad/s");
   CheckRange(source, prefix + "max_reaims", max_reaims, 0, 100, "");
   CheckRange(source, prefix + "reaim_wait_s", reaim_wait_s, 0.0, 60.0, "s");
+  CheckRange(source, prefix + "carried_unreachable_s", carried_unreachable_s, 0.0, 60.0, "s");
   CheckRange(source, prefix + "home_tolerance_m", home_tolerance_m, 1e-6, 0.2, "m");
   CheckRange(source, prefix + "target_on_object_m", target_on_object_m, 1e-6, 0.2, "m");
 }
@@ -166,8 +168,10 @@ AttemptDecision DecideAttempt(const AttemptView& view, const GraspPolicyState& s
   // timed out, or the object hidden by the fingers), the free arm aims again.
   if (const int holder = CarryingGripper(view); holder >= 0) {
     const GraspPhase free_phase = view.phase[1 - holder];
-    const bool free_ended =
-        free_phase == GraspPhase::kDone || free_phase == GraspPhase::kTimedOut || !retry.empty();
+    const double free_unreachable_for_s = view.unreachable_for_s[1 - holder];
+    const bool free_ended = free_phase == GraspPhase::kDone ||
+                            free_phase == GraspPhase::kTimedOut || !retry.empty() ||
+                            free_unreachable_for_s >= config.carried_unreachable_s;
     if (view.phase[holder] != GraspPhase::kDone) {
       if (free_ended) {
         d.action = AttemptAction::kWait;  // still closing
@@ -221,18 +225,21 @@ PlannerStep NextPlannerStep(PlannerState state, bool both_at_precatch, double ti
 }
 
 int RankReaim(const std::vector<ArmGrasp>& candidates,
-              const std::function<bool(const ArmGrasp&)>& clears) {
-  // Grasps clear of the faces' edges first (one near an end closes past it
-  // with a few millimetres of error), then the nearest the arm's joints.
+              const std::function<bool(const ArmGrasp&)>& clears,
+              const std::vector<int>& aimed_pairs) {
+  // A pair not aimed at yet first (the last aim there closed on nothing or
+  // found no way in), then grasps clear of the faces' edges (one near an end
+  // closes past it with a few millimetres of error), then the nearest the
+  // arm's joints.
+  const auto key = [&](const ArmGrasp& g) {
+    const bool aimed =
+        std::find(aimed_pairs.begin(), aimed_pairs.end(), g.pair) != aimed_pairs.end();
+    return std::make_tuple(aimed, !g.clear_of_edges, g.cost_rad);
+  };
   int best = -1;
   for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
-    const ArmGrasp& g = candidates[i];
-    if (!clears(g)) continue;
-    if (best < 0 ||
-        std::make_pair(!g.clear_of_edges, g.cost_rad) <
-            std::make_pair(!candidates[best].clear_of_edges, candidates[best].cost_rad)) {
-      best = i;
-    }
+    if (!clears(candidates[i])) continue;
+    if (best < 0 || key(candidates[i]) < key(candidates[best])) best = i;
   }
   return best;
 }

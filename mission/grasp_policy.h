@@ -22,9 +22,12 @@
 //    or both grippers closed without holding (DecideAttempt);
 //  - carried: from the moment one gripper holds, the object moves with it
 //    (CarryingGripper) and that arm keeps still;
-//  - re-aim: one gripper holds, the other's attempt ended: the free arm aims
-//    at the pair clear of edges, nearest its joints, that clears the holding
-//    arm, at most max_reaims times an attempt; with no such pair the holder
+//  - re-aim: one gripper holds, the other's attempt ended (closed, timed out,
+//    or no way to its target for carried_unreachable_s: the carried object
+//    keeps still in the body, so that target stays out of reach): the free
+//    arm aims at a pair it has not aimed at in this attempt, clear of edges,
+//    nearest its joints, that clears the holding arm, at most max_reaims
+//    times an attempt; with no such pair the holder
 //    stays closed and the search is asked again for reaim_wait_s before the
 //    attempt ends (DecideAttempt, RankReaim);
 //  - give up: no plan within planning_timeout_s (PlanningGiveUp); after
@@ -75,6 +78,9 @@ struct GraspPolicyConfig {
   /// search asked again at the re-evaluation rate (the carried object's
   /// estimate is refined frame by frame), before the attempt ends, [0, 60] s.
   double reaim_wait_s{2.0};
+  /// One gripper carries the object and the free arm has found no way to its
+  /// target this long: its attempt ends and it re-aims, [0, 60] s.
+  double carried_unreachable_s{1.0};
   double home_tolerance_m{0.01};  ///< an arm this near its home tool position is back, (0, 0.2] m
   /// An arm closes only on a target this near its grasp on the object's
   /// current estimate, (0, 0.2] m (TargetOnObject).
@@ -105,6 +111,7 @@ struct GraspPolicyState {
   SwitchState followed;
   int switch_proposals_in_a_row = 0;  ///< re-evaluations in a row that proposed a switch
   int reaims = 0;                     ///< re-aims of the free arm in this attempt
+  std::vector<int> aimed_pairs[2];    ///< pairs each arm aimed at in this attempt
 };
 
 /// Why each arm cannot take the followed pair (asked only when it left the ranking).
@@ -161,6 +168,8 @@ struct AttemptView {
   bool one_gripper_carries = false;  ///< a re-aim is under way (one gripper holds)
   bool reaim_unavailable = false;    ///< the free arm's last search found no pair (not due again)
   double reaim_unavailable_for_s = -1.0;  ///< since the first search found none; < 0: none failed
+  /// Each arm's servo has found no way to its target this long; < 0: it moves.
+  double unreachable_for_s[2] = {-1.0, -1.0};
 };
 
 enum class AttemptAction {
@@ -190,10 +199,12 @@ PlannerStep NextPlannerStep(PlannerState state, bool both_at_precatch, double ti
                             bool both_done, bool both_hold, const GraspPolicyConfig& config);
 
 /// The free arm's re-aim: among `candidates` that `clears` (of the holding
-/// arm), those clear of edges first, then the nearest the arm's joints
-/// (cost_rad). The index, or -1 when none clears.
+/// arm), those it has not aimed at (`aimed_pairs`) first, then those clear of
+/// edges, then the nearest the arm's joints (cost_rad). The index, or -1 when
+/// none clears.
 int RankReaim(const std::vector<ArmGrasp>& candidates,
-              const std::function<bool(const ArmGrasp&)>& clears);
+              const std::function<bool(const ArmGrasp&)>& clears,
+              const std::vector<int>& aimed_pairs = {});
 
 /// The close gate: the arm's target (target_d) lies within target_on_object_m
 /// of its grasp on the object's current estimate (grasp_d), both in the body

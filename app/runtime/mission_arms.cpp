@@ -92,6 +92,7 @@ void GraspArms::Aim(int a, const ArmGrasp& g, double t_s) {
   servo_[a]->SetSeedHints({g.q_precatch, g.q_grasp});
   sequence_[a]->Start(t_s);
   sequence_[a]->HoldAtPreCatch(false);
+  unreachable_since_s_[a] = -1.0;
 }
 
 void GraspArms::GoIn() {
@@ -228,6 +229,13 @@ std::optional<std::string> GraspArms::Step(double t, double dt_s, const FollowVi
                        ServoStatusName(command.servo_status), GraspPhaseName(command.phase),
                        1e3 * command.joints.position_error_m));
       last_status_[a] = command.servo_status;
+    }
+    const bool no_way = command.servo_status == ServoStatus::kUnreachable ||
+                        command.servo_status == ServoStatus::kSearching;
+    if (!no_way) {
+      unreachable_since_s_[a] = -1.0;
+    } else if (unreachable_since_s_[a] < 0) {
+      unreachable_since_s_[a] = t;
     }
     if (command.servo_status == ServoStatus::kInvalidState)
       return fmt::format("{} arm: invalid joint readings", kArmNames[a]);

@@ -62,6 +62,11 @@ class GraspArms {
               double t_s);
   /// Arm a alone aims at `g` and goes straight in (the other holds the object).
   void Aim(int a, const ArmGrasp& g, double t_s);
+  /// Seconds arm a's servo has found no way to its target (unreachable, or
+  /// still searching for one) at t_s, since its last Aim or motion; < 0: it moves.
+  double unreachable_for_s(int a, double t_s) const {
+    return unreachable_since_s_[a] < 0 ? -1.0 : t_s - unreachable_since_s_[a];
+  }
   /// Both arms leave their pre-catch poses and move in.
   void GoIn();
   /// After a failed attempt: the servos' IK seeded with the home poses.
@@ -120,6 +125,7 @@ class GraspArms {
   ArmGrasp solved_[2];                      // this cycle's solution (SolveFollowed)
   bool switch_pending_[2] = {false, false};
   ServoStatus last_status_[2] = {ServoStatus::kNoTarget, ServoStatus::kNoTarget};
+  double unreachable_since_s_[2] = {-1.0, -1.0};  // < 0: the servo finds its way
 };
 
 }  // namespace aerograsp

@@ -90,6 +90,7 @@ std::vector<Field> Fields(MissionConfig* c) {
                      {"policy", "branch_drift_rad_per_s", &p.branch_drift_rad_per_s},
                      {"policy", "max_reaims", &p.max_reaims},
                      {"policy", "reaim_wait_s", &p.reaim_wait_s},
+                     {"policy", "carried_unreachable_s", &p.carried_unreachable_s},
                      {"policy", "home_tolerance_m", &p.home_tolerance_m},
                      {"policy", "target_on_object_m", &p.target_on_object_m}});
   GraspPlannerConfig& g = c->planner;

@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <vector>
+
 #include "app/runtime/mission_object.h"
 #include "core/collision.h"
 
@@ -92,8 +95,13 @@ bool GraspScheduler::AimFreeArm(double t, int holding, const AskedPlan& asked) {
     return free == 0 ? collision_.ArmsCollide(q_free, q_held, margin)
                      : collision_.ArmsCollide(q_held, q_free, margin);
   };
+  std::vector<int>& aimed = policy_.aimed_pairs[free];
+  const int followed_free = free == 0 ? policy_.followed.left_pair : policy_.followed.right_pair;
+  if (followed_free >= 0 && std::find(aimed.begin(), aimed.end(), followed_free) == aimed.end())
+    aimed.push_back(followed_free);
   const int best = RankReaim(
-      candidates, [&](const ArmGrasp& g) { return !collide(g.q_grasp) && !collide(g.q_precatch); });
+      candidates, [&](const ArmGrasp& g) { return !collide(g.q_grasp) && !collide(g.q_precatch); },
+      aimed);
   if (best < 0) {
     if (reaim_failed_since_s_ >= 0) return false;  // logged at its first search
     log_(
@@ -191,6 +199,7 @@ void GraspScheduler::Plan(double t) {
     const GripperState g = driver_->Gripper(kSides[a]);
     view.holds[a] = g.holding;
     view.aperture_m[a] = g.aperture_m;
+    view.unreachable_for_s[a] = arms_.unreachable_for_s(a, t);
     gripper_holds_[a] = g.holding;
   }
   const int carrier = CarryingGripper(view);
@@ -224,6 +233,7 @@ void GraspScheduler::Plan(double t) {
   if (decision.action == AttemptAction::kRetry) {
     object_->Released();
     policy_.reaims = 0;
+    for (std::vector<int>& aimed : policy_.aimed_pairs) aimed.clear();
     reaim_failed_since_s_ = -1.0;
     next_reaim_s_ = 0.0;
     sm_.planner->Retry(t, decision.reason);

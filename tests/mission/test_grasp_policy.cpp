@@ -230,6 +230,27 @@ TEST(GraspPolicyTest, TheFreeArmReaimsWhileTheOtherGripperHolds) {
   EXPECT_EQ(DecideAttempt(view, state, config).action, AttemptAction::kRetry);
 }
 
+TEST(GraspPolicyTest, AFreeArmWithNoWayToItsTargetReaimsWhileTheOtherCarries) {
+  GraspPolicyConfig config;
+  config.carried_unreachable_s = 1.0;
+  AttemptView view;
+  view.phase[0] = GraspPhase::kDone;  // the left holds
+  view.holds[0] = true;
+  view.one_gripper_carries = true;
+  view.phase[1] = GraspPhase::kPreCatch;
+  view.unreachable_for_s[1] = 0.9;
+  EXPECT_EQ(DecideAttempt(view, GraspPolicyState{}, config).action, AttemptAction::kContinue);
+  view.unreachable_for_s[1] = 1.0;
+  const AttemptDecision d = DecideAttempt(view, GraspPolicyState{}, config);
+  EXPECT_EQ(d.action, AttemptAction::kReaim);
+  EXPECT_EQ(d.holder, 0);
+  // With no gripper holding, an arm with no way in waits for its sequence's timeout.
+  view.holds[0] = false;
+  view.one_gripper_carries = false;
+  view.phase[0] = GraspPhase::kPreCatch;
+  EXPECT_EQ(DecideAttempt(view, GraspPolicyState{}, config).action, AttemptAction::kContinue);
+}
+
 TEST(GraspPolicyTest, WithNoPairForTheFreeArmTheHolderStaysClosedForTheWait) {
   GraspPolicyConfig config;
   config.reaim_wait_s = 2.0;
@@ -299,6 +320,9 @@ TEST(GraspPolicyTest, TheFreeArmAimsAtAPairClearOfEdgesThenTheNearest) {
   const auto clears = [](const ArmGrasp& g) { return g.pair != 13; };
   EXPECT_EQ(RankReaim(candidates, clears), 2);
   EXPECT_EQ(RankReaim(candidates, [](const ArmGrasp&) { return false; }), -1);
+  // A pair aimed at in this attempt comes after every other.
+  EXPECT_EQ(RankReaim(candidates, clears, {12, 11}), 0);
+  EXPECT_EQ(RankReaim(candidates, clears, {10, 11, 12}), 2);
   candidates.resize(1);
   EXPECT_EQ(RankReaim(candidates, clears), 0);  // near an edge is better than none
 }
