@@ -44,24 +44,25 @@ void LengthMotion::DropOlderThan(double stamp_s) {
                 frames_.end());
 }
 
-void LengthMotion::Add(const StampedPosition& frame) {
+bool LengthMotion::Add(const StampedPosition& frame) {
   if (motion_) {
     const double off_m = motion_->axis_w.dot(frame.p_w) - motion_->At(frame.stamp_s);
     if (std::abs(off_m) > options_.break_m) {
       disagreeing_.push_back(frame);
-      if (static_cast<int>(disagreeing_.size()) < options_.break_frames) return;
+      if (static_cast<int>(disagreeing_.size()) < options_.break_frames) return false;
       // The motion changed: the fit starts again from these frames.
       frames_ = std::move(disagreeing_);
       disagreeing_.clear();
       ++breaks_;
       Refit();
-      return;
+      return true;
     }
     disagreeing_.clear();
   }
   frames_.push_back(frame);
   DropOlderThan(frame.stamp_s - options_.window_s);
   if (motion_) Refit();
+  return false;
 }
 
 void LengthMotion::Refit() {

@@ -59,8 +59,9 @@ class LengthMotion {
  public:
   explicit LengthMotion(const LengthFitOptions& options) : options_(options) {}
 
-  /// A frame that placed the object along its length.
-  void Add(const StampedPosition& frame);
+  /// A frame that placed the object along its length. True when it began a
+  /// new fit (the motion changed).
+  bool Add(const StampedPosition& frame);
   /// The attempt begins: fits along axis_w; false (not locked) with too few frames.
   bool Lock(const Eigen::Vector3d& axis_w);
   /// The attempt ended: frames are gathered afresh.

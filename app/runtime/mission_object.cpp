@@ -14,7 +14,6 @@ TrackedObject::TrackedObject(const MissionConfig& config, ObjectSymmetry symmetr
                              std::function<void(const std::string&)> log)
     : config_(config),
       symmetry_(std::move(symmetry)),
-      frame_period_s_(frame_period_s),
       alpha_(std::min(1.0, frame_period_s / config.object_filter_s)),
       dMe_(std::move(dMe)),
       log_(std::move(log)),
@@ -27,9 +26,7 @@ void TrackedObject::Update(double t, const ObjectEstimate& estimate, const Eigen
   const Eigen::Vector3d measured_w = estimate_.fMo.translation();
   if (found_ && estimate_.weak_direction_fixed && holder_ < 0 && config_.length_fit_s > 0.0 &&
       !BeyondTrackingRadius(measured_w, config_)) {
-    const int breaks_before = length_.breaks();
-    length_.Add({estimate_.stamp_s, measured_w});
-    if (length_.breaks() > breaks_before) {
+    if (length_.Add({estimate_.stamp_s, measured_w})) {
       log_(fmt::format(
           "vision: {} frames in a row place the object over {:.0f} mm off its fitted motion "
           "along its length: it stopped or turned; fitted again from them",

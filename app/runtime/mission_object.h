@@ -71,7 +71,6 @@ class TrackedObject {
 
   const MissionConfig& config_;
   ObjectSymmetry symmetry_;
-  double frame_period_s_;
   double alpha_;  // low-pass gain per frame
   std::function<Eigen::Isometry3d(int)> dMe_;
   std::function<void(const std::string&)> log_;

@@ -89,95 +89,82 @@ TEST(GraspSequenceTest, PreCatchThenGraspThenClose) {
   EXPECT_NEAR(close_steps * 0.01, config.close_time_s, 0.015);
 }
 
-// Steps the sequence toward bMg every 0.01 s (from *t_s, the arm at *q) until
-// it reaches `phase`, for at most 8 s.
-void StepUntil(GraspSequence* sequence, const Eigen::Isometry3d& bMg, GraspPhase phase,
-               Eigen::VectorXd* q, double* t_s) {
-  GraspCommand cmd;
-  for (int k = 0; k < 800 && sequence->phase() != phase; ++k, *t_s += 0.01) {
-    sequence->SetGrasp(bMg, *t_s);
-    sequence->Step(*q, *t_s, 0.01, &cmd);
-    *q = cmd.joints.q_target_rad;
+// A 6-DoF arm at home whose sequence started at t = 0 toward Grasp(arm).
+struct SequenceRig {
+  explicit SequenceRig(const GraspSequenceConfig& sequence_config = GraspSequenceConfig{})
+      : arm(Arm6()),
+        servo(arm, ServoConfig{}),
+        config(sequence_config),
+        sequence(&servo, config),
+        bMg(Grasp(arm)),
+        q(Home6()) {
+    sequence.Start(0.0);
   }
-}
+  /// One 0.01 s step toward `target` (set as the grasp at t); the arm follows.
+  GraspCommand Step(const Eigen::Isometry3d& target) {
+    GraspCommand cmd;
+    sequence.SetGrasp(target, t);
+    sequence.Step(q, t, 0.01, &cmd);
+    q = cmd.joints.q_target_rad;
+    t += 0.01;
+    return cmd;
+  }
+  /// Steps toward bMg until the sequence reaches `phase`, for at most 8 s.
+  void StepUntil(GraspPhase phase) {
+    for (int k = 0; k < 800 && sequence.phase() != phase; ++k) Step(bMg);
+  }
+
+  const ArmModel arm;
+  ArmServo servo;
+  const GraspSequenceConfig config;
+  GraspSequence sequence;
+  const Eigen::Isometry3d bMg;
+  Eigen::VectorXd q;
+  double t = 0.0;
+};
 
 TEST(GraspSequenceTest, AGripperThatHoldsEndsTheCloseAndTheArmKeepsStill) {
-  const ArmModel arm = Arm6();
-  ArmServo servo(arm, ServoConfig{});
-  GraspSequence sequence(&servo, GraspSequenceConfig{});
-  const Eigen::Isometry3d bMg = Grasp(arm);
-  Eigen::VectorXd q = Home6();
-  sequence.Start(0.0);
-  double t = 0.0;
-  StepUntil(&sequence, bMg, GraspPhase::kClose, &q, &t);
-  ASSERT_EQ(sequence.phase(), GraspPhase::kClose);
-  GraspCommand cmd;
+  SequenceRig rig;
+  rig.StepUntil(GraspPhase::kClose);
+  ASSERT_EQ(rig.sequence.phase(), GraspPhase::kClose);
   // The object's estimate moves 3 cm while the pads close; the gripper then holds.
-  const Eigen::Isometry3d bMg_moved = Eigen::Translation3d(0.03, 0.0, 0.0) * bMg;
-  sequence.SetGrasp(bMg_moved, t);
-  sequence.Step(q, t, 0.01, &cmd);
+  const Eigen::Isometry3d bMg_moved = Eigen::Translation3d(0.03, 0.0, 0.0) * rig.bMg;
+  const Eigen::VectorXd q_before = rig.q;
+  GraspCommand cmd = rig.Step(bMg_moved);
   EXPECT_EQ(cmd.phase, GraspPhase::kClose);
-  EXPECT_GT((cmd.joints.q_target_rad - q).norm(), 0.0);  // still servoing while closing
-  q = cmd.joints.q_target_rad;
-  t += 0.01;
-  const Eigen::VectorXd q_at_hold = q;
-  sequence.GripperHolds(t);
-  for (int k = 0; k < 50; ++k, t += 0.01) {
-    sequence.SetGrasp(bMg_moved, t);
-    sequence.Step(q, t, 0.01, &cmd);
+  EXPECT_GT((cmd.joints.q_target_rad - q_before).norm(), 0.0);  // still servoing while closing
+  const Eigen::VectorXd q_at_hold = rig.q;
+  rig.sequence.GripperHolds(rig.t);
+  for (int k = 0; k < 50; ++k) {
+    cmd = rig.Step(bMg_moved);
     EXPECT_EQ(cmd.phase, GraspPhase::kDone);
     EXPECT_EQ(cmd.gripper, GripperCommand::kClose);
     EXPECT_EQ(cmd.joints.q_target_rad, q_at_hold);
-    q = cmd.joints.q_target_rad;
   }
 }
 
 TEST(GraspSequenceTest, ATargetOffTheObjectIsNotClosedOnAndTimesOut) {
-  const ArmModel arm = Arm6();
-  ArmServo servo(arm, ServoConfig{});
-  GraspSequenceConfig config;
-  GraspSequence sequence(&servo, config);
-  const Eigen::Isometry3d bMg = Grasp(arm);
-  Eigen::VectorXd q = Home6();
-  sequence.Start(0.0);
-  double t = 0.0;
-  StepUntil(&sequence, bMg, GraspPhase::kGrasp, &q, &t);
-  ASSERT_EQ(sequence.phase(), GraspPhase::kGrasp);
-  GraspCommand cmd;
-  sequence.SetTargetOnObject(false);
-  const double grasp_start_s = t;
-  for (; sequence.phase() == GraspPhase::kGrasp && t < grasp_start_s + 10.0; t += 0.01) {
-    sequence.SetGrasp(bMg, t);
-    sequence.Step(q, t, 0.01, &cmd);
-    EXPECT_EQ(cmd.gripper, GripperCommand::kOpen);
-    q = cmd.joints.q_target_rad;
-  }
+  SequenceRig rig;
+  rig.StepUntil(GraspPhase::kGrasp);
+  ASSERT_EQ(rig.sequence.phase(), GraspPhase::kGrasp);
+  rig.sequence.SetTargetOnObject(false);
+  const double grasp_start_s = rig.t;
+  while (rig.sequence.phase() == GraspPhase::kGrasp && rig.t < grasp_start_s + 10.0)
+    EXPECT_EQ(rig.Step(rig.bMg).gripper, GripperCommand::kOpen);
   // At its target all along, never closed there, and out of time as a grasp that is not met.
-  EXPECT_LE(ComputeApproachError(arm.ForwardKinematics(q), bMg).position_b.norm(),
-            config.grasp_tolerance.position_m);
-  EXPECT_EQ(sequence.phase(), GraspPhase::kTimedOut);
-  EXPECT_NEAR(t - grasp_start_s, config.grasp_timeout_s, 0.02);
+  EXPECT_LE(ComputeApproachError(rig.arm.ForwardKinematics(rig.q), rig.bMg).position_b.norm(),
+            rig.config.grasp_tolerance.position_m);
+  EXPECT_EQ(rig.sequence.phase(), GraspPhase::kTimedOut);
+  EXPECT_NEAR(rig.t - grasp_start_s, rig.config.grasp_timeout_s, 0.02);
 }
 
 TEST(GraspSequenceTest, ATargetBackOnTheObjectIsClosedOn) {
-  const ArmModel arm = Arm6();
-  ArmServo servo(arm, ServoConfig{});
-  GraspSequence sequence(&servo, GraspSequenceConfig{});
-  const Eigen::Isometry3d bMg = Grasp(arm);
-  Eigen::VectorXd q = Home6();
-  sequence.Start(0.0);
-  sequence.SetTargetOnObject(false);
-  double t = 0.0;
-  GraspCommand cmd;
-  for (int k = 0; k < 300; ++k, t += 0.01) {  // 3 s: the grasp pose is met, held back
-    sequence.SetGrasp(bMg, t);
-    sequence.Step(q, t, 0.01, &cmd);
-    q = cmd.joints.q_target_rad;
-  }
-  EXPECT_EQ(sequence.phase(), GraspPhase::kGrasp);
-  sequence.SetTargetOnObject(true);
-  sequence.SetGrasp(bMg, t);
-  sequence.Step(q, t, 0.01, &cmd);
+  SequenceRig rig;
+  rig.sequence.SetTargetOnObject(false);
+  for (int k = 0; k < 300; ++k) rig.Step(rig.bMg);  // 3 s: the grasp pose is met, held back
+  EXPECT_EQ(rig.sequence.phase(), GraspPhase::kGrasp);
+  rig.sequence.SetTargetOnObject(true);
+  const GraspCommand cmd = rig.Step(rig.bMg);
   EXPECT_EQ(cmd.phase, GraspPhase::kClose);
   EXPECT_EQ(cmd.gripper, GripperCommand::kClose);
 }
