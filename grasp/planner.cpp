@@ -23,6 +23,9 @@ bool Better(const DualGrasp& a, const DualGrasp& b) {
   return a.right.pair < b.right.pair;
 }
 
+/// Plan's order of classes: robust and clear of edges 0, robust 1, clear of edges 2, neither 3.
+int RankClass(const DualGrasp& d) { return (d.robust ? 0 : 2) + (d.clear_of_edges ? 0 : 1); }
+
 IkOptions GraspAxisIkOptions(const GraspPlannerConfig& config) {
   IkOptions options;
   options.approach_samples = config.grasp_axis_approaches;
@@ -223,20 +226,19 @@ bool GraspPlanner::Robust(Side side, const ArmGrasp& g, const Eigen::Isometry3d&
   return true;
 }
 
-PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
-  PlanResult result;
+void GraspPlanner::EvaluateArms(const PlanQuery& query, bool robust, PlanResult* result) const {
   const int n = static_cast<int>(contacts_.pairs.size());
   for (Side side : kSides) {
     const Eigen::VectorXd& q = side == Side::kLeft ? query.q_left : query.q_right;
-    std::vector<ArmGrasp>& feasible = side == Side::kLeft ? result.left : result.right;
-    ArmStats& stats = side == Side::kLeft ? result.left_stats : result.right_stats;
+    std::vector<ArmGrasp>& feasible = side == Side::kLeft ? result->left : result->right;
+    ArmStats& stats = side == Side::kLeft ? result->left_stats : result->right_stats;
     const Clock::time_point t0 = Clock::now();
     ArmGrasp grasp;
     Infeasibility why;
     for (int i = 0; i < n; ++i) {
       ++stats.candidates;
       if (EvaluateArm(side, i, query.dMo, q, &grasp, &why)) {
-        grasp.robust = Robust(side, grasp, query.dMo, q);
+        if (robust) grasp.robust = Robust(side, grasp, query.dMo, q);
         feasible.push_back(grasp);
       }
       ++stats.by_reason[static_cast<int>(why)];
@@ -244,22 +246,23 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
     stats.feasible = static_cast<int>(feasible.size());
     stats.seconds = Seconds(t0);
   }
+}
 
-  // Quality bound, task term and cost of every combination.
-  PairStats& ps = result.pair_stats;
+std::vector<DualGrasp> GraspPlanner::Combine(const PlanQuery& query, const PlanResult& arms,
+                                             PairStats* ps) const {
   const Eigen::Vector3d g_o = query.dMo.linear().transpose() * query.gravity_d.normalized();
   std::vector<DualGrasp> candidates;
-  Clock::time_point t0 = Clock::now();
-  for (const ArmGrasp& l : result.left) {
+  const Clock::time_point t0 = Clock::now();
+  for (const ArmGrasp& l : arms.left) {
     const float* hl = &support_[static_cast<std::size_t>(l.pair) * directions_];
     const Eigen::Vector3d cl = contacts_.pairs[l.pair].center_o();
-    for (const ArmGrasp& r : result.right) {
+    for (const ArmGrasp& r : arms.right) {
       if (l.pair == r.pair) continue;
-      ++ps.considered;
+      ++ps->considered;
       const double eps = EpsilonUpperBound(
           hl, &support_[static_cast<std::size_t>(r.pair) * directions_], directions_);
       if (eps <= 0.0) {
-        ++ps.no_force_closure;
+        ++ps->no_force_closure;
         continue;
       }
       const WeightShare share = ComputeWeightShare(cl, contacts_.pairs[r.pair].center_o(),
@@ -277,27 +280,44 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
       candidates.push_back(std::move(d));
     }
   }
-  ps.quality_seconds = Seconds(t0);
+  ps->quality_seconds = Seconds(t0);
   std::sort(candidates.begin(), candidates.end(), Better);
+  return candidates;
+}
+
+bool GraspPlanner::ArmsClear(const DualGrasp& d) const {
+  return !collision_->ArmsCollide(d.left.q_grasp, d.right.q_grasp, config_.arms_margin_m) &&
+         !collision_->ArmsCollide(d.left.q_precatch, d.right.q_precatch, config_.arms_margin_m);
+}
+
+void GraspPlanner::SetExactEpsilon(const WrenchQuality& q, DualGrasp* d) const {
+  d->score -= config_.quality_weight * (d->epsilon - q.epsilon);
+  d->epsilon = q.epsilon;
+  d->epsilon_exact = true;
+}
+
+PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
+  PlanResult result;
+  EvaluateArms(query, /*robust=*/true, &result);
+  PairStats& ps = result.pair_stats;
+  std::vector<DualGrasp> candidates = Combine(query, result, &ps);
 
   // The two arms must clear each other at the grasp and at the pre-catch.
-  t0 = Clock::now();
+  Clock::time_point t0 = Clock::now();
   for (DualGrasp& d : candidates) {
-    if (collision_->ArmsCollide(d.left.q_grasp, d.right.q_grasp, config_.arms_margin_m) ||
-        collision_->ArmsCollide(d.left.q_precatch, d.right.q_precatch, config_.arms_margin_m)) {
+    if (!ArmsClear(d)) {
       ++ps.arms_collide;
       continue;
     }
     result.ranked.push_back(std::move(d));
   }
   ps.collision_seconds = Seconds(t0);
-  // Robust grasps first, and among each those clear of edges, so that the
-  // exact epsilon goes to the ones that will rank first.
+  // Robust grasps first, and among each those clear of edges (RankClass), so
+  // that the exact epsilon goes to the ones that will rank first.
   const auto put_first = [](std::vector<DualGrasp>* ranked) {
-    std::stable_partition(ranked->begin(), ranked->end(),
-                          [](const DualGrasp& d) { return d.clear_of_edges; });
-    std::stable_partition(ranked->begin(), ranked->end(),
-                          [](const DualGrasp& d) { return d.robust; });
+    std::stable_sort(ranked->begin(), ranked->end(), [](const DualGrasp& a, const DualGrasp& b) {
+      return RankClass(a) < RankClass(b);
+    });
   };
   put_first(&result.ranked);
 
@@ -313,9 +333,7 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
       ++ps.exact_dropped;
       continue;
     }
-    d.score -= config_.quality_weight * (d.epsilon - q.epsilon);
-    d.epsilon = q.epsilon;
-    d.epsilon_exact = true;
+    SetExactEpsilon(q, &d);
     top.push_back(std::move(d));
   }
   ps.exact_seconds = Seconds(t0);
@@ -324,6 +342,133 @@ PlanResult GraspPlanner::Plan(const PlanQuery& query) const {
              std::make_move_iterator(result.ranked.end()));
   result.ranked = std::move(top);
   put_first(&result.ranked);
+  ps.valid = static_cast<long long>(result.ranked.size());
+  return result;
+}
+
+PlanResult GraspPlanner::PlanFront(const PlanQuery& query, int left_pair, int right_pair) const {
+  const std::pair<int, int> kept(left_pair, right_pair);
+  PlanResult arms;
+  EvaluateArms(query, /*robust=*/false, &arms);
+  PlanResult result;
+  result.left_stats = arms.left_stats;
+  result.right_stats = arms.right_stats;
+  PairStats& ps = result.pair_stats;
+  std::vector<DualGrasp> candidates = Combine(query, arms, &ps);
+  const Clock::time_point t0 = Clock::now();
+
+  // What Plan computes for every candidate, here only for those the walk
+  // below reaches: each arm grasp's robustness (by side and pair) and
+  // whether the two arms clear each other (by candidate).
+  const int n = static_cast<int>(contacts_.pairs.size());
+  std::vector<signed char> robust[2] = {std::vector<signed char>(n, -1),
+                                        std::vector<signed char>(n, -1)};
+  const auto arm_robust = [&](ArmGrasp* g) {
+    signed char& known = robust[static_cast<int>(g->side)][g->pair];
+    if (known < 0) {
+      known = Robust(g->side, *g, query.dMo, g->side == Side::kLeft ? query.q_left : query.q_right);
+    }
+    g->robust = known != 0;
+    return g->robust;
+  };
+  // The candidate's class (RankClass), both arms' robustness asked.
+  const auto rank_class = [&](DualGrasp* d) {
+    const bool left = arm_robust(&d->left), right = arm_robust(&d->right);
+    d->robust = left && right;
+    return RankClass(*d);
+  };
+  // Is the candidate of class c? The right arm asked only when the left does not decide.
+  const auto in_class = [&](DualGrasp* d, int c) {
+    if (d->clear_of_edges != (c % 2 == 0)) return false;
+    d->robust = arm_robust(&d->left) && arm_robust(&d->right);
+    return d->robust == (c < 2);
+  };
+  std::vector<signed char> clear(candidates.size(), -1);
+  const auto arms_clear = [&](std::size_t k) {
+    if (clear[k] < 0) {
+      clear[k] = ArmsClear(candidates[k]) ? 1 : 0;
+      ps.arms_collide += clear[k] == 0;
+    }
+    return clear[k] != 0;
+  };
+
+  // The kept pair: where it stands in Plan's order (its class, its index in
+  // candidates), if Plan ranks it at all.
+  std::size_t kept_k = candidates.size();
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (candidates[k].left.pair == kept.first && candidates[k].right.pair == kept.second) {
+      kept_k = k;
+      break;
+    }
+  }
+  int kept_class = 4;
+  if (kept_k < candidates.size()) {
+    kept_class = rank_class(&candidates[kept_k]);
+    if (!arms_clear(kept_k)) kept_k = candidates.size();
+  }
+  bool kept_ranked = kept_k < candidates.size(), kept_visited = false;
+
+  // Plan's order of the valid candidates is by class, then by Better: walk it
+  // as Plan's exact-epsilon loop does, until the ranking's first entry and
+  // the kept pair's entry are both known.
+  const std::size_t k_exact = static_cast<std::size_t>(config_.exact_top_k);
+  std::vector<DualGrasp> top;
+  const DualGrasp* first_valid = nullptr;  // the first entry when no epsilon is exact
+  bool done = false;
+  for (int c = 0; c < 4 && !done; ++c) {
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+      DualGrasp& d = candidates[k];
+      if (!in_class(&d, c) || !arms_clear(k)) continue;
+      // (c, k) is the next entry in Plan's order; the exact epsilons stop at k_exact.
+      const bool exact_done = top.size() >= k_exact;
+      const bool kept_known = !kept_ranked || kept_visited || exact_done || c > kept_class ||
+                              (c == kept_class && k > kept_k);
+      const bool front_known = k_exact == 0 ? first_valid != nullptr
+                                            : exact_done || (!top.empty() && c > RankClass(top[0]));
+      if (kept_known && front_known) {
+        done = true;
+        break;
+      }
+      if (!first_valid) first_valid = &d;
+      if (exact_done) continue;
+      const WrenchQuality q = ExactQuality(d.left.pair, d.right.pair);
+      ++ps.exact_evaluations;
+      kept_visited |= k == kept_k;
+      if (!q.force_closure) {
+        ++ps.exact_dropped;
+        kept_ranked &= k != kept_k;
+        continue;
+      }
+      top.push_back(d);
+      SetExactEpsilon(q, &top.back());
+    }
+  }
+
+  // Plan's first entry: the best exact one of the first class with any, or
+  // with no exact epsilon the first valid candidate.
+  if (!top.empty()) {
+    const int c = RankClass(top[0]);
+    const DualGrasp* best = &top[0];
+    for (const DualGrasp& d : top) {
+      if (RankClass(d) == c && Better(d, *best)) best = &d;
+    }
+    result.ranked.push_back(*best);
+  } else if (k_exact == 0 && first_valid) {
+    result.ranked.push_back(*first_valid);
+  }
+  if (kept_ranked) {
+    const DualGrasp* entry = &candidates[kept_k];
+    for (const DualGrasp& d : top) {
+      if (d.left.pair == kept.first && d.right.pair == kept.second) entry = &d;
+    }
+    if (result.ranked.empty() || result.ranked[0].left.pair != kept.first ||
+        result.ranked[0].right.pair != kept.second) {
+      result.ranked.push_back(*entry);
+    }
+  }
+  // Both arms' robustness, as Plan gives it, on the entries returned.
+  for (DualGrasp& d : result.ranked) rank_class(&d);
+  ps.exact_seconds = Seconds(t0);
   ps.valid = static_cast<long long>(result.ranked.size());
   return result;
 }

@@ -197,6 +197,16 @@ class GraspPlanner {
   /// and among each, those clear of edges.
   PlanResult Plan(const PlanQuery& query) const;
 
+  /// What a re-evaluation reads of Plan (the grasp policy's DecideSwitch), at
+  /// a fraction of its cost: `ranked` holds Plan's first entry, then the entry
+  /// of the kept pair (left_pair, right_pair) when Plan ranks it elsewhere,
+  /// each exactly as Plan gives it; the stats of both arms as Plan's. Every
+  /// pair's IK and collisions are solved as in Plan, but robustness, the two
+  /// arms' clearance and the exact epsilon only for the candidates Plan's
+  /// order reaches before both entries are known. `left` and `right` are
+  /// empty, `pair_stats` counts what was computed.
+  PlanResult PlanFront(const PlanQuery& query, int left_pair, int right_pair) const;
+
   /// Exact wrench-hull quality of one pair alone (a single grasp) or of two
   /// pairs together (a dual grasp; pass -1 as `other` for a single one).
   WrenchQuality ExactQuality(int pair, int other = -1) const;
@@ -209,6 +219,17 @@ class GraspPlanner {
   double torque_scale_m_ = 1.0;
   std::unique_ptr<PlatformCollision> collision_;
   int mesh_handle_ = -1;
+  /// Every pair for both arms into result->left, right and their stats;
+  /// `robust`: each feasible grasp's robustness too (else left unset).
+  void EvaluateArms(const PlanQuery& query, bool robust, PlanResult* result) const;
+  /// Every left x right combination of `arms` with force closure by the
+  /// bound, scored, sorted by score (the arms' clearance not checked yet).
+  std::vector<DualGrasp> Combine(const PlanQuery& query, const PlanResult& arms,
+                                 PairStats* ps) const;
+  /// The two arms clear each other at the grasp and at the pre-catch.
+  bool ArmsClear(const DualGrasp& d) const;
+  /// The exact epsilon `q` replaces the bound in d's epsilon and score.
+  void SetExactEpsilon(const WrenchQuality& q, DualGrasp* d) const;
   /// True when the arm's grasp `g` stays feasible with the object moved by
   /// reach_margin_m along each axis of d (on g's branch: robust_branch_rad).
   bool Robust(Side side, const ArmGrasp& g, const Eigen::Isometry3d& dMo,

@@ -307,7 +307,8 @@ void GraspScheduler::Reevaluate(double t) {
                            &wr);
       return std::make_pair(wl, wr);
     };
-    return DecideSwitch(planner->Plan(query), followed, margin, why_unreachable);
+    return DecideSwitch(planner->PlanFront(query, followed.left_pair, followed.right_pair),
+                        followed, margin, why_unreachable);
   });
 }
 

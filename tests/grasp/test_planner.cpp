@@ -323,6 +323,84 @@ TEST_F(ShippedPlanTest, GraspsClearOfEdgesRankFirstAndGetTheExactEpsilon) {
   EXPECT_TRUE(plan.ranked.front().epsilon_exact);
 }
 
+/// Two rankings' entries the same, field by field.
+void ExpectSameEntry(const DualGrasp& a, const DualGrasp& b) {
+  EXPECT_EQ(a.left.pair, b.left.pair);
+  EXPECT_EQ(a.right.pair, b.right.pair);
+  EXPECT_EQ(a.score, b.score);
+  EXPECT_EQ(a.epsilon, b.epsilon);
+  EXPECT_EQ(a.epsilon_exact, b.epsilon_exact);
+  EXPECT_EQ(a.task, b.task);
+  EXPECT_EQ(a.robust, b.robust);
+  EXPECT_EQ(a.clear_of_edges, b.clear_of_edges);
+  EXPECT_EQ(a.left.robust, b.left.robust);
+  EXPECT_EQ(a.right.robust, b.right.robust);
+  EXPECT_EQ(a.left.q_grasp, b.left.q_grasp);
+  EXPECT_EQ(a.right.q_precatch, b.right.q_precatch);
+}
+
+TEST_F(ShippedPlanTest, PlanFrontGivesPlansFirstEntryAndTheKeptPairsEntry) {
+  // The mission's ranking classes (robust, clear of edges), with every
+  // number of exact epsilons: all of them, a few, none.
+  for (const int exact_top_k : {20, 3, 0}) {
+    GraspPlannerConfig config;
+    config.reach_margin_m = 0.01;
+    config.robust_branch_rad = 0.5;
+    config.edge_margin_m = 0.005;
+    config.exact_top_k = exact_top_k;
+    const GraspPlanner planner(
+        platform_, object_,
+        ComputeContactPairs(object_.mesh_o, platform_.config().gripper, ContactOptions{}), config);
+    int poses = 0, kept_elsewhere = 0, kept_unranked = 0, robust_classes_seen = 0;
+    for (int k = 0; k < 6; ++k) {
+      PlanQuery q = query_;
+      q.dMo.translation() += Eigen::Vector3d(0.01 * std::sin(1.3 * k), 0.01 * std::cos(0.9 * k),
+                                             0.01 * std::sin(0.4 * k));
+      q.dMo = q.dMo * Eigen::AngleAxisd(0.05 * std::sin(0.7 * k), Eigen::Vector3d::UnitZ());
+      const PlanResult plan = planner.Plan(q);
+      if (plan.ranked.empty()) continue;
+      ++poses;
+      robust_classes_seen += plan.ranked.front().robust != plan.ranked.back().robust;
+      // Kept pairs from every part of the ranking, one no arm takes and none.
+      std::vector<std::pair<int, int>> kept = {{-1, -1}, {0, 1}};
+      const std::size_t last = plan.ranked.size() - 1;
+      for (const std::size_t i : {std::size_t{0}, std::size_t{1}, std::size_t{2},
+                                  static_cast<std::size_t>(exact_top_k), last / 2, last}) {
+        const DualGrasp& d = plan.ranked[std::min(i, last)];
+        kept.emplace_back(d.left.pair, d.right.pair);
+      }
+      for (const auto& [left, right] : kept) {
+        const PlanResult front = planner.PlanFront(q, left, right);
+        EXPECT_EQ(front.left_stats.feasible, plan.left_stats.feasible);
+        EXPECT_EQ(front.right_stats.feasible, plan.right_stats.feasible);
+        ASSERT_FALSE(front.ranked.empty());
+        ExpectSameEntry(front.ranked.front(), plan.ranked.front());
+        const DualGrasp* in_plan = nullptr;
+        for (const DualGrasp& d : plan.ranked) {
+          if (d.left.pair == left && d.right.pair == right) in_plan = &d;
+        }
+        const bool is_front = in_plan == &plan.ranked.front();
+        ASSERT_EQ(front.ranked.size(), in_plan && !is_front ? 2u : 1u) << left << ", " << right;
+        if (in_plan && !is_front) {
+          ExpectSameEntry(front.ranked[1], *in_plan);
+          ++kept_elsewhere;
+        }
+        kept_unranked += !in_plan;
+        // The policy's decision from either is the same.
+        const SwitchState followed{left, right};
+        const SwitchDecision a = DecideSwitch(plan, followed, kSwitchMargin);
+        const SwitchDecision b = DecideSwitch(front, followed, kSwitchMargin);
+        EXPECT_EQ(a.status, b.status);
+        EXPECT_EQ(a.reason, b.reason);
+      }
+    }
+    EXPECT_GE(poses, 4);
+    EXPECT_GT(kept_elsewhere, 0);
+    EXPECT_GT(kept_unranked, 0);
+    EXPECT_GT(robust_classes_seen, 0) << "no plan ranked both robust and other grasps";
+  }
+}
+
 TEST(GraspPlannerConfigTest, DefaultsAreValidAndBadDepthNamesItsKey) {
   GraspPlannerConfig c;
   EXPECT_NO_THROW(c.Validate("plan.yaml", "planner."));
