@@ -234,6 +234,13 @@ PoseSupportOptions ObjectTracker::SupportOptions() const {
   return support;
 }
 
+PoseSupport ObjectTracker::Support(const Eigen::Isometry3d& cMo, const ColorImage& color,
+                                   const DepthImage& depth, double depth_scale_m,
+                                   const CameraIntrinsics& K) const {
+  return ScorePoseSupport(*model_, cMo, color, depth, depth_scale_m, K, SupportOptions(),
+                          arms_in_depth_ ? &filtered_depth_ : nullptr);
+}
+
 bool ObjectTracker::Passes(const PoseSupport& support, const FrameReport& report) const {
   if (support.projected < 20 || support.ratio() < options_.min_support_ratio ||
       support.coverage() < options_.min_coverage)
@@ -255,8 +262,7 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color,
         Register(cloud, color, depth, depth_scale_m, K, *seed, slide_m, &report->outline_drop);
     report->icp = icp;
     if (icp.ok) {
-      report->support =
-          ScorePoseSupport(*model_, icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
+      report->support = Support(icp.cMo, color, depth, depth_scale_m, K);
       if (Passes(report->support, *report)) {
         report->times.icp_ms = ThreadCpuMs() - t0;
         return true;
@@ -409,9 +415,7 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
       r.usable = r.icp.ok && !(reacquire_zone_c_ &&
                                (r.icp.cMo.translation() - reacquire_zone_c_->first).norm() >
                                    reacquire_zone_c_->second);
-      if (r.usable)
-        r.support =
-            ScorePoseSupport(*model_, r.icp.cMo, color, depth, depth_scale_m, K, SupportOptions());
+      if (r.usable) r.support = Support(r.icp.cMo, color, depth, depth_scale_m, K);
     });
     double best_score = -1.0;
     for (const Registered& r : registered) {
@@ -525,7 +529,8 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& ca
                                    const std::optional<ArmJointPositions>& arm_joints) {
   FrameReport report;
   const double t_start = ThreadCpuMs();
-  // The arms' own pixels out of the depth, before anything uses it.
+  // The arms' own pixels out of the depth, before anything uses it; or only
+  // out of what the support check counts as the object's occluders.
   const bool self_filtered = self_filter_ && arm_joints;
   if (self_filtered) {
     filtered_depth_ = camera_depth;
@@ -533,7 +538,8 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& ca
         self_filter_->Apply(*arm_joints, robot_dMc_, K, depth_scale_m, &filtered_depth_);
     report.times.self_filter_ms = ThreadCpuMs() - t_start;
   }
-  const DepthImage& depth = self_filtered ? filtered_depth_ : camera_depth;
+  arms_in_depth_ = self_filtered && !options_.self_filter.drop_from_depth;
+  const DepthImage& depth = self_filtered && !arms_in_depth_ ? filtered_depth_ : camera_depth;
   // The filter frame f: the world when the camera's pose is given, else the camera.
   const Eigen::Isometry3d fMc =
       wMc && wMc->matrix().allFinite() ? *wMc : Eigen::Isometry3d::Identity();

@@ -269,6 +269,11 @@ class ObjectTracker {
   /// A pose explains enough of the depth (min_support_ratio, min_coverage)
   /// and, on a frame with a detector's box, lies in its crop (min_box_overlap).
   bool Passes(const PoseSupport& support, const FrameReport& report) const;
+  /// The support of cMo in this frame (the arms' pixels hidden when they stay
+  /// in the depth, SelfFilterOptions::drop_from_depth).
+  PoseSupport Support(const Eigen::Isometry3d& cMo, const ColorImage& color,
+                      const DepthImage& depth, double depth_scale_m,
+                      const CameraIntrinsics& K) const;
   /// The rough centres of the object (m, in c) for the global registration, likeliest first.
   std::vector<Eigen::Vector3d> SearchCentres(const FrameReport& report, const DepthImage& depth,
                                              double depth_scale_m, const CameraIntrinsics& K,
@@ -291,6 +296,9 @@ class ObjectTracker {
   std::unique_ptr<RobotSelfFilter> self_filter_;  ///< SetRobot's, when enabled
   Eigen::Isometry3d robot_dMc_ = Eigen::Isometry3d::Identity();
   DepthImage filtered_depth_;  ///< this frame's depth without the arms
+  /// This frame's arms stay in the depth and filtered_depth_ tells the
+  /// support check where they are.
+  bool arms_in_depth_ = false;
   /// The global registration's search under way, across frames.
   struct SearchState {
     bool active = false;

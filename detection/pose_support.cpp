@@ -70,10 +70,14 @@ class SupportScorer {
  public:
   SupportScorer(const ModelCloud& model, const Eigen::Isometry3d& cMo, const ColorImage& color,
                 const DepthImage& depth, double depth_scale_m, const CameraIntrinsics& K,
-                const PoseSupportOptions& options)
+                const PoseSupportOptions& options, const DepthImage* arms_dropped = nullptr)
       : model_(model),
         color_(color),
         depth_(depth),
+        arms_dropped_(arms_dropped && arms_dropped->width == depth.width &&
+                              arms_dropped->height == depth.height && !arms_dropped->empty()
+                          ? arms_dropped
+                          : nullptr),
         depth_scale_m_(depth_scale_m),
         K_(K),
         options_(options) {
@@ -141,6 +145,9 @@ class SupportScorer {
     return j >= 0 && (model_.points_o[j] - seen_o).squaredNorm() <= tolerance_m * tolerance_m;
   }
 
+  /// Whether the surface seen at pixel (u, v) (with depth) is the robot's own arm.
+  bool SeenOnArm(int u, int v) const { return arms_dropped_ && arms_dropped_->at(u, v) == 0; }
+
   /// The support of cMo translated by shift_c (frame c).
   PoseSupport Score(const Eigen::Vector3f& shift_c) const {
     PoseSupport support;
@@ -172,16 +179,17 @@ class SupportScorer {
                 Eigen::Vector3f(color_.at(u, v, 0), color_.at(u, v, 1), color_.at(u, v, 2)),
                 model_.colors[i]) <= options_.max_color_distance) {
           ++support.agree;
-        } else if (tolerance > options_.min_tolerance_m && z_obs < p.z() - 0.5 * tolerance &&
-                   SelfOccluded(model_, i, c_o)) {
-          --support.projected;  // a nearer part of the model hides it
+        } else if (SeenOnArm(u, v) ||
+                   (tolerance > options_.min_tolerance_m && z_obs < p.z() - 0.5 * tolerance &&
+                    SelfOccluded(model_, i, c_o))) {
+          --support.projected;  // the robot's arm, or a nearer part of the model, hides it
         } else {
           ++support.see_through;
         }
       } else if (z_obs > p.z()) {
         ++support.see_through;
-      } else if (HiddenByModel(u, v, z_obs, shift_c)) {
-        --support.projected;  // the model's own nearer surface hides it, seen there
+      } else if (SeenOnArm(u, v) || HiddenByModel(u, v, z_obs, shift_c)) {
+        --support.projected;  // the robot's arm, or the model's own nearer surface, hides it
       } else {
         ++support.occluded;
       }
@@ -194,6 +202,7 @@ class SupportScorer {
   const ModelCloud& model_;
   const ColorImage& color_;
   const DepthImage& depth_;
+  const DepthImage* arms_dropped_;  // depth_ without the robot's pixels, or null
   double depth_scale_m_;
   CameraIntrinsics K_;
   PoseSupportOptions options_;
@@ -208,8 +217,9 @@ class SupportScorer {
 
 PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo,
                              const ColorImage& color, const DepthImage& depth, double depth_scale_m,
-                             const CameraIntrinsics& K, const PoseSupportOptions& options) {
-  SupportScorer scorer(model, cMo, color, depth, depth_scale_m, K, options);
+                             const CameraIntrinsics& K, const PoseSupportOptions& options,
+                             const DepthImage* arms_dropped) {
+  SupportScorer scorer(model, cMo, color, depth, depth_scale_m, K, options, arms_dropped);
   scorer.KeepFacing(Eigen::Vector3d::UnitZ(), 0.0);
   return scorer.Score(Eigen::Vector3f::Zero());
 }

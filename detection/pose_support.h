@@ -10,7 +10,10 @@
 // the ICP's Eq. 3), else the point contradicts the pose: a plain wall at the
 // right depth does not pass for the object. A model without colours (a plain
 // mesh) is scored on depth alone. A wrong pose contradicts; a right pose
-// behind an occluder does not.
+// behind an occluder does not. Where the occluder is the robot's own arm (a
+// pixel the self filter takes for the arms, detection/self_filter.h), the
+// model point behind it is hidden: the fingers over the object are no
+// missing evidence of it.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -46,10 +49,15 @@ struct PoseSupportOptions {
   double max_color_distance = 100.0;  ///< colour check (ColorDistance); >= 768 disables it
 };
 
-/// `color` may be empty (no colour check). Never throws; bad input gives an empty support.
+/// `color` may be empty (no colour check). `arms_dropped`, when given, is
+/// `depth` with the robot's own pixels set to no data (RobotSelfFilter::Apply
+/// on a copy): a model point seen behind such a pixel (nearer, or at its depth
+/// in another colour) is hidden, not occluded; ignored unless its size is
+/// `depth`'s. Never throws; bad input gives an empty support.
 PoseSupport ScorePoseSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo,
                              const ColorImage& color, const DepthImage& depth, double depth_scale_m,
-                             const CameraIntrinsics& K, const PoseSupportOptions& options = {});
+                             const CameraIntrinsics& K, const PoseSupportOptions& options = {},
+                             const DepthImage* arms_dropped = nullptr);
 
 /// The most model points ScorePoseSupport projects (the global registration's
 /// work unit, IcpWorkBound's pairings, counts them alike).

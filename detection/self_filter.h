@@ -32,6 +32,12 @@ namespace aerograsp {
 struct SelfFilterOptions {
   /// Drop the arms' pixels when the tracker is given the arms' joints.
   bool enabled = true;
+  /// true: the arms' pixels leave the depth every stage sees (the cloud, ICP,
+  /// the slide, the support check). false: they stay in the depth, and only
+  /// the support check takes the model behind them as hidden rather than
+  /// occluded: the fingers over the object no longer lower its coverage, and
+  /// ICP and the slide still see what they saw without the filter.
+  bool drop_from_depth = true;
   /// A depth point this near an arm's collision shape (or inside it) is the
   /// arm's, m, [0, 0.1]: the depth noise, the joints' and the calibration's
   /// error at the grasping range.
