@@ -245,7 +245,8 @@ bool ObjectTracker::Passes(const PoseSupport& support, const FrameReport& report
   if (support.projected < 20 || support.ratio() < options_.min_support_ratio ||
       support.coverage() < options_.min_coverage)
     return false;
-  return !report.detection || OutlineInCrop(support.box, report.crop, options_.min_box_overlap);
+  return !report.detection ||
+         OutlineInCrop(support.agree_box, report.crop, options_.min_box_overlap);
 }
 
 bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color,

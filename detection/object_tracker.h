@@ -50,10 +50,12 @@ struct PerceptionOptions {
   double min_support_ratio = 0.9;
   double min_coverage = 0.4;  ///< ... and this fraction of the visible model, (0, 1]
   /// On a frame with a detector's box, a pose passes only when at least this
-  /// fraction of its projected outline (PoseSupport::box) lies inside the
-  /// crop (the box grown by box_margin), [0, 1]; 0: no check. A pose fitted
-  /// on the crop's edge (a look-alike surface around the object: the support
-  /// pipe under a pipe, slid along it) is not the detected object.
+  /// fraction of the outline of what it explains (PoseSupport::agree_box)
+  /// lies inside the crop (the box grown by box_margin), [0, 1]; 0: no check.
+  /// A pose fitted on the crop's edge (a look-alike surface around the
+  /// object: the support pipe under a pipe, slid along it) is not the
+  /// detected object; a true pose whose ends the fingers hide explains only
+  /// the part the detector saw.
   double min_box_overlap = 0.0;
   int min_cloud_points = 60;  ///< fewer points in the crop: no measurement, >= 10
   /// cloud size when the crop is the whole frame (no detector, no prior), [50, 100000]
@@ -111,7 +113,7 @@ inline bool TwoCentresInBox(const PerceptionOptions& options) {
   return options.near_centre_quantile < 0.5;
 }
 
-/// Whether a pose whose projected outline is `outline` (PoseSupport::box) lies
+/// Whether a pose whose outline is `outline` (PoseSupport::agree_box) lies
 /// in a detector's crop: at least `min_fraction` of the outline's area inside
 /// `crop`. Always with min_fraction 0; never for an empty outline otherwise.
 bool OutlineInCrop(const PixelBox& outline, const PixelBox& crop, double min_fraction);

@@ -153,6 +153,7 @@ class SupportScorer {
     PoseSupport support;
     if (!valid_) return support;
     support.box = {INT_MAX, INT_MAX, INT_MIN, INT_MIN};
+    support.agree_box = support.box;
     // The camera in o at the translated pose, for the self-occlusion test.
     const Eigen::Vector3f c_o = -(cRo_.transpose() * (t_c_ + shift_c));
     for (std::size_t k = 0; k < index_.size(); ++k) {
@@ -179,6 +180,10 @@ class SupportScorer {
                 Eigen::Vector3f(color_.at(u, v, 0), color_.at(u, v, 1), color_.at(u, v, 2)),
                 model_.colors[i]) <= options_.max_color_distance) {
           ++support.agree;
+          support.agree_box.x0 = std::min(support.agree_box.x0, u);
+          support.agree_box.y0 = std::min(support.agree_box.y0, v);
+          support.agree_box.x1 = std::max(support.agree_box.x1, u + 1);
+          support.agree_box.y1 = std::max(support.agree_box.y1, v + 1);
         } else if (SeenOnArm(u, v) ||
                    (tolerance > options_.min_tolerance_m && z_obs < p.z() - 0.5 * tolerance &&
                     SelfOccluded(model_, i, c_o))) {
@@ -195,6 +200,7 @@ class SupportScorer {
       }
     }
     if (support.box.x0 == INT_MAX) support.box = {};
+    if (support.agree_box.x0 == INT_MAX) support.agree_box = {};
     return support;
   }
 

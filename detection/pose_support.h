@@ -40,6 +40,9 @@ struct PoseSupport {
   /// agree / projected: how much of the visible model is explained.
   double coverage() const { return projected > 0 ? double(agree) / projected : 0.0; }
   PixelBox box;  ///< bounding box of the projected front-facing points
+  /// Bounding box of the agreeing points: where the pose explains the image
+  /// (the part of the object the fingers leave in view, for a true pose).
+  PixelBox agree_box;
 };
 
 struct PoseSupportOptions {

@@ -570,7 +570,7 @@ TEST(ObjectTrackerTest, ATrackedPoseLiesInTheDetectorsCrop) {
     const FrameReport r = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001);
     ASSERT_TRUE(r.detection) << "frame " << k;
     ASSERT_TRUE(r.measured) << "frame " << k;
-    EXPECT_TRUE(OutlineInCrop(r.support.box, r.crop, 0.9)) << "frame " << k;
+    EXPECT_TRUE(OutlineInCrop(r.support.agree_box, r.crop, 0.9)) << "frame " << k;
     EXPECT_LT(ComparePoses(TruthAt(k), r.icp.cMo).translation_m, 0.005) << "frame " << k;
   }
 }

@@ -191,6 +191,34 @@ TEST(PoseSupportTest, TheModelBehindTheRobotsArmIsHiddenNotOccluded) {
   EXPECT_EQ(pipe.Score(pipe.covered, &other).occluded, pipe.Score(pipe.covered).occluded);
 }
 
+// A finger over one end of the pipe (the pixels of the pipe's half at x > 0
+// of o, 3 cm nearer): the outline of what the true pose explains leaves it
+// out, the outline of the whole projected model does not.
+TEST(PoseSupportTest, TheExplainedOutlineLeavesOutWhatAFingerHides) {
+  const PipeUnderAFinger pipe;
+  ASSERT_FALSE(pipe.frame.depth.empty());
+  DepthImage end_covered = pipe.frame.depth;
+  for (int v = 0; v < end_covered.height; ++v) {
+    for (int u = 0; u < end_covered.width; ++u) {
+      const std::uint16_t d = end_covered.at(u, v);
+      if (d == 0) continue;
+      const Eigen::Vector3d p_o = pipe.cMo.inverse() * pipe.K.Unproject(u, v, d * pipe.scale_m);
+      if (p_o.x() > 0.0 && p_o.norm() < 0.12)
+        end_covered.at(u, v) =
+            static_cast<std::uint16_t>(std::lround((d * pipe.scale_m - 0.03) / pipe.scale_m));
+    }
+  }
+  const PoseSupport seen = pipe.Score(pipe.frame.depth);
+  const PoseSupport hidden = pipe.Score(end_covered);
+  ASSERT_FALSE(seen.agree_box.empty());
+  ASSERT_FALSE(hidden.agree_box.empty());
+  EXPECT_GT(seen.agree_box.width() * seen.agree_box.height(),
+            0.9 * seen.box.width() * seen.box.height());
+  EXPECT_EQ(hidden.box.width(), seen.box.width());
+  EXPECT_LT(hidden.agree_box.width() * hidden.agree_box.height(),
+            0.7 * hidden.box.width() * hidden.box.height());
+}
+
 // The crawler 1 m away, its pose slid 30 mm along its length (the direction
 // ICP's point-to-plane pairs leave free when the ends are not seen).
 class SlideTest : public ::testing::Test {
