@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 
 #include "core/transforms.h"
 
@@ -113,6 +114,15 @@ bool ArmIk::FitLimits(Eigen::VectorXd* q) const {
 bool ArmIk::Fits(int i, double angle) const {
   double v = WrapPi(angle);
   return FitLimit(i, &v);
+}
+
+double ArmIk::WristMargin(const Eigen::VectorXd& q) const {
+  if (kind_ != Kind::kSphericalWrist) return std::numeric_limits<double>::infinity();
+  double margin = std::abs(std::remainder(q[4], kPi));
+  for (int i = 3; i < 6; ++i) {
+    margin = std::min({margin, q[i] - model_.lower_limits()[i], model_.upper_limits()[i] - q[i]});
+  }
+  return margin;
 }
 
 bool ArmIk::CheckPosition(const Eigen::VectorXd& q, const Eigen::Vector3d& p_b) const {

@@ -113,6 +113,14 @@ class ArmIk {
   int SolveClosedForm(const Eigen::Isometry3d& bMe, const Eigen::VectorXd& q_seed,
                       std::vector<Eigen::VectorXd>* solutions) const;
 
+  /// How far q keeps from where the spherical-wrist chain loses a freedom
+  /// (rad): the least of its wrist joints' (j3, j4, j5) distances to their
+  /// limits and of the middle one's (j4) distance to 0 and +-pi, where the two
+  /// rolls turn about one axis and a small turn of the tool takes a large one
+  /// of theirs. Infinity for the other chains (the 4-DoF arm's solutions
+  /// differ by branch, not along a wrist).
+  double WristMargin(const Eigen::VectorXd& q) const;
+
   /// Grasp-axis IK: the fingers close along +-x_b (unit) through the contact
   /// centre c_b, the approach z_e is any direction perpendicular to x_b, and the
   /// tool point is at c_b + depth * z_e with depth in [depth_min_m, depth_max_m]

@@ -79,6 +79,7 @@ void GraspPlannerConfig::Validate(const std::string& source, const std::string& 
   CheckRange(source, prefix + "cost_weight_per_rad", cost_weight_per_rad, 0.0, 10.0, "");
   CheckRange(source, prefix + "reach_margin_m", reach_margin_m, 0.0, 0.1, "m");
   CheckRange(source, prefix + "robust_branch_rad", robust_branch_rad, 0.0, 6.3, "rad");
+  CheckRange(source, prefix + "wrist_margin_rad", wrist_margin_rad, 0.0, 1.5, "rad");
   CheckRange(source, prefix + "edge_margin_m", edge_margin_m, 0.0, 0.05, "m");
   CheckRange(source, prefix + "grasp_axis_approaches", grasp_axis_approaches, 1, 64, "");
   CheckRange(source, prefix + "grasp_axis_depths", grasp_axis_depths, 1, 16, "");
@@ -149,6 +150,18 @@ WrenchQuality GraspPlanner::ExactQuality(int pair, int other) const {
 bool GraspPlanner::EvaluateArm(Side side, int pair, const Eigen::Isometry3d& dMo,
                                const Eigen::VectorXd& q_current, ArmGrasp* out,
                                Infeasibility* why) const {
+  return Evaluate(side, pair, dMo, q_current, false, out, why);
+}
+
+bool GraspPlanner::EvaluateArmWithMargin(Side side, int pair, const Eigen::Isometry3d& dMo,
+                                         const Eigen::VectorXd& q_current, ArmGrasp* out,
+                                         Infeasibility* why) const {
+  return Evaluate(side, pair, dMo, q_current, config_.wrist_margin_rad > 0.0, out, why);
+}
+
+bool GraspPlanner::Evaluate(Side side, int pair, const Eigen::Isometry3d& dMo,
+                            const Eigen::VectorXd& q_current, bool margin_first, ArmGrasp* out,
+                            Infeasibility* why) const {
   const int s = static_cast<int>(side);
   const ArmIk& ik = ik_[s];
   const ContactPair& p = contacts_.pairs.at(pair);
@@ -160,6 +173,11 @@ bool GraspPlanner::EvaluateArm(Side side, int pair, const Eigen::Isometry3d& dMo
   if (ik.SolveGraspAxis(c_b, x_b, config_.depth_min_m, config_.depth_max_m, q_current,
                         &solutions) == 0) {
     return false;
+  }
+  if (margin_first) {
+    std::stable_partition(solutions.begin(), solutions.end(), [&](const GraspAxisSolution& sol) {
+      return ik.WristMargin(sol.q) >= config_.wrist_margin_rad;
+    });
   }
   // The furthest any solution got, so the reason names the real obstacle.
   Infeasibility furthest = Infeasibility::kSafeVolume;
@@ -208,6 +226,7 @@ bool GraspPlanner::EvaluateArm(Side side, int pair, const Eigen::Isometry3d& dMo
 
 bool GraspPlanner::Robust(Side side, const ArmGrasp& g, const Eigen::Isometry3d& dMo,
                           const Eigen::VectorXd& q) const {
+  if (ik_[static_cast<int>(side)].WristMargin(g.q_grasp) < config_.wrist_margin_rad) return false;
   if (config_.reach_margin_m <= 0.0) return true;
   const bool same_branch = config_.robust_branch_rad > 0.0;
   ArmGrasp moved_grasp;
@@ -237,7 +256,7 @@ void GraspPlanner::EvaluateArms(const PlanQuery& query, bool robust, PlanResult*
     Infeasibility why;
     for (int i = 0; i < n; ++i) {
       ++stats.candidates;
-      if (EvaluateArm(side, i, query.dMo, q, &grasp, &why)) {
+      if (EvaluateArmWithMargin(side, i, query.dMo, q, &grasp, &why)) {
         if (robust) grasp.robust = Robust(side, grasp, query.dMo, q);
         feasible.push_back(grasp);
       }

@@ -59,6 +59,14 @@ struct GraspPlannerConfig {
   /// a 6-DoF grasp with a wrist joint near its limit is feasible through the
   /// sway only on other branches). [0, 6.3] rad; 0: any branch counts.
   double robust_branch_rad{0.0};
+  /// Plan tries first, for each pair, the arm's grasp-axis solutions whose
+  /// wrist keeps this far from its singularity and its limits
+  /// (ArmIk::WristMargin: the 6-DoF arm), nearest the current joints among
+  /// them, then the others: a grasp on the wrist's singularity or at a wrist
+  /// limit leaves the followed branch with a centimetre of sway. [0, 1.5]
+  /// rad; 0: nearest the current joints only. A grasp without the margin
+  /// does not count as robust.
+  double wrist_margin_rad{0.0};
   /// A pair counts as clear of edges when its contacts stay on their faces
   /// with the object shifted this far along them (ContactsClearOfEdges): a
   /// pose estimate off by as much still puts the pads on the object. Dual
@@ -189,6 +197,10 @@ class GraspPlanner {
   /// seeded (and solutions ordered) by q_current. Returns true and fills `out`.
   bool EvaluateArm(Side side, int pair, const Eigen::Isometry3d& dMo,
                    const Eigen::VectorXd& q_current, ArmGrasp* out, Infeasibility* why) const;
+  /// EvaluateArm with the solutions keeping wrist_margin_rad tried first (Plan's order).
+  bool EvaluateArmWithMargin(Side side, int pair, const Eigen::Isometry3d& dMo,
+                             const Eigen::VectorXd& q_current, ArmGrasp* out,
+                             Infeasibility* why) const;
 
   /// Every pair for both arms (with its robustness, see reach_margin_m), then
   /// every left x right combination: bound, task term and cost, arms
@@ -230,8 +242,11 @@ class GraspPlanner {
   bool ArmsClear(const DualGrasp& d) const;
   /// The exact epsilon `q` replaces the bound in d's epsilon and score.
   void SetExactEpsilon(const WrenchQuality& q, DualGrasp* d) const;
-  /// True when the arm's grasp `g` stays feasible with the object moved by
-  /// reach_margin_m along each axis of d (on g's branch: robust_branch_rad).
+  bool Evaluate(Side side, int pair, const Eigen::Isometry3d& dMo, const Eigen::VectorXd& q_current,
+                bool margin_first, ArmGrasp* out, Infeasibility* why) const;
+  /// True when the arm's grasp `g` keeps wrist_margin_rad and stays feasible
+  /// with the object moved by reach_margin_m along each axis of d (on g's
+  /// branch: robust_branch_rad).
   bool Robust(Side side, const ArmGrasp& g, const Eigen::Isometry3d& dMo,
               const Eigen::VectorXd& q) const;
 

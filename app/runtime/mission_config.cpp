@@ -107,6 +107,7 @@ std::vector<Field> Fields(MissionConfig* c) {
                      {"planner", "cost_weight_per_rad", &g.cost_weight_per_rad},
                      {"planner", "reach_margin_m", &g.reach_margin_m},
                      {"planner", "robust_branch_rad", &g.robust_branch_rad},
+                     {"planner", "wrist_margin_rad", &g.wrist_margin_rad},
                      {"planner", "edge_margin_m", &g.edge_margin_m},
                      {"planner", "grasp_axis_approaches", &g.grasp_axis_approaches},
                      {"planner", "grasp_axis_depths", &g.grasp_axis_depths},
@@ -181,6 +182,7 @@ GraspPlannerConfig MissionPlannerDefaults() {
   // plus a second's drift): grasps that reach through the sway only on
   // another branch are refused as soon as the object moves.
   c.robust_branch_rad = 0.5;
+  c.wrist_margin_rad = 0.3;
   // The 6-DoF arm's grasp-axis IK tries 16 approaches about the closing axis
   // at 3 depths: at 8 and the middle depth it reached a few of the U-shape's
   // pairs, none of them through the sway with the other arm clear.

@@ -245,6 +245,24 @@ TEST(ArmIkTest, GraspAxisDepthSamplesSpanThePadsAndReachMore) {
   EXPECT_GT(fine_solved, coarse_solved + 10);
 }
 
+// The wrist's margin: the least distance of j3..j5 to their limits and of j4
+// to the singularity at 0 (and +-pi); none on the 4-DoF arm.
+TEST(ArmIkTest, WristMarginIsTheSixDofWristsDistanceToItsLimitsAndSingularity) {
+  const ArmIk ik6(Arm("arm6.urdf"));
+  Eigen::VectorXd q(6);
+  // Shoulder and elbow at their limits count for nothing; j4 is 0.9 rad from
+  // 0 and 0.845 rad from its limit.
+  q << 1.5707963, -1.7453293, 2.6179939, 0.2, 0.9, -0.4;
+  EXPECT_NEAR(ik6.WristMargin(q), 0.8453293, 1e-6);
+  q[4] = -0.1;
+  EXPECT_NEAR(ik6.WristMargin(q), 0.1, 1e-12);  // near the singularity
+  q[4] = 0.6;
+  q[3] = -1.8198622;
+  EXPECT_NEAR(ik6.WristMargin(q), 0.1, 1e-6);  // j3 0.1 inside its lower limit
+  const ArmIk ik4(Arm("arm4.urdf"));
+  EXPECT_TRUE(std::isinf(ik4.WristMargin(Eigen::VectorXd::Zero(4))));
+}
+
 TEST(ArmIkTest, NumericPoseReachesForwardKinematicsTarget) {
   const ArmModel arm = Arm("arm6.urdf");
   const ArmIk ik(arm);

@@ -401,6 +401,48 @@ TEST_F(ShippedPlanTest, PlanFrontGivesPlansFirstEntryAndTheKeptPairsEntry) {
   }
 }
 
+// The 6-DoF arms with the wrist margin: the same pairs stay feasible, more of
+// their grasps keep the wrist off its singularity and limits, and a grasp
+// without the margin is not robust.
+TEST(GraspPlannerTest, WristMarginPicksGraspsAwayFromTheWristsSingularity) {
+  const Platform platform =
+      Platform::Load(std::string(AEROGRASP_DATA_DIR) + "/config/platform_6dof.yaml");
+  GraspObject u_shape;
+  u_shape.name = "u_shape";
+  u_shape.mesh_o = LoadClosedMesh(std::string(AEROGRASP_DATA_DIR) + "/objects/u_shape/u_shape.ply");
+  u_shape.mass_kg = 0.3;
+  u_shape.com_o = ComputeMassProperties(u_shape.mesh_o).center_of_mass;
+  const ContactSet contacts =
+      ComputeContactPairs(u_shape.mesh_o, platform.config().gripper, ContactOptions{});
+  GraspPlannerConfig nearest;
+  nearest.reach_margin_m = 0.02;
+  nearest.robust_branch_rad = 0.5;
+  nearest.grasp_axis_approaches = 16;  // the mission's sampling
+  nearest.grasp_axis_depths = 3;
+  GraspPlannerConfig margin = nearest;
+  margin.wrist_margin_rad = 0.3;
+  const GraspPlanner nearest_planner(platform, u_shape, contacts, nearest);
+  const GraspPlanner margin_planner(platform, u_shape, contacts, margin);
+  PlanQuery query;
+  query.dMo =
+      MakeTransform(Eigen::Vector3d(0.035, 0.0, 0.48), Eigen::Vector3d(M_PI, 0.0, M_PI / 2));
+  query.q_left = platform.home(Side::kLeft);
+  query.q_right = platform.home(Side::kRight);
+  const PlanResult before = nearest_planner.Plan(query);
+  const PlanResult after = margin_planner.Plan(query);
+  const ArmIk ik(platform.arm(Side::kLeft));
+  ASSERT_EQ(after.left.size(), before.left.size());
+  int kept_before = 0, kept_after = 0;
+  for (std::size_t i = 0; i < after.left.size(); ++i) {
+    EXPECT_EQ(after.left[i].pair, before.left[i].pair);
+    const bool kept = ik.WristMargin(after.left[i].q_grasp) >= 0.3;
+    kept_before += ik.WristMargin(before.left[i].q_grasp) >= 0.3;
+    kept_after += kept;
+    if (!kept) EXPECT_FALSE(after.left[i].robust) << "pair " << after.left[i].pair;
+  }
+  EXPECT_GT(kept_after, kept_before);
+}
+
 TEST(GraspPlannerConfigTest, DefaultsAreValidAndBadDepthNamesItsKey) {
   GraspPlannerConfig c;
   EXPECT_NO_THROW(c.Validate("plan.yaml", "planner."));
@@ -437,6 +479,14 @@ TEST(GraspPlannerConfigTest, DefaultsAreValidAndBadDepthNamesItsKey) {
     FAIL();
   } catch (const ConfigError& e) {
     EXPECT_THAT(e.what(), HasSubstr("plan.yaml: planner.robust_branch_rad: 7 rad is above"));
+  }
+  c = GraspPlannerConfig{};
+  c.wrist_margin_rad = 2.0;
+  try {
+    c.Validate("plan.yaml", "planner.");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("plan.yaml: planner.wrist_margin_rad: 2 rad is above"));
   }
 }
 
