@@ -182,7 +182,6 @@ GraspPlannerConfig MissionPlannerDefaults() {
   // plus a second's drift): grasps that reach through the sway only on
   // another branch are refused as soon as the object moves.
   c.robust_branch_rad = 0.5;
-  c.wrist_margin_rad = 0.3;
   // The 6-DoF arm's grasp-axis IK tries 16 approaches about the closing axis
   // at 3 depths: at 8 and the middle depth it reached a few of the U-shape's
   // pairs, none of them through the sway with the other arm clear.
