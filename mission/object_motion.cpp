@@ -96,4 +96,11 @@ void LengthMotion::Reset() {
   breaks_ = 0;
 }
 
+double EmptyCloseShiftM(double x_tool_m, double x_min_m, double x_max_m, double max_shift_m) {
+  if (x_tool_m <= x_min_m || x_tool_m >= x_max_m) return 0.0;
+  const double to_max = x_max_m - x_tool_m, to_min = x_tool_m - x_min_m;
+  if (std::min(to_max, to_min) > max_shift_m) return 0.0;
+  return to_max <= to_min ? -to_max : to_min;
+}
+
 }  // namespace aerograsp

@@ -37,6 +37,15 @@ struct AxisMotion {
 std::optional<AxisMotion> FitAxisMotion(const std::vector<StampedPosition>& positions,
                                         const Eigen::Vector3d& axis_w, int min_samples);
 
+/// What a gripper that closed on nothing says about the object's position
+/// along its length: its pads closed across the length at x_tool_m along x
+/// of the object's estimate, whose ends lie at x_min_m and x_max_m, so the
+/// object's nearer end lay short of the tool. The shift along x of o (m) that
+/// puts that end at the tool: x_tool_m - x_max_m (<= 0) or x_tool_m - x_min_m
+/// (>= 0). 0 when the tool lies outside the ends, or more than max_shift_m
+/// inside them (a position error along the length does not explain the miss).
+double EmptyCloseShiftM(double x_tool_m, double x_min_m, double x_max_m, double max_shift_m);
+
 /// How the motion along the length is fitted and followed.
 struct LengthFitOptions {
   double window_s = 3.0;     ///< frames older than this before the newest are dropped

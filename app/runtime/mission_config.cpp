@@ -64,6 +64,7 @@ std::vector<Field> Fields(MissionConfig* c) {
       {"", "length_break_m", &c->length_break_m},
       {"", "length_break_frames", &c->length_break_frames},
       {"", "length_refit_frames", &c->length_refit_frames},
+      {"", "empty_close_shift_max_m", &c->empty_close_shift_max_m},
       {"", "search_timeout_s", &c->search_timeout_s},
       {"", "timeout_s", &c->timeout_s},
       {"", "servo_margin_m", &c->servo_margin_m},
@@ -285,6 +286,7 @@ void MissionConfig::Validate(const std::string& source, const std::string& prefi
   CheckRange(s, prefix + "length_break_m", length_break_m, 1e-6, 1.0, "m");
   CheckRange(s, prefix + "length_break_frames", length_break_frames, 1, 30, "");
   CheckRange(s, prefix + "length_refit_frames", length_refit_frames, 2, 300, "");
+  CheckRange(s, prefix + "empty_close_shift_max_m", empty_close_shift_max_m, 0.0, 0.2, "m");
   CheckRange(s, prefix + "search_timeout_s", search_timeout_s, 1e-6, 600.0, "s");
   CheckRange(s, prefix + "timeout_s", timeout_s, 1e-6, 3600.0, "s");
   CheckRange(s, prefix + "servo_margin_m", servo_margin_m, 0.0, 0.05, "m");

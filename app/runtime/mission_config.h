@@ -71,6 +71,11 @@ struct MissionConfig {
   int length_break_frames{3};
   /// Frames a refit of that motion needs once an attempt runs, [2, 300].
   int length_refit_frames{8};
+  /// A free gripper that closed on nothing, across the carried object's
+  /// length and this near one of its ends or nearer, moves the carried
+  /// estimate along the length so that the end lies at the tool (the miss
+  /// says the end lay short of it), [0, 0.2] m; 0: never.
+  double empty_close_shift_max_m{0.05};
   /// at the waypoint without finding the object: give up, (0, 600] s
   double search_timeout_s{20.0};
   double timeout_s{180.0};       ///< the whole mission, (0, 3600] s

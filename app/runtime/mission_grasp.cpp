@@ -208,8 +208,15 @@ void GraspScheduler::Plan(double t) {
     log_(fmt::format("planner: the {} gripper holds the object: it moves with that gripper now",
                      kArmNames[carrier]));
   }
+  // The free gripper's close on nothing says where the carried object's end
+  // lies (once per close).
+  const int holder = object_->holder();
+  const bool free_closed_empty =
+      holder >= 0 && view.phase[1 - holder] == GraspPhase::kDone && !view.holds[1 - holder];
+  if (free_closed_empty && !free_closed_empty_) object_->ClosedOnNothing(1 - holder);
+  free_closed_empty_ = free_closed_empty;
   view.lost_for_s = object_->lost_for_s(t);
-  view.one_gripper_carries = object_->holder() >= 0;
+  view.one_gripper_carries = holder >= 0;
   a_gripper_holds_ = view.holds[0] || view.holds[1];
   // A re-aim search that found no pair is asked again at the re-evaluation rate.
   view.reaim_unavailable = t + 1e-9 < next_reaim_s_;

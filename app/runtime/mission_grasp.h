@@ -133,6 +133,7 @@ class GraspScheduler {
   double planning_since_s_ = -1.0;
   bool logged_no_grasp_ = false;
   bool a_gripper_holds_ = false;
+  bool free_closed_empty_ = false;          // last cycle: the free gripper had closed on nothing
   bool gripper_holds_[2] = {false, false};  // read by Plan this cycle
   bool holding_ = false;
   bool retracting_ = false;  // the arms go home after a failed attempt

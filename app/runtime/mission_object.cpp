@@ -10,10 +10,12 @@
 namespace aerograsp {
 
 TrackedObject::TrackedObject(const MissionConfig& config, ObjectSymmetry symmetry,
-                             double frame_period_s, std::function<Eigen::Isometry3d(int)> dMe,
+                             const Eigen::AlignedBox3d& bounds_o, double frame_period_s,
+                             std::function<Eigen::Isometry3d(int)> dMe,
                              std::function<void(const std::string&)> log)
     : config_(config),
       symmetry_(std::move(symmetry)),
+      bounds_o_(bounds_o),
       alpha_(std::min(1.0, frame_period_s / config.object_filter_s)),
       dMe_(std::move(dMe)),
       log_(std::move(log)),
@@ -122,6 +124,24 @@ void TrackedObject::Released() {
 void TrackedObject::CarriedBy(int a, const Eigen::Isometry3d& dMo) {
   if (holder_ < 0) eMo_held_ = dMe_(a).inverse() * dMo;
   holder_ = a;
+}
+
+bool TrackedObject::ClosedOnNothing(int a) {
+  if (holder_ < 0 || a == holder_) return false;
+  const Eigen::Isometry3d oMe = eMo_held_.inverse() * dMe_(holder_).inverse() * dMe_(a);
+  // Closing across the length (the tool's x axis, its closing direction,
+  // within 60 deg of square to x of o): along the length the pads' position
+  // decides whether they meet the object.
+  if (std::abs(oMe.linear().col(0).x()) > 0.5) return false;
+  const double shift_m = EmptyCloseShiftM(oMe.translation().x(), bounds_o_.min().x(),
+                                          bounds_o_.max().x(), config_.empty_close_shift_max_m);
+  if (shift_m == 0.0) return false;
+  eMo_held_ = eMo_held_ * Eigen::Translation3d(shift_m, 0.0, 0.0);
+  log_(fmt::format(
+      "vision: the {} gripper closed on nothing {:.0f} mm inside the carried object's end: the "
+      "object's estimate moves as far along its length, that end to the tool",
+      kArmNames[a], 1e3 * std::abs(shift_m)));
+  return true;
 }
 
 bool TrackedObject::HeldInWorld(double t) const {

@@ -21,9 +21,11 @@ namespace aerograsp {
 
 class TrackedObject {
  public:
-  /// `dMe(a)`: arm a's tool in the body frame at its measured joints; `log`
-  /// writes one line at the present time.
-  TrackedObject(const MissionConfig& config, ObjectSymmetry symmetry, double frame_period_s,
+  /// `bounds_o`: the object's mesh bounds in o (its ends along x); `dMe(a)`:
+  /// arm a's tool in the body frame at its measured joints; `log` writes one
+  /// line at the present time.
+  TrackedObject(const MissionConfig& config, ObjectSymmetry symmetry,
+                const Eigen::AlignedBox3d& bounds_o, double frame_period_s,
                 std::function<Eigen::Isometry3d(int)> dMe,
                 std::function<void(const std::string&)> log);
 
@@ -32,6 +34,11 @@ class TrackedObject {
   /// Gripper a holds the object (the other re-aims): from now on it moves with
   /// that gripper, starting where the body-frame pose dMo puts it.
   void CarriedBy(int a, const Eigen::Isometry3d& dMo);
+  /// Gripper a closed on nothing while the other carries the object: when it
+  /// closed across the length near an end (EmptyCloseShiftM,
+  /// empty_close_shift_max_m), the carried estimate moves along its length
+  /// so that end lies at a's tool. True when it moved.
+  bool ClosedOnNothing(int a);
   /// No gripper carries it any more (the attempt ended): frames fit its
   /// motion along its length again (LockLength).
   void Released();
@@ -71,6 +78,7 @@ class TrackedObject {
 
   const MissionConfig& config_;
   ObjectSymmetry symmetry_;
+  Eigen::AlignedBox3d bounds_o_;
   double alpha_;  // low-pass gain per frame
   std::function<Eigen::Isometry3d(int)> dMe_;
   std::function<void(const std::string&)> log_;

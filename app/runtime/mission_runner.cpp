@@ -167,8 +167,9 @@ Mission::Mission(const MissionOptions& options, MissionRecord* record, std::ostr
   dt_s_ = 1.0 / config_.servo_rate_hz;
   if (world) frame_period_s_ = 1.0 / world->config().camera.frame_rate_hz;
   object_pose_ = std::make_unique<TrackedObject>(
-      config_, tracker_->model().symmetry, frame_period_s_, [this](int a) { return dMe(a); },
-      log_now);
+      config_, tracker_->model().symmetry,
+      Eigen::AlignedBox3d(object_->mesh_o.BoundsMin(), object_->mesh_o.BoundsMax()),
+      frame_period_s_, [this](int a) { return dMe(a); }, log_now);
   legs_ = std::make_unique<VehicleLegs>(
       config_, health_->autopilot(), &global_, &vehicle_,
       [this](const std::string& cause) { Emergency(cause); }, log_now);

@@ -141,5 +141,17 @@ TEST(LengthMotionTest, ResetForgetsFramesAndFit) {
   EXPECT_FALSE(length.Lock(Eigen::Vector3d::UnitX()));
 }
 
+TEST(EmptyCloseShiftTest, PutsTheNearerEndAtTheTool) {
+  EXPECT_NEAR(EmptyCloseShiftM(0.098, -0.11, 0.11, 0.05), -0.012, 1e-12);
+  EXPECT_NEAR(EmptyCloseShiftM(-0.08, -0.11, 0.11, 0.05), 0.03, 1e-12);
+}
+
+TEST(EmptyCloseShiftTest, NoShiftFarInsideOrOutsideTheEnds) {
+  EXPECT_EQ(EmptyCloseShiftM(0.05, -0.11, 0.11, 0.05), 0.0);   // 60 mm inside
+  EXPECT_EQ(EmptyCloseShiftM(0.12, -0.11, 0.11, 0.05), 0.0);   // past the end already
+  EXPECT_EQ(EmptyCloseShiftM(-0.11, -0.11, 0.11, 0.05), 0.0);  // at the end
+  EXPECT_EQ(EmptyCloseShiftM(0.098, -0.11, 0.11, 0.0), 0.0);   // off
+}
+
 }  // namespace
 }  // namespace aerograsp
