@@ -46,6 +46,9 @@ MissionRuns FlyMissionRuns(
     try {
       result = RunMission(m, k == 0 ? &flown.record : nullptr, &log, links);
     } catch (const std::exception& e) {
+      // The runs share their configuration, object, arms and setup: an error
+      // in the first is an error in every one, and no run flew.
+      if (k == 0) throw;
       result.failure = std::string("error: ") + e.what();
     }
     const std::string mcap = telemetry.Close();

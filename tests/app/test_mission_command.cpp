@@ -111,6 +111,28 @@ TEST(MissionCommandTest, AnEarlierReportIsRefusedKeptByAFailedStartAndReplacedWi
   fs::remove_all(dir);
 }
 
+TEST(MissionCommandTest, SeveralRunsWithABadObjectStopAtOnceKeepingTheEarlierReport) {
+  const fs::path dir = TempDir("runs_bad");
+  MissionCommandOptions options;
+  options.mission = ShortMission(3);
+  options.mission.object = "no_such_object";
+  options.runs = 30;
+  options.out_dir = dir.string();
+  options.overwrite = true;
+  testing::PlantEarlierReport(options.out_dir, "summary.json");
+  std::ostringstream out, err;
+  try {
+    RunMissionCommand(options, out, err);
+    FAIL() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("no_such_object"));
+  }
+  EXPECT_EQ(testing::ReadText(dir / "summary.json"), "earlier");
+  EXPECT_FALSE(fs::exists(dir / "logs"));
+  testing::ExpectNothingBeside(options.out_dir);
+  fs::remove_all(dir);
+}
+
 TEST(MissionCommandTest, SeveralRunsWriteTheirTableRateAndSpeedsAndOneLogEach) {
   const fs::path dir = TempDir("runs");
   MissionCommandOptions options;
