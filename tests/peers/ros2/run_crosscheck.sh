@@ -24,6 +24,11 @@ exchange() {
   peer_pid=""
   node "$here/crosscheck.js" "$work/received.jsonl" "$work/expected.json"
 }
-# A second exchange when the first fails: about one exchange in ten loses every sample of a
-# few topics in transit (best-effort and reliable alike), while a wrong encoding fails both.
-exchange || { echo "run_crosscheck: the first exchange failed; a second one decides"; exchange; }
+# Up to three exchanges: on an idle machine about one exchange in ten loses every sample of a
+# few topics in transit (best-effort and reliable alike), on one running two other jobs two in a
+# row did; a wrong encoding fails every exchange.
+for attempt in 1 2 3; do
+  if exchange; then exit 0; fi
+  echo "run_crosscheck: exchange $attempt failed"
+done
+exit 1
