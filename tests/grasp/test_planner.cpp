@@ -1,6 +1,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "core/collision.h"
 #include "core/config.h"
 #include "core/transforms.h"
@@ -286,7 +288,9 @@ TEST_F(ShippedPlanTest, RobustOnTheBranchMeansTheNearestMovedSolutionStaysNear) 
       }
     }
     EXPECT_EQ(g.robust, all) << "pair " << g.pair;
-    if (g.robust) EXPECT_TRUE(any.left[i].robust) << "pair " << g.pair;
+    if (g.robust) {
+      EXPECT_TRUE(any.left[i].robust) << "pair " << g.pair;
+    }
     (g.robust ? robust : fragile)++;
   }
   EXPECT_GT(robust, 0);
@@ -438,7 +442,9 @@ TEST(GraspPlannerTest, WristMarginPicksGraspsAwayFromTheWristsSingularity) {
     const bool kept = ik.WristMargin(after.left[i].q_grasp) >= 0.3;
     kept_before += ik.WristMargin(before.left[i].q_grasp) >= 0.3;
     kept_after += kept;
-    if (!kept) EXPECT_FALSE(after.left[i].robust) << "pair " << after.left[i].pair;
+    if (!kept) {
+      EXPECT_FALSE(after.left[i].robust) << "pair " << after.left[i].pair;
+    }
   }
   EXPECT_GT(kept_after, kept_before);
 }
@@ -456,38 +462,26 @@ TEST(GraspPlannerConfigTest, DefaultsAreValidAndBadDepthNamesItsKey) {
     EXPECT_THAT(e.what(), HasSubstr("plan.yaml: planner.depth_max_m"));
     EXPECT_THAT(e.what(), HasSubstr("above the upper bound 0.12 m"));
   }
+  // Validate refuses the config, naming the file, the key and the bound.
+  const auto expect_refused = [](const GraspPlannerConfig& bad, const std::string& message) {
+    try {
+      bad.Validate("plan.yaml", "planner.");
+      ADD_FAILURE() << "accepted; expected: " << message;
+    } catch (const ConfigError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(message));
+    }
+  };
   c.depth_max_m = 0.35;  // longer than any platform's fingers
-  try {
-    c.Validate("plan.yaml", "planner.");
-    FAIL();
-  } catch (const ConfigError& e) {
-    EXPECT_THAT(e.what(),
-                HasSubstr("plan.yaml: planner.depth_max_m: 0.35 m is above the upper bound 0.3 m"));
-  }
+  expect_refused(c, "plan.yaml: planner.depth_max_m: 0.35 m is above the upper bound 0.3 m");
   c = GraspPlannerConfig{};
   c.reach_margin_m = 0.5;
-  try {
-    c.Validate("plan.yaml", "planner.");
-    FAIL();
-  } catch (const ConfigError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("plan.yaml: planner.reach_margin_m: 0.5 m is above"));
-  }
+  expect_refused(c, "plan.yaml: planner.reach_margin_m: 0.5 m is above");
   c = GraspPlannerConfig{};
   c.robust_branch_rad = 7.0;
-  try {
-    c.Validate("plan.yaml", "planner.");
-    FAIL();
-  } catch (const ConfigError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("plan.yaml: planner.robust_branch_rad: 7 rad is above"));
-  }
+  expect_refused(c, "plan.yaml: planner.robust_branch_rad: 7 rad is above");
   c = GraspPlannerConfig{};
   c.wrist_margin_rad = 2.0;
-  try {
-    c.Validate("plan.yaml", "planner.");
-    FAIL();
-  } catch (const ConfigError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("plan.yaml: planner.wrist_margin_rad: 2 rad is above"));
-  }
+  expect_refused(c, "plan.yaml: planner.wrist_margin_rad: 2 rad is above");
 }
 
 TEST(GraspPlannerConfigTest, BadGraspAxisSamplingNamesItsKey) {
