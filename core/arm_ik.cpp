@@ -125,6 +125,13 @@ double ArmIk::WristMargin(const Eigen::VectorXd& q) const {
   return margin;
 }
 
+bool ArmIk::InReach(double r_min, double r_max) const {
+  // PlaceForearm's elbow exists for |l1 - l2| <= r <= l1 + l2; the margin keeps
+  // in every distance its own rounding could still take in.
+  constexpr double kReachMargin = 1e-6;  // m
+  return r_min <= l1_ + l2_ + kReachMargin && r_max >= std::abs(l1_ - l2_) - kReachMargin;
+}
+
 bool ArmIk::CheckPosition(const Eigen::VectorXd& q, const Eigen::Vector3d& p_b) const {
   return (model_.ForwardKinematics(q).translation() - p_b).norm() <= options_.position_tolerance_m;
 }
@@ -154,6 +161,7 @@ void ArmIk::SortBySeed(const Eigen::VectorXd& q_seed,
 void ArmIk::PlaceForearm(const Eigen::Vector3d& p_b,
                          std::vector<ForearmPlacement>* placements) const {
   const Eigen::Vector3d v = p_b - o1_;
+  if (!InReach(v.norm(), v.norm())) return;  // no yaw or elbow branch reaches it
   Eigen::Vector3d v_perp = v - v.dot(w_[0]) * w_[0];
   const Eigen::Vector3d h = v_perp.norm() > kGeomTol ? Eigen::Vector3d(v_perp.normalized()) : h0_;
   for (double yaw_sign : {1.0, -1.0}) {
@@ -512,9 +520,21 @@ int ArmIk::SolveGraspAxis(const Eigen::Vector3d& c_b, const Eigen::Vector3d& x_b
     // forward kinematics nearest first until one passes.
     const Eigen::Vector3d e1 = AnyPerpendicular(x), e2 = x.cross(e1);
     const int n = std::max(1, options_.approach_samples);
+    // The wrist centre of the tool pose at `depth` and closing sign s lies on a
+    // circle about the contact centre, normal to x: -s d_x along x, at
+    // hypot(depth - d_z, d_y) from it across. A closing sign whose circle keeps
+    // out of the forearm's reach has no solution at any approach angle.
+    const Eigen::Vector3d v = c_b - o1_;
+    const double v_along = v.dot(x), v_across = (v - v_along * x).norm();
+    const auto circle_in_reach = [&](double depth, double s) {
+      const double along = v_along - s * d_e_.x();
+      const double radius = std::hypot(depth - d_e_.z(), d_e_.y());
+      return InReach(std::hypot(along, v_across - radius), std::hypot(along, v_across + radius));
+    };
     std::vector<Eigen::VectorXd> qs;
     for (int k = 0; k < n * GraspAxisDepths(); ++k) {
       const double depth = GraspAxisDepth(k / n, depth_min_m, depth_max_m);
+      if (!circle_in_reach(depth, 1.0) && !circle_in_reach(depth, -1.0)) continue;
       const double phi = 2.0 * kPi * (k % n) / n;
       const Eigen::Vector3d a = std::cos(phi) * e1 + std::sin(phi) * e2;
       // The fingers are symmetric: closing along -x is as good; the solution
@@ -523,6 +543,7 @@ int ArmIk::SolveGraspAxis(const Eigen::Vector3d& c_b, const Eigen::Vector3d& x_b
       Eigen::VectorXd best;
       Eigen::Isometry3d best_bMe;
       for (double s : {1.0, -1.0}) {
+        if (!circle_in_reach(depth, s)) continue;
         Eigen::Isometry3d bMe = Eigen::Isometry3d::Identity();
         bMe.linear().col(0) = s * x;
         bMe.linear().col(1) = a.cross(s * x);

@@ -177,6 +177,10 @@ class ArmIk {
   /// closed forms leave a branch early when one of its joints cannot.
   bool Fits(int i, double angle) const;
   bool CheckPosition(const Eigen::VectorXd& q, const Eigen::Vector3d& p_b) const;
+  /// Whether the forearm's end can be at some distance in [r_min, r_max] (m)
+  /// from the shoulder (o1_): false only where PlaceForearm finds no placement
+  /// (a margin above rounding).
+  bool InReach(double r_min, double r_max) const;
   /// The sampled grasp-axis depths (IkOptions::depth_samples, at least 1) and
   /// the i-th of them: evenly from depth_min_m to depth_max_m, the middle for one.
   int GraspAxisDepths() const;

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -243,6 +244,67 @@ TEST(ArmIkTest, GraspAxisDepthSamplesSpanThePadsAndReachMore) {
     }
   }
   EXPECT_GT(fine_solved, coarse_solved + 10);
+}
+
+// The 6-DoF grasp-axis IK leaves out the approaches whose wrist centre no
+// placement of the forearm reaches; what it gives is still, approach by
+// approach, SolvePoseNearest's answer at every sampled tool pose, for contact
+// centres from well inside the arm's reach to beyond it.
+TEST(ArmIkTest, SixDofGraspAxisGivesEverySampledPosesNearestSolution) {
+  const ArmModel arm = Arm("arm6.urdf");
+  IkOptions options;
+  options.approach_samples = 16;
+  options.depth_samples = 3;
+  const ArmIk ik(arm, options);
+  const double depth_min = 0.025, depth_max = 0.10;
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<GraspAxisSolution> sols;
+  int solved = 0, unsolved = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Eigen::VectorXd q_seed = RandomWithinLimits(arm, &rng);
+    // Around a reachable tool point, out to farther than the arm reaches.
+    const Eigen::Vector3d c = arm.ForwardKinematics(RandomWithinLimits(arm, &rng)).translation() +
+                              0.15 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d x = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+    const int n = ik.SolveGraspAxis(c, x, depth_min, depth_max, q_seed, &sols);
+    // The sampled poses: approach angles about x from the same reference
+    // perpendicular, the depths' ends and middle, both closing signs.
+    Eigen::Index i;
+    x.cwiseAbs().minCoeff(&i);
+    const Eigen::Vector3d e1 = x.cross(Eigen::Vector3d::Unit(i)).normalized(), e2 = x.cross(e1);
+    std::vector<Eigen::VectorXd> expected;
+    for (int k = 0; k < 16 * 3; ++k) {
+      const double depth = depth_min + (depth_max - depth_min) * (k / 16) / 2.0;
+      const double phi = 2.0 * M_PI * (k % 16) / 16;
+      const Eigen::Vector3d a = std::cos(phi) * e1 + std::sin(phi) * e2;
+      bool found = false;
+      Eigen::VectorXd best, q;
+      for (double sign : {1.0, -1.0}) {
+        Eigen::Isometry3d bMe = Eigen::Isometry3d::Identity();
+        bMe.linear().col(0) = sign * x;
+        bMe.linear().col(1) = a.cross(sign * x);
+        bMe.linear().col(2) = a;
+        bMe.translation() = c + depth * a;
+        if (!ik.SolvePoseNearest(bMe, q_seed, &q)) continue;
+        if (!found || (q - q_seed).squaredNorm() < (best - q_seed).squaredNorm()) best = q;
+        found = true;
+      }
+      if (found) expected.push_back(best);
+    }
+    ASSERT_EQ(n, static_cast<int>(expected.size())) << "trial " << trial;
+    std::stable_sort(expected.begin(), expected.end(),
+                     [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+                       return (a - q_seed).squaredNorm() < (b - q_seed).squaredNorm();
+                     });
+    for (int k = 0; k < n; ++k) {
+      EXPECT_LT((sols[k].q - expected[k]).norm(), 1e-9) << "trial " << trial;
+    }
+    (n > 0 ? solved : unsolved) += 1;
+  }
+  // Both kinds of contact centre were tried.
+  EXPECT_GT(solved, 30);
+  EXPECT_GT(unsolved, 30);
 }
 
 // The wrist's margin: the least distance of j3..j5 to their limits and of j4
