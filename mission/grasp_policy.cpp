@@ -36,6 +36,8 @@ void GraspPolicyConfig::Validate(const std::string& source, const std::string& p
   CheckRange(source, prefix + "carried_unreachable_s", carried_unreachable_s, 0.0, 60.0, "s");
   CheckRange(source, prefix + "home_tolerance_m", home_tolerance_m, 1e-6, 0.2, "m");
   CheckRange(source, prefix + "target_on_object_m", target_on_object_m, 1e-6, 0.2, "m");
+  CheckRange(source, prefix + "close_together_m", close_together_m, 0.0, 0.2, "m");
+  CheckRange(source, prefix + "close_wait_s", close_wait_s, 0.0, 60.0, "s");
 }
 
 bool ShouldPlan(bool planner_idle, bool object_found, double off_m,
@@ -143,6 +145,16 @@ std::optional<std::string> PlanningGiveUp(double planning_for_s, bool object_fou
 bool TargetOnObject(const Eigen::Vector3d& target_d, const Eigen::Vector3d& grasp_d,
                     const GraspPolicyConfig& config) {
   return (target_d - grasp_d).norm() <= config.target_on_object_m;
+}
+
+bool MayClose(GraspPhase other_phase, double other_error_m, double waited_s,
+              const GraspPolicyConfig& config) {
+  if (config.close_together_m <= 0.0 || other_phase == GraspPhase::kClose ||
+      other_phase == GraspPhase::kDone || other_phase == GraspPhase::kTimedOut) {
+    return true;
+  }
+  return (other_phase == GraspPhase::kGrasp && other_error_m <= config.close_together_m) ||
+         waited_s >= config.close_wait_s;
 }
 
 int CarryingGripper(const AttemptView& view) {

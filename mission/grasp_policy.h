@@ -16,8 +16,10 @@
 //  - IK-branch gate: a followed pair solved again is taken only on the IK
 //    branch it was followed on (OnFollowedBranch);
 //  - close: both arms at their pre-catch poses, settle_s there, then in and
-//    close, each only on a target on the object (TargetOnObject); grasped
-//    when both grippers hold (NextPlannerStep);
+//    close, each only on a target on the object (TargetOnObject) and, with
+//    close_together_m set, only once the other arm is that near its grasp too
+//    (or closes, or waited close_wait_s: MayClose); grasped when both grippers
+//    hold (NextPlannerStep);
 //  - retry: an arm's sequence timed out, the object lost for lost_timeout_s,
 //    or both grippers closed without holding (DecideAttempt);
 //  - carried: from the moment one gripper holds, the object moves with it
@@ -85,6 +87,14 @@ struct GraspPolicyConfig {
   /// An arm closes only on a target this near its grasp on the object's
   /// current estimate, (0, 0.2] m (TargetOnObject).
   double target_on_object_m{0.01};
+  /// An arm at its grasp pose closes only once the other arm's tool is this
+  /// near its own grasp (or that arm closes, holds or has ended), so the
+  /// grippers close one right after the other (the first to hold carries the
+  /// object away from a free arm still on its way in), [0, 0.2] m; 0: each
+  /// closes when it arrives (MayClose).
+  double close_together_m{0.0};
+  /// ... waiting at most this long at its grasp pose, [0, 60] s.
+  double close_wait_s{1.0};
 
   /// @throws ConfigError "<source>: <prefix><field>: ..." naming the bound.
   void Validate(const std::string& source, const std::string& prefix) const;
@@ -213,6 +223,13 @@ int RankReaim(const std::vector<ArmGrasp>& candidates,
 /// closes on nothing.
 bool TargetOnObject(const Eigen::Vector3d& target_d, const Eigen::Vector3d& grasp_d,
                     const GraspPolicyConfig& config);
+
+/// The close together: an arm at its grasp pose for waited_s may close when
+/// close_together_m is 0, the other arm closes, holds or has timed out
+/// (other_phase), is in its grasp phase within close_together_m of its grasp
+/// (other_error_m), or the wait reached close_wait_s.
+bool MayClose(GraspPhase other_phase, double other_error_m, double waited_s,
+              const GraspPolicyConfig& config);
 
 /// While the object is briefly lost (lost_for_s in [0, lost_timeout_s]) after
 /// it was seen within the tracking radius, it is held at its last world pose.

@@ -37,6 +37,7 @@ GraspSequence::GraspSequence(ArmServo* servo, const GraspSequenceConfig& config)
 void GraspSequence::Start(double now_s) {
   servo_->Reset();
   target_on_object_ = true;
+  hold_at_grasp_ = false;
   Enter(GraspPhase::kPreCatch, now_s);
 }
 
@@ -97,6 +98,8 @@ GraspPhase GraspSequence::Step(const Eigen::VectorXd& q, double now_s, double dt
   };
   at_precatch_ = phase_ == GraspPhase::kPreCatch && moving &&
                  config_.precatch_tolerance.Met(out->joints.error);
+  at_grasp_ = phase_ == GraspPhase::kGrasp && moving && target_on_object_ &&
+              config_.grasp_tolerance.Met(out->joints.error);
   switch (phase_) {
     case GraspPhase::kPreCatch:
       if (at_precatch_ && hold_at_precatch_) {
@@ -106,7 +109,9 @@ GraspPhase GraspSequence::Step(const Eigen::VectorXd& q, double now_s, double dt
       }
       break;
     case GraspPhase::kGrasp:
-      if (target_on_object_) {
+      if (at_grasp_ && hold_at_grasp_) {
+        if (in_phase_s > config_.grasp_timeout_s) Enter(GraspPhase::kTimedOut, now_s);
+      } else if (target_on_object_) {
         advance(config_.grasp_tolerance, config_.grasp_timeout_s, GraspPhase::kClose);
       } else if (in_phase_s > config_.grasp_timeout_s) {
         Enter(GraspPhase::kTimedOut, now_s);
@@ -120,6 +125,7 @@ GraspPhase GraspSequence::Step(const Eigen::VectorXd& q, double now_s, double dt
       break;
   }
   at_precatch_ = at_precatch_ && phase_ == GraspPhase::kPreCatch;
+  at_grasp_ = at_grasp_ && phase_ == GraspPhase::kGrasp;
   if (phase_ == GraspPhase::kTimedOut && !hold_only && moving) {
     out->joints.dq_rad_s = Eigen::VectorXd::Zero(q.size());
     out->joints.q_target_rad = q;

@@ -84,6 +84,12 @@ class GraspSequence {
   void HoldAtPreCatch(bool hold) { hold_at_precatch_ = hold; }
   /// True while in the pre-catch phase with the pre-catch pose met.
   bool at_precatch() const { return at_precatch_; }
+  /// While `hold` is set the sequence stays at the grasp pose once it is
+  /// reached (tracking it, its phase clock running) instead of closing: the
+  /// caller closes the two grippers one right after the other.
+  void HoldAtGrasp(bool hold) { hold_at_grasp_ = hold; }
+  /// True while in the grasp phase with the grasp pose met.
+  bool at_grasp() const { return at_grasp_; }
   /// The pre-catch pose for a grasp: bMg moved back precatch_distance_m along z_g.
   Eigen::Isometry3d PreCatchPose(const Eigen::Isometry3d& bMg) const;
 
@@ -101,6 +107,8 @@ class GraspSequence {
   bool switch_pending_ = false;  // passed to the servo with the next target
   bool hold_at_precatch_ = false;
   bool at_precatch_ = false;
+  bool hold_at_grasp_ = false;
+  bool at_grasp_ = false;
   bool target_on_object_ = true;
 };
 

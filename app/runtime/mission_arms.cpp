@@ -206,6 +206,15 @@ std::optional<std::string> GraspArms::Step(double t, double dt_s, const FollowVi
                       1e3 * (t - reached_stamp_s_[a])));
     }
     sequence_[a]->SetTargetOnObject(on_object);
+    // At its grasp pose the arm closes right after the other (MayClose).
+    if (!sequence_[a]->at_grasp()) {
+      at_grasp_since_s_[a] = -1.0;
+    } else if (at_grasp_since_s_[a] < 0) {
+      at_grasp_since_s_[a] = t;
+    }
+    const double waited_s = at_grasp_since_s_[a] < 0 ? 0.0 : t - at_grasp_since_s_[a];
+    sequence_[a]->HoldAtGrasp(
+        !MayClose(sequence_[1 - a]->phase(), error_m_[1 - a], waited_s, policy_));
     sequence_[a]->SetGrasp(reached_bMg_[a], reached_bMp_[a], view.stamp_s, switch_pending_[a]);
     switch_pending_[a] = false;
     GraspCommand command;
@@ -224,6 +233,7 @@ std::optional<std::string> GraspArms::Step(double t, double dt_s, const FollowVi
     }
     if (evaluator_ && phase_before == GraspPhase::kClose && command.phase == GraspPhase::kDone)
       evaluator_->Closed(a);
+    error_m_[a] = command.joints.position_error_m;
     if (command.servo_status != last_status_[a]) {
       log_(fmt::format("servo   {} arm: {} (phase {}, {:.1f} mm from the target)", kArmNames[a],
                        ServoStatusName(command.servo_status), GraspPhaseName(command.phase),

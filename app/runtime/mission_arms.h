@@ -126,6 +126,8 @@ class GraspArms {
   bool switch_pending_[2] = {false, false};
   ServoStatus last_status_[2] = {ServoStatus::kNoTarget, ServoStatus::kNoTarget};
   double unreachable_since_s_[2] = {-1.0, -1.0};  // < 0: the servo finds its way
+  double error_m_[2] = {0.0, 0.0};                // the servo's last distance to its target
+  double at_grasp_since_s_[2] = {-1.0, -1.0};     // < 0: not waiting at the grasp pose
 };
 
 }  // namespace aerograsp

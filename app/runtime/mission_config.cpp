@@ -93,7 +93,9 @@ std::vector<Field> Fields(MissionConfig* c) {
                      {"policy", "reaim_wait_s", &p.reaim_wait_s},
                      {"policy", "carried_unreachable_s", &p.carried_unreachable_s},
                      {"policy", "home_tolerance_m", &p.home_tolerance_m},
-                     {"policy", "target_on_object_m", &p.target_on_object_m}});
+                     {"policy", "target_on_object_m", &p.target_on_object_m},
+                     {"policy", "close_together_m", &p.close_together_m},
+                     {"policy", "close_wait_s", &p.close_wait_s}});
   GraspPlannerConfig& g = c->planner;
   f.insert(f.end(), {{"planner", "depth_min_m", &g.depth_min_m},
                      {"planner", "depth_max_m", &g.depth_max_m},

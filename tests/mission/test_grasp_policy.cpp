@@ -347,6 +347,23 @@ TEST(GraspPolicyTest, AnArmClosesOnlyOnATargetNearItsGraspOnTheObject) {
   EXPECT_THROW(config.Validate("mission.yaml", "policy."), ConfigError);
 }
 
+TEST(GraspPolicyTest, AnArmAtItsGraspClosesRightAfterTheOther) {
+  GraspPolicyConfig config;
+  config.close_together_m = 0.01;
+  config.close_wait_s = 1.0;
+  EXPECT_FALSE(MayClose(GraspPhase::kPreCatch, 0.0, 0.5, config));  // the other not in yet
+  EXPECT_FALSE(MayClose(GraspPhase::kGrasp, 0.02, 0.5, config));    // on its way in
+  EXPECT_TRUE(MayClose(GraspPhase::kGrasp, 0.008, 0.0, config));    // near its grasp
+  EXPECT_TRUE(MayClose(GraspPhase::kClose, 0.05, 0.0, config));
+  EXPECT_TRUE(MayClose(GraspPhase::kDone, 0.05, 0.0, config));  // it holds: a re-aim
+  EXPECT_TRUE(MayClose(GraspPhase::kTimedOut, 0.05, 0.0, config));
+  EXPECT_TRUE(MayClose(GraspPhase::kGrasp, 0.02, 1.0, config));  // waited long enough
+  config.close_together_m = 0.0;
+  EXPECT_TRUE(MayClose(GraspPhase::kPreCatch, 0.2, 0.0, config));  // off: closes on arrival
+  config.close_together_m = 0.3;
+  EXPECT_THROW(config.Validate("mission.yaml", "policy."), ConfigError);
+}
+
 TEST(GraspPolicyConfigTest, ABadValueNamesTheFileKeyAndBound) {
   GraspPolicyConfig config;
   EXPECT_NO_THROW(config.Validate("mission.yaml", "policy."));

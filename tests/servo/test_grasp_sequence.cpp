@@ -169,6 +169,31 @@ TEST(GraspSequenceTest, ATargetBackOnTheObjectIsClosedOn) {
   EXPECT_EQ(cmd.gripper, GripperCommand::kClose);
 }
 
+TEST(GraspSequenceTest, HeldAtTheGraspPoseItDoesNotCloseUntilReleased) {
+  SequenceRig rig;
+  rig.StepUntil(GraspPhase::kGrasp);
+  rig.sequence.HoldAtGrasp(true);
+  for (int k = 0; k < 200; ++k)  // 2 s: the grasp pose is met, held there open
+    EXPECT_EQ(rig.Step(rig.bMg).gripper, GripperCommand::kOpen);
+  EXPECT_EQ(rig.sequence.phase(), GraspPhase::kGrasp);
+  EXPECT_TRUE(rig.sequence.at_grasp());
+  rig.sequence.HoldAtGrasp(false);
+  const GraspCommand cmd = rig.Step(rig.bMg);
+  EXPECT_EQ(cmd.phase, GraspPhase::kClose);
+  EXPECT_FALSE(rig.sequence.at_grasp());
+}
+
+TEST(GraspSequenceTest, HeldAtTheGraspPoseItTimesOutOnItsPhaseClock) {
+  SequenceRig rig;
+  rig.StepUntil(GraspPhase::kGrasp);
+  rig.sequence.HoldAtGrasp(true);
+  const double grasp_start_s = rig.t;
+  while (rig.sequence.phase() == GraspPhase::kGrasp && rig.t < grasp_start_s + 10.0)
+    rig.Step(rig.bMg);
+  EXPECT_EQ(rig.sequence.phase(), GraspPhase::kTimedOut);
+  EXPECT_NEAR(rig.t - grasp_start_s, rig.config.grasp_timeout_s, 0.02);
+}
+
 TEST(GraspSequenceTest, GripperHoldsOutsideTheCloseChangesNothing) {
   const ArmModel arm = Arm6();
   ArmServo servo(arm, ServoConfig{});
