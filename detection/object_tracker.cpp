@@ -541,6 +541,9 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& ca
   }
   arms_in_depth_ = self_filtered && !options_.self_filter.drop_from_depth;
   const DepthImage& depth = self_filtered && !arms_in_depth_ ? filtered_depth_ : camera_depth;
+  // The cloud ICP pairs: without the arms' pixels also when they stay in the depth, if asked.
+  const DepthImage& cloud_depth =
+      arms_in_depth_ && options_.self_filter.drop_from_cloud ? filtered_depth_ : depth;
   // The filter frame f: the world when the camera's pose is given, else the camera.
   const Eigen::Isometry3d fMc =
       wMc && wMc->matrix().allFinite() ? *wMc : Eigen::Isometry3d::Identity();
@@ -624,7 +627,7 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& ca
           std::max(cloud_options.target_points, options_.whole_frame_points);
     }
     if (!report.crop.empty())
-      cloud = BuildSceneCloud(color, depth, depth_scale_m, K, report.crop, cloud_options);
+      cloud = BuildSceneCloud(color, cloud_depth, depth_scale_m, K, report.crop, cloud_options);
   }
   report.cloud_points = static_cast<int>(cloud.points_c.size());
   report.times.cloud_ms = ThreadCpuMs() - t;

@@ -108,9 +108,10 @@ void ReadSegment(const ConfigNode& n, SegmentationOptions* g) {
 }
 
 void ReadSelfFilter(const ConfigNode& n, SelfFilterOptions* f) {
-  n.RequireOnlyKeys({"enabled", "drop_from_depth", "margin_m"});
+  n.RequireOnlyKeys({"enabled", "drop_from_depth", "drop_from_cloud", "margin_m"});
   f->enabled = n.GetBool("enabled", f->enabled);
   f->drop_from_depth = n.GetBool("drop_from_depth", f->drop_from_depth);
+  f->drop_from_cloud = n.GetBool("drop_from_cloud", f->drop_from_cloud);
   f->margin_m = n.GetDouble("margin_m", f->margin_m);
 }
 

@@ -38,6 +38,11 @@ struct SelfFilterOptions {
   /// occluded: the fingers over the object no longer lower its coverage, and
   /// ICP and the slide still see what they saw without the filter.
   bool drop_from_depth = true;
+  /// With drop_from_depth false: the arms' pixels still leave the cloud ICP
+  /// pairs (a finger's surface cannot pull the pose), while the slide and the
+  /// support check see the depth as the camera gave it, the model behind an
+  /// arm pixel hidden. Without effect when drop_from_depth is true.
+  bool drop_from_cloud = false;
   /// A depth point this near an arm's collision shape (or inside it) is the
   /// arm's, m, [0, 0.1]: the depth noise, the joints' and the calibration's
   /// error at the grasping range.

@@ -253,5 +253,30 @@ TEST(ObjectTrackerSelfFilterTest, ArmsKeptInTheDepthOnlyHideTheObjectFromTheSupp
   EXPECT_GT(reports[2].support.coverage(), reports[0].support.coverage() + 0.05);
 }
 
+// Out of the cloud only (drop_from_cloud), the arms' pixels no longer reach
+// ICP (the cloud of the crop is smaller by them), and the support check still
+// takes the object behind them as hidden.
+TEST(ObjectTrackerSelfFilterTest, ArmsOutOfTheCloudOnlyLeaveTheSupportCheckAsKeptInTheDepth) {
+  const ArmsInView& scene = Scene();
+  // Kept in the depth, then out of the cloud only.
+  FrameReport reports[2];
+  for (int k = 0; k < 2; ++k) {
+    PerceptionOptions options;
+    options.self_filter.drop_from_depth = false;
+    options.self_filter.drop_from_cloud = k == 1;
+    options.cloud.target_points = 100000;  // every pixel of the crop: the counts compare
+    ObjectTracker tracker(scene.object_, options, nullptr);
+    tracker.SetRobot(scene.platform_);
+    tracker.SetInitialPose(scene.cMo_);
+    reports[k] = tracker.Process(scene.color_, scene.depth_, 0.0, scene.K_, kDepthScaleM,
+                                 std::nullopt, std::optional<ArmJointPositions>(scene.q_));
+  }
+  ASSERT_TRUE(reports[1].measured);
+  EXPECT_LT(reports[1].cloud_points, reports[0].cloud_points);
+  EXPECT_GT(reports[1].support.coverage(), 0.85);
+  const double error_m = (reports[1].icp.cMo.translation() - scene.cMo_.translation()).norm();
+  EXPECT_LT(error_m, 0.005);
+}
+
 }  // namespace
 }  // namespace aerograsp
