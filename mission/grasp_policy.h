@@ -227,7 +227,8 @@ bool TargetOnObject(const Eigen::Vector3d& target_d, const Eigen::Vector3d& gras
 /// The close together: an arm at its grasp pose for waited_s may close when
 /// close_together_m is 0, the other arm closes, holds or has timed out
 /// (other_phase), is in its grasp phase within close_together_m of its grasp
-/// (other_error_m), or the wait reached close_wait_s.
+/// on the object (other_error_m; infinite while its target stands off the
+/// object), or the wait reached close_wait_s.
 bool MayClose(GraspPhase other_phase, double other_error_m, double waited_s,
               const GraspPolicyConfig& config);
 

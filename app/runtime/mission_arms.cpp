@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <limits>
+
 #include "app/runtime/mission_evaluator.h"
 #include "core/collision.h"
 #include "servo/collision_predicate.h"
@@ -213,8 +215,12 @@ std::optional<std::string> GraspArms::Step(double t, double dt_s, const FollowVi
       at_grasp_since_s_[a] = t;
     }
     const double waited_s = at_grasp_since_s_[a] < 0 ? 0.0 : t - at_grasp_since_s_[a];
-    sequence_[a]->HoldAtGrasp(
-        !MayClose(sequence_[1 - a]->phase(), error_m_[1 - a], waited_s, policy_));
+    // An other arm whose target stands off the object (the gate holds it) is
+    // not near its grasp, however near that target it is.
+    const int b = 1 - a;
+    const double other_error_m =
+        sequence_[b]->target_on_object() ? error_m_[b] : std::numeric_limits<double>::infinity();
+    sequence_[a]->HoldAtGrasp(!MayClose(sequence_[b]->phase(), other_error_m, waited_s, policy_));
     sequence_[a]->SetGrasp(reached_bMg_[a], reached_bMp_[a], view.stamp_s, switch_pending_[a]);
     switch_pending_[a] = false;
     GraspCommand command;
