@@ -241,19 +241,34 @@ PoseSupport ObjectTracker::Support(const Eigen::Isometry3d& cMo, const ColorImag
                           arms_in_depth_ ? &filtered_depth_ : nullptr);
 }
 
+bool ObjectTracker::ExplainsDepth(const PoseSupport& support) const {
+  return support.projected >= 20 && support.ratio() >= options_.min_support_ratio &&
+         support.coverage() >= options_.min_coverage;
+}
+
+bool ObjectTracker::OutsideBox(const PoseSupport& support, const FrameReport& report) const {
+  return report.detection && ExplainsDepth(support) &&
+         !OutlineInCrop(support.agree_box, report.crop, options_.min_box_overlap);
+}
+
 bool ObjectTracker::Passes(const PoseSupport& support, const FrameReport& report) const {
-  if (support.projected < 20 || support.ratio() < options_.min_support_ratio ||
-      support.coverage() < options_.min_coverage)
-    return false;
-  return !report.detection ||
-         OutlineInCrop(support.agree_box, report.crop, options_.min_box_overlap);
+  return ExplainsDepth(support) && !OutsideBox(support, report);
+}
+
+void ObjectTracker::ForgetTrack() {
+  ekf_.Reset();
+  monitor_.Reset();
+  last_good_fMo_.reset();
+  reacquire_zone_c_.reset();
+  gated_in_a_row_ = 0;
 }
 
 bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color,
                             const DepthImage& depth, double depth_scale_m,
                             const CameraIntrinsics& K, const std::optional<Eigen::Isometry3d>& seed,
                             const std::vector<Eigen::Vector3d>& centres_c, bool allow_global,
-                            bool segment, std::size_t kept_centres, FrameReport* report) {
+                            bool segment, std::size_t kept_centres, bool own_track,
+                            FrameReport* report) {
   const double t0 = ThreadCpuMs();
   if (seed) {
     // Tracking: the prediction is close, a short slide search will do.
@@ -267,6 +282,15 @@ bool ObjectTracker::Measure(const SceneCloud& cloud, const ColorImage& color,
       if (Passes(report->support, *report)) {
         report->times.icp_ms = ThreadCpuMs() - t0;
         return true;
+      }
+      if (own_track && OutsideBox(report->support, *report)) {
+        // The track follows a look-alike beside the detected object: forgotten,
+        // the frames without a box cannot find it again from its last pose, and
+        // this box is searched (at a range it can succeed at) without the
+        // re-find distance around it.
+        ForgetTrack();
+        report->forgot_track = true;
+        allow_global = !centres_c.empty();
       }
     }
   }
@@ -658,8 +682,11 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& ca
                     centres_c.end());
     // (A segmented search finds its own centres.)
     if (centres > 0 && centres_c.empty() && !segment) allow_global = false;
+    // A pose of the track's own that lies outside the detector's crop forgets
+    // the track (Measure), when the box check is on.
+    const bool own_track = own_prior && options_.min_box_overlap > 0.0;
     report.measured = Measure(cloud, color, depth, depth_scale_m, K, prior, centres_c, allow_global,
-                              segment, kept_centres, &report);
+                              segment, kept_centres, own_track, &report);
   }
 
   // A track measured from its prior needs no search.

@@ -55,7 +55,9 @@ struct PerceptionOptions {
   /// A pose fitted on the crop's edge (a look-alike surface around the
   /// object: the support pipe under a pipe, slid along it) is not the
   /// detected object; a true pose whose ends the fingers hide explains only
-  /// the part the detector saw.
+  /// the part the detector saw. When the track's own pose is refused so, the
+  /// track is forgotten (filter and last good pose) and the box searched: the
+  /// frames without a box do not find the look-alike again from where it was.
   double min_box_overlap = 0.0;
   int min_cloud_points = 60;  ///< fewer points in the crop: no measurement, >= 10
   /// cloud size when the crop is the whole frame (no detector, no prior), [50, 100000]
@@ -162,6 +164,9 @@ struct FrameReport {
   /// Its work this frame, in pairings (GlobalRegistrationOptions::work_per_frame's unit).
   std::int64_t global_work = 0;
   bool gated = false;  ///< the measurement was rejected by the EKF gate
+  /// The track's own pose explained the depth outside the detector's crop
+  /// (PerceptionOptions::min_box_overlap): the track was forgotten this frame.
+  bool forgot_track = false;
   IcpResult icp;
   PoseSupport support;
   /// SlideFit::drop of the measured pose's slide along ICP's weak direction;
@@ -240,11 +245,14 @@ class ObjectTracker {
 
  private:
   /// The best pose (ICP from `seed`, else global registration when allowed) for the crop.
+  /// `own_track`: the seed is the track's own pose and the box check is on: a
+  /// pose from it that explains the depth but lies outside the detector's crop
+  /// forgets the track (ForgetTrack) and the box is searched.
   bool Measure(const SceneCloud& cloud, const ColorImage& color, const DepthImage& depth,
                double depth_scale_m, const CameraIntrinsics& K,
                const std::optional<Eigen::Isometry3d>& seed,
                const std::vector<Eigen::Vector3d>& centres_c, bool allow_global, bool segment,
-               std::size_t kept_centres, FrameReport* report);
+               std::size_t kept_centres, bool own_track, FrameReport* report);
   /// A rough object centre (m, in c) from a detector box and the depth inside it
   /// (its median, or the given quantile).
   std::optional<Eigen::Vector3d> EstimateCentre(const PixelBox& box, const DepthImage& depth,
@@ -271,6 +279,14 @@ class ObjectTracker {
   /// A pose explains enough of the depth (min_support_ratio, min_coverage)
   /// and, on a frame with a detector's box, lies in its crop (min_box_overlap).
   bool Passes(const PoseSupport& support, const FrameReport& report) const;
+  /// The pose explains enough of the depth (min_support_ratio, min_coverage).
+  bool ExplainsDepth(const PoseSupport& support) const;
+  /// The pose explains the depth but, on a frame with a detector's box, lies
+  /// outside its crop (min_box_overlap): a look-alike beside the object.
+  bool OutsideBox(const PoseSupport& support, const FrameReport& report) const;
+  /// Drops the filter, the track's state and its last good pose: nothing seeds
+  /// the next frames from a pose found to lie on a look-alike.
+  void ForgetTrack();
   /// The support of cMo in this frame (the arms' pixels hidden when they stay
   /// in the depth, SelfFilterOptions::drop_from_depth).
   PoseSupport Support(const Eigen::Isometry3d& cMo, const ColorImage& color,
