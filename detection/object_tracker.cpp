@@ -85,6 +85,8 @@ void PerceptionOptions::Validate(const std::string& source, const std::string& p
           "must be in [1, 30]");
   Require(frames_without_box_to_search_frame >= 0 && frames_without_box_to_search_frame <= 1000,
           "frames_without_box_to_search_frame", "must be in [0, 1000] frames (0: never)");
+  Require(lost_search_every_frames >= 1 && lost_search_every_frames <= 30,
+          "lost_search_every_frames", "must be in [1, 30] frames");
   Require(whole_frame_points >= 50 && whole_frame_points <= 100000, "whole_frame_points",
           "must be in [50, 100000]");
   Require(weak_direction_ratio >= 0.0 && weak_direction_ratio <= 1.0, "weak_direction_ratio",
@@ -484,7 +486,10 @@ void ObjectTracker::KeepReachable(std::vector<Eigen::Vector3d>* centres_c) const
 void ObjectTracker::EndSearch(SearchEnd end) {
   if (!search_.active) return;
   if (end == SearchEnd::kFound) ++global_stats_.found;
-  if (end == SearchEnd::kExhausted) ++global_stats_.exhausted;
+  if (end == SearchEnd::kExhausted) {
+    ++global_stats_.exhausted;
+    frames_since_failed_search_ = 0;
+  }
   if (end != SearchEnd::kAbandoned)
     global_stats_.max_frames = std::max(global_stats_.max_frames, search_.frames);
   search_ = SearchState{};
@@ -581,6 +586,7 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& ca
                         color.height == depth.height && depth.width == K.width &&
                         depth.height == K.height && depth_scale_m > 0.0 && std::isfinite(stamp_s);
   if (ekf_.initialized()) ekf_.Predict(stamp_s);
+  frames_since_failed_search_ = std::min(frames_since_failed_search_ + 1, kNoFailedSearch);
 
   // Detection: every frame until the track is found, then every
   // detect_every_frames frames while it is measured (the prediction's outline
@@ -658,8 +664,11 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& ca
 
   // Pose measurement.
   if (report.cloud_points >= options_.min_cloud_points) {
+    // A search under way goes on; a new one waits lost_search_every_frames
+    // after one that found nothing.
     bool allow_global =
-        !initial_cMo_ && (!ekf_.initialized() || monitor_.state() == TrackState::kLost);
+        !initial_cMo_ && (!ekf_.initialized() || monitor_.state() == TrackState::kLost) &&
+        (search_.active || frames_since_failed_search_ >= options_.lost_search_every_frames);
     // Where the object may be, for the global registration's orientation hypotheses.
     std::vector<Eigen::Vector3d> centres_c = SearchCentres(report, depth, depth_scale_m, K, prior);
     const bool whole_frame =

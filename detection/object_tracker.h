@@ -73,6 +73,12 @@ struct PerceptionOptions {
   /// without a detector, until the detector finds a box again; frames, [0, 1000],
   /// 0: never (only the detector's box is searched).
   int frames_without_box_to_search_frame = 30;
+  /// After a global registration that tried everything in vain, the next one
+  /// starts this many frames later, [1, 30]; 1: on every frame that needs one.
+  /// While the object is lost the search is most of a frame's CPU; the frames
+  /// between still try ICP from the last pose, so a track that shows again
+  /// where it was lost continues at once.
+  int lost_search_every_frames = 1;
   /// The global registration (~0.1 s of CPU a frame) runs only for an object
   /// centre (from the depth in its box) this far from the camera, m: beyond
   /// the 1.5 m it is validated at it fails anyway, and nearer than the
@@ -351,6 +357,10 @@ class ObjectTracker {
   int frames_without_box_ = 0;      // consecutive frames the detector ran and found no box
   bool last_measured_ = false;      // the previous frame gave a measurement
   double min_half_extent_m_ = 0.05;
+  /// Frames processed since a global registration last tried everything in
+  /// vain, counted up to kNoFailedSearch (beyond any lost_search_every_frames).
+  static constexpr int kNoFailedSearch = 1000;
+  int frames_since_failed_search_ = kNoFailedSearch;
 };
 
 }  // namespace aerograsp

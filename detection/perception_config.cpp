@@ -138,6 +138,7 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path,
                         "whole_frame_points",
                         "detect_every_frames",
                         "frames_without_box_to_search_frame",
+                        "lost_search_every_frames",
                         "min_global_range_m",
                         "max_global_range_m",
                         "reacquire_radius_m",
@@ -169,6 +170,7 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path,
   o.detect_every_frames = root.GetInt("detect_every_frames", o.detect_every_frames);
   o.frames_without_box_to_search_frame =
       root.GetInt("frames_without_box_to_search_frame", o.frames_without_box_to_search_frame);
+  o.lost_search_every_frames = root.GetInt("lost_search_every_frames", o.lost_search_every_frames);
   o.min_global_range_m = root.GetDouble("min_global_range_m", o.min_global_range_m);
   o.max_global_range_m = root.GetDouble("max_global_range_m", o.max_global_range_m);
   o.reacquire_radius_m = root.GetDouble("reacquire_radius_m", o.reacquire_radius_m);

@@ -451,6 +451,53 @@ TEST(ObjectTrackerTest, LosesAHiddenObjectAndReacquiresItWithinFiveFrames) {
   EXPECT_EQ(frames_to_find, 1);
 }
 
+TEST(ObjectTrackerTest, AfterASearchThatFoundNothingTheNextWaitsItsFrames) {
+  PerceptionOptions options;
+  options.lost_search_every_frames = 3;
+  options.global.work_per_frame = 0;  // the whole search on the frame it starts
+  ObjectTracker tracker(ObjectModel::Load("crawler"), options, nullptr);
+  ColorImage color;
+  DepthImage depth;
+  Scene().Render(TruthAt(0), false, &color, &depth);
+  for (int k = 0; k < 7; ++k) {
+    const FrameReport r = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001);
+    EXPECT_FALSE(r.measured) << "frame " << k;
+    EXPECT_EQ(r.global_init, k % 3 == 0) << "frame " << k;
+  }
+  EXPECT_EQ(tracker.global_stats().searches, 3);
+  EXPECT_EQ(tracker.global_stats().exhausted, 3);
+}
+
+// Between the searches a lost track still tries ICP from its last pose: the
+// object seen again where it was lost continues the track on its first frame.
+TEST(ObjectTrackerTest, BetweenSearchesALostTrackIsTrackedOnFromItsLastPose) {
+  PerceptionOptions options;
+  options.lost_search_every_frames = 30;
+  ObjectTracker tracker(ObjectModel::Load("crawler"), options, nullptr);
+  tracker.SetInitialPose(TruthAt(0));
+  ColorImage color;
+  DepthImage depth;
+  int k = 0;
+  TrackState state = TrackState::kLost;
+  for (; k < 3; ++k) {
+    Scene().Render(TruthAt(k), true, &color, &depth);
+    state = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001).estimate.state;
+  }
+  ASSERT_EQ(state, TrackState::kFound);
+  for (; k < 10; ++k) {
+    Scene().Render(TruthAt(k), false, &color, &depth);
+    state = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001).estimate.state;
+  }
+  ASSERT_EQ(state, TrackState::kLost);
+  ASSERT_GE(tracker.global_stats().exhausted, 1);
+  Scene().Render(TruthAt(k), true, &color, &depth);
+  const FrameReport r = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001);
+  EXPECT_FALSE(r.global_init);
+  EXPECT_TRUE(r.measured);
+  EXPECT_EQ(r.estimate.state, TrackState::kFound);
+  EXPECT_LT(ComparePoses(TruthAt(k), r.estimate.cMo).translation_m, 0.005);
+}
+
 // Hidden, then seen again 0.3 m to the side: too far from where the track was
 // lost for a crawling object (a look-alike there must not take the track), until
 // the re-find distance has grown with the time since (0.15 m + 0.2 m/s).

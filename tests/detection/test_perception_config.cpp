@@ -80,6 +80,7 @@ void ExpectSameOptions(const PerceptionOptions& a, const PerceptionOptions& b) {
   EXPECT_SAME_FIELD(whole_frame_points);
   EXPECT_SAME_FIELD(detect_every_frames);
   EXPECT_SAME_FIELD(frames_without_box_to_search_frame);
+  EXPECT_SAME_FIELD(lost_search_every_frames);
   EXPECT_SAME_FIELD(min_global_range_m);
   EXPECT_SAME_FIELD(max_global_range_m);
   EXPECT_SAME_FIELD(reacquire_radius_m);
@@ -184,6 +185,8 @@ TEST_F(PerceptionConfigTest, ValuesOutOfRangeAreNamedWithTheirPathAndBound) {
   EXPECT_THAT(ErrorOf("frames_without_box_to_search_frame: -1\n"),
               HasSubstr("perception.yaml: frames_without_box_to_search_frame: must be in [0, 1000] "
                         "frames (0: never)"));
+  EXPECT_THAT(ErrorOf("lost_search_every_frames: 0\n"),
+              HasSubstr("perception.yaml: lost_search_every_frames: must be in [1, 30] frames"));
   EXPECT_THAT(ErrorOf("near_centre_quantile: 0.7\n"),
               HasSubstr("perception.yaml: near_centre_quantile: must be in [0, 0.5]"));
   EXPECT_THAT(ErrorOf("min_support_ratio: 1.5\n"),
