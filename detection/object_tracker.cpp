@@ -691,6 +691,14 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& ca
                     centres_c.end());
     // (A segmented search finds its own centres.)
     if (centres > 0 && centres_c.empty() && !segment) allow_global = false;
+    // A detector's box whose centres all lie beyond the reacquisition zone
+    // holds no pose the search may return (a forgotten track's search has no
+    // zone: Measure).
+    if (report.detection && allow_global && !centres_c.empty()) {
+      std::vector<Eigen::Vector3d> reachable = centres_c;
+      KeepReachable(&reachable);
+      allow_global = !reachable.empty();
+    }
     // A pose of the track's own that lies outside the detector's crop forgets
     // the track (Measure), when the box check is on.
     const bool own_track = own_prior && options_.min_box_overlap > 0.0;

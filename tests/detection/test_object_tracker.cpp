@@ -549,6 +549,43 @@ TEST(ObjectTrackerTest, ALostTrackIsReFoundOnlyNearWhereItWasLost) {
   }
 }
 
+// A detector's box farther from where the track was lost than the object may
+// have gone holds no pose the track may take: no search there.
+TEST(ObjectTrackerTest, ALostTrackSearchesNoBoxBeyondWhereItMayBe) {
+  PerceptionOptions options;
+  options.reacquire_radius_m = 0.05;
+  options.reacquire_speed_mps = 0.0;
+  options.global.work_per_frame = 0;
+  ObjectTracker tracker(ObjectModel::Load("crawler"), options,
+                        std::make_unique<BoxDetector>(DataPath("objects/crawler/detector.onnx")));
+  tracker.SetInitialPose(TruthAt(0));
+  ColorImage color;
+  DepthImage depth;
+  int k = 0;
+  TrackState state = TrackState::kLost;
+  for (; k < 3; ++k) {
+    Scene().Render(TruthAt(k), true, &color, &depth);
+    state = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001).estimate.state;
+  }
+  ASSERT_EQ(state, TrackState::kFound);
+  for (; k < 8; ++k) {
+    Scene().Render(TruthAt(k), false, &color, &depth);
+    state = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001).estimate.state;
+  }
+  ASSERT_EQ(state, TrackState::kLost);
+  Eigen::Isometry3d moved = TruthAt(k);
+  moved.translation().x() += options.reacquire_radius_m + tracker.model().box_radius_m + 0.1;
+  Scene().Render(moved, true, &color, &depth);
+  const int searches = tracker.global_stats().searches;
+  for (int frame = 0; frame < 3; ++frame, ++k) {
+    const FrameReport r = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001);
+    ASSERT_TRUE(r.detection) << "frame " << k;
+    EXPECT_FALSE(r.global_init) << "frame " << k;
+    EXPECT_FALSE(r.measured) << "frame " << k;
+  }
+  EXPECT_EQ(tracker.global_stats().searches, searches);
+}
+
 TEST(ObjectTrackerTest, AFrameWithoutTheObjectIsNeverFound) {
   ObjectTracker tracker(ObjectModel::Load("crawler"), PerceptionOptions{}, nullptr);
   ColorImage color;
