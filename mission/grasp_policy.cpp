@@ -170,8 +170,9 @@ AttemptDecision DecideAttempt(const AttemptView& view, const GraspPolicyState& s
     if (view.phase[a] == GraspPhase::kTimedOut)
       retry = fmt::format("{} arm timed out", kArmNames[a]);
   }
-  if (view.lost_for_s >= 0 && view.lost_for_s > config.lost_timeout_s &&
-      !view.one_gripper_carries) {
+  const bool a_gripper_closes =
+      view.phase[0] == GraspPhase::kClose || view.phase[1] == GraspPhase::kClose;
+  if (ObjectLostTooLong(view.lost_for_s, a_gripper_closes, config) && !view.one_gripper_carries) {
     retry = fmt::format("object lost for {:.1f} s", view.lost_for_s);
   }
   const bool done = view.phase[0] == GraspPhase::kDone && view.phase[1] == GraspPhase::kDone;
@@ -220,6 +221,15 @@ AttemptDecision DecideAttempt(const AttemptView& view, const GraspPolicyState& s
     d.reason = retry;
   }
   return d;
+}
+
+bool AtOrPastPreCatch(GraspPhase phase, bool at_precatch) {
+  return at_precatch || phase == GraspPhase::kGrasp || phase == GraspPhase::kClose ||
+         phase == GraspPhase::kDone;
+}
+
+bool ObjectLostTooLong(double lost_for_s, bool a_gripper_closes, const GraspPolicyConfig& config) {
+  return lost_for_s >= 0 && lost_for_s > config.lost_timeout_s && !a_gripper_closes;
 }
 
 PlannerStep NextPlannerStep(PlannerState state, bool both_at_precatch, double time_in_state_s,

@@ -20,8 +20,13 @@
 //    close_together_m set, only once the other arm is that near its grasp too
 //    (or closes, or waited close_wait_s: MayClose); grasped when both grippers
 //    hold (NextPlannerStep);
-//  - retry: an arm's sequence timed out, the object lost for lost_timeout_s,
-//    or both grippers closed without holding (DecideAttempt);
+//  - go in: an arm counts as at its pre-catch pose once it is there or past
+//    it (moving in, closing, closed: AtOrPastPreCatch), so an arm that kept
+//    its pair through a switch does not hold the other at its pre-catch pose;
+//  - retry: an arm's sequence timed out, the object lost for lost_timeout_s
+//    (a gripper that has begun closing finishes its close first:
+//    ObjectLostTooLong), or both grippers closed without holding
+//    (DecideAttempt);
 //  - carried: from the moment one gripper holds, the object moves with it
 //    (CarryingGripper) and that arm keeps still;
 //  - re-aim: one gripper holds, the other's attempt ended (closed, timed out,
@@ -202,6 +207,19 @@ int CarryingGripper(const AttemptView& view);
 /// Retry reasons and the re-aim rule (see the file comment).
 AttemptDecision DecideAttempt(const AttemptView& view, const GraspPolicyState& state,
                               const GraspPolicyConfig& config);
+
+/// An arm counts as at its pre-catch pose for the planner's "both at their
+/// pre-catch poses" when it is there (at_precatch) or already past it: moving
+/// in, closing or closed (a switch that changed only the other arm's pair
+/// leaves this one going on). Without it, an arm that closed while the other
+/// went back to a new pre-catch pose would keep the other waiting there.
+bool AtOrPastPreCatch(GraspPhase phase, bool at_precatch);
+
+/// The object lost too long ends the attempt: lost_for_s beyond
+/// lost_timeout_s, and no gripper closing (a close that has begun takes
+/// close_time_s and closes on the pose held where the object was last seen:
+/// ended in the middle, its pads would open before they reach the object).
+bool ObjectLostTooLong(double lost_for_s, bool a_gripper_closes, const GraspPolicyConfig& config);
 
 /// The next planner signal of an attempt going on.
 enum class PlannerStep { kNone, kAtPreCatch, kGoIn, kClosed };

@@ -87,8 +87,10 @@ class GraspArms {
   GraspPhase phase(int a) const { return sequence_[a]->phase(); }
   /// Arm a's grasp target in its base this cycle (after Step).
   const Eigen::Isometry3d& grasp_target_bMg(int a) const { return reached_bMg_[a]; }
+  /// Both arms at their pre-catch poses or past them (AtOrPastPreCatch).
   bool both_at_precatch() const {
-    return sequence_[0]->at_precatch() && sequence_[1]->at_precatch();
+    return AtOrPastPreCatch(sequence_[0]->phase(), sequence_[0]->at_precatch()) &&
+           AtOrPastPreCatch(sequence_[1]->phase(), sequence_[1]->at_precatch());
   }
 
  private:

@@ -181,6 +181,21 @@ TEST(GraspPolicyTest, ArmsSettleAtTheirPreCatchPosesBeforeMovingInAndCloseWhenBo
 
 // ---- Retry, re-aim, give up ---------------------------------------------------------
 
+TEST(GraspPolicyTest, AnArmPastItsPreCatchPoseCountsAsThereForTheOther) {
+  // A switch that changed only the right arm's pair: the left went on in and
+  // closed while the right went back to its new pre-catch pose.
+  EXPECT_FALSE(AtOrPastPreCatch(GraspPhase::kPreCatch, false));
+  EXPECT_TRUE(AtOrPastPreCatch(GraspPhase::kPreCatch, true));
+  EXPECT_TRUE(AtOrPastPreCatch(GraspPhase::kGrasp, false));
+  EXPECT_TRUE(AtOrPastPreCatch(GraspPhase::kClose, false));
+  EXPECT_TRUE(AtOrPastPreCatch(GraspPhase::kDone, false));
+  EXPECT_FALSE(AtOrPastPreCatch(GraspPhase::kTimedOut, false));
+  const bool both =
+      AtOrPastPreCatch(GraspPhase::kDone, false) && AtOrPastPreCatch(GraspPhase::kPreCatch, true);
+  EXPECT_EQ(NextPlannerStep(PlannerState::kServoing, both, 0.0, false, false, GraspPolicyConfig{}),
+            PlannerStep::kAtPreCatch);
+}
+
 TEST(GraspPolicyTest, AnArmThatTimedOutEndsTheAttempt) {
   AttemptView view;
   view.phase[1] = GraspPhase::kTimedOut;
@@ -201,6 +216,25 @@ TEST(GraspPolicyTest, AnObjectLostTooLongEndsTheAttemptUnlessAGripperCarriesIt) 
   EXPECT_EQ(d.reason, "object lost for 2.5 s");
   view.one_gripper_carries = true;
   EXPECT_EQ(DecideAttempt(view, GraspPolicyState{}, config).action, AttemptAction::kContinue);
+}
+
+TEST(GraspPolicyTest, AGripperThatHasBegunClosingFinishesItsCloseBeforeALossEndsTheAttempt) {
+  GraspPolicyConfig config;
+  config.lost_timeout_s = 2.0;
+  AttemptView view;
+  view.lost_for_s = 2.05;
+  view.phase[0] = GraspPhase::kClose;
+  view.phase[1] = GraspPhase::kGrasp;
+  EXPECT_EQ(DecideAttempt(view, GraspPolicyState{}, config).action, AttemptAction::kContinue);
+  view.phase[0] = GraspPhase::kGrasp;
+  view.phase[1] = GraspPhase::kClose;
+  EXPECT_EQ(DecideAttempt(view, GraspPolicyState{}, config).action, AttemptAction::kContinue);
+  // The close over (on nothing) and the object still lost: the attempt ends.
+  view.phase[1] = GraspPhase::kDone;
+  view.lost_for_s = 2.85;
+  const AttemptDecision d = DecideAttempt(view, GraspPolicyState{}, config);
+  EXPECT_EQ(d.action, AttemptAction::kRetry);
+  EXPECT_EQ(d.reason, "object lost for 2.9 s");
 }
 
 TEST(GraspPolicyTest, GrippersClosedWithoutHoldingEndTheAttempt) {
