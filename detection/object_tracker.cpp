@@ -211,14 +211,17 @@ IcpResult ObjectTracker::Register(const SceneCloud& cloud, const ColorImage& col
   *outline_drop = -1;
   if (icp.ok && icp.weak_ratio < options_.weak_direction_ratio) {
     // The pairs leave a sliding direction: let the outline in the depth image decide it.
-    SlideFit slid = SlideToBestSupport(*model_, icp.cMo, icp.weak_direction_o, color, depth,
-                                       depth_scale_m, K, SupportOptions(), slide_range_m);
+    const DepthImage* arms =
+        arms_in_depth_ && options_.self_filter.in_slide ? &filtered_depth_ : nullptr;
+    SlideFit slid =
+        SlideToBestSupport(*model_, icp.cMo, icp.weak_direction_o, color, depth, depth_scale_m, K,
+                           SupportOptions(), slide_range_m, 0.001, 0.01, arms);
     // A short (tracking) slide that the outline supports less than a probe
     // beyond it: the object lies farther along (a drift the filter's velocity
     // fed while its ends were hidden); the full range finds it.
     if (slid.drop < 0 && slide_range_m < kFullSlideM) {
       slid = SlideToBestSupport(*model_, slid.cMo, icp.weak_direction_o, color, depth,
-                                depth_scale_m, K, SupportOptions(), kFullSlideM);
+                                depth_scale_m, K, SupportOptions(), kFullSlideM, 0.001, 0.01, arms);
     }
     *outline_drop = slid.drop;
     if (!slid.cMo.isApprox(icp.cMo)) {
@@ -239,8 +242,9 @@ PoseSupportOptions ObjectTracker::SupportOptions() const {
 PoseSupport ObjectTracker::Support(const Eigen::Isometry3d& cMo, const ColorImage& color,
                                    const DepthImage& depth, double depth_scale_m,
                                    const CameraIntrinsics& K) const {
-  return ScorePoseSupport(*model_, cMo, color, depth, depth_scale_m, K, SupportOptions(),
-                          arms_in_depth_ ? &filtered_depth_ : nullptr);
+  return ScorePoseSupport(
+      *model_, cMo, color, depth, depth_scale_m, K, SupportOptions(),
+      arms_in_depth_ && options_.self_filter.in_support ? &filtered_depth_ : nullptr);
 }
 
 bool ObjectTracker::ExplainsDepth(const PoseSupport& support) const {

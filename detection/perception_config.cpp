@@ -108,10 +108,13 @@ void ReadSegment(const ConfigNode& n, SegmentationOptions* g) {
 }
 
 void ReadSelfFilter(const ConfigNode& n, SelfFilterOptions* f) {
-  n.RequireOnlyKeys({"enabled", "drop_from_depth", "drop_from_cloud", "margin_m"});
+  n.RequireOnlyKeys(
+      {"enabled", "drop_from_depth", "drop_from_cloud", "in_support", "in_slide", "margin_m"});
   f->enabled = n.GetBool("enabled", f->enabled);
   f->drop_from_depth = n.GetBool("drop_from_depth", f->drop_from_depth);
   f->drop_from_cloud = n.GetBool("drop_from_cloud", f->drop_from_cloud);
+  f->in_support = n.GetBool("in_support", f->in_support);
+  f->in_slide = n.GetBool("in_slide", f->in_slide);
   f->margin_m = n.GetDouble("margin_m", f->margin_m);
 }
 

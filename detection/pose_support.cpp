@@ -184,17 +184,22 @@ class SupportScorer {
           support.agree_box.y0 = std::min(support.agree_box.y0, v);
           support.agree_box.x1 = std::max(support.agree_box.x1, u + 1);
           support.agree_box.y1 = std::max(support.agree_box.y1, v + 1);
-        } else if (SeenOnArm(u, v) ||
-                   (tolerance > options_.min_tolerance_m && z_obs < p.z() - 0.5 * tolerance &&
-                    SelfOccluded(model_, i, c_o))) {
-          --support.projected;  // the robot's arm, or a nearer part of the model, hides it
+        } else if (SeenOnArm(u, v)) {
+          --support.projected;  // the robot's arm hides it
+          ++support.behind_arm;
+        } else if (tolerance > options_.min_tolerance_m && z_obs < p.z() - 0.5 * tolerance &&
+                   SelfOccluded(model_, i, c_o)) {
+          --support.projected;  // a nearer part of the model hides it
         } else {
           ++support.see_through;
         }
       } else if (z_obs > p.z()) {
         ++support.see_through;
-      } else if (SeenOnArm(u, v) || HiddenByModel(u, v, z_obs, shift_c)) {
-        --support.projected;  // the robot's arm, or the model's own nearer surface, hides it
+      } else if (SeenOnArm(u, v)) {
+        --support.projected;  // the robot's arm hides it
+        ++support.behind_arm;
+      } else if (HiddenByModel(u, v, z_obs, shift_c)) {
+        --support.projected;  // the model's own nearer surface hides it
       } else {
         ++support.occluded;
       }
@@ -251,13 +256,14 @@ SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cM
                             const Eigen::Vector3d& direction_o, const ColorImage& color,
                             const DepthImage& depth, double depth_scale_m,
                             const CameraIntrinsics& K, const PoseSupportOptions& options,
-                            double range_m, double step_m, double probe_m) {
+                            double range_m, double step_m, double probe_m,
+                            const DepthImage* arms_dropped) {
   // Coarse (4 fine steps) over the whole range, then fine around the best, with
   // many points: a slide of a few mm moves only the points at the ends.
   PoseSupportOptions dense = options;
   dense.max_points = std::max(options.max_points, kSlidePoints);
   const auto [fine_m, coarse_m] = SlideSteps(step_m);
-  SupportScorer scorer(model, cMo, color, depth, depth_scale_m, K, dense);
+  SupportScorer scorer(model, cMo, color, depth, depth_scale_m, K, dense, arms_dropped);
   const Eigen::Vector3d direction_c = cMo.linear() * direction_o;
   // The farthest slide scored: the farthest coarse offset, three fine steps
   // from it, and a probe beyond those.
@@ -268,15 +274,24 @@ SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cM
     candidate.translation() += direction_c * offset_m;
     return candidate;
   };
-  // Scores by offset: the fine search starts on the coarse search's best.
-  std::vector<std::pair<double, int>> scored;
-  const auto score = [&](double offset_m) {
+  // Supports by offset: the fine search starts on the coarse search's best.
+  std::vector<std::pair<double, PoseSupport>> scored;
+  const auto support_at = [&](double offset_m) {
     for (const auto& [offset, s] : scored) {
       if (offset == offset_m) return s;
     }
-    const PoseSupport support = scorer.Score((direction_c * offset_m).cast<float>());
-    scored.emplace_back(offset_m, support.agree - support.see_through);
+    scored.emplace_back(offset_m, scorer.Score((direction_c * offset_m).cast<float>()));
     return scored.back().second;
+  };
+  const auto score = [&](double offset_m) {
+    const PoseSupport s = support_at(offset_m);
+    return s.agree - s.see_through;
+  };
+  // The drop's score: a model point behind the arms' pixels may be the object
+  // there, so a slide that moves the model's end under a finger loses nothing.
+  const auto drop_score = [&](double offset_m) {
+    const PoseSupport s = support_at(offset_m);
+    return s.agree + s.behind_arm - s.see_through;
   };
   SlideFit fit;
   double best_offset_m = 0.0;
@@ -296,7 +311,8 @@ SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cM
   search(0.0, coarse_m, coarse_steps);
   search(best_offset_m, fine_m, 3);
   fit.cMo = slid(best_offset_m);
-  fit.drop = best_score - std::max(score(best_offset_m - probe_m), score(best_offset_m + probe_m));
+  fit.drop = drop_score(best_offset_m) -
+             std::max(drop_score(best_offset_m - probe_m), drop_score(best_offset_m + probe_m));
   return fit;
 }
 

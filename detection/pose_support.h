@@ -33,6 +33,8 @@ struct PoseSupport {
   int agree = 0;
   int see_through = 0;  ///< the camera sees through the model, or the colour disagrees
   int occluded = 0;
+  /// Model points behind the robot's arm's pixels (hidden: not in projected).
+  int behind_arm = 0;
   /// agree / (agree + see_through); 0 when nothing was compared.
   double ratio() const {
     return agree + see_through > 0 ? double(agree) / (agree + see_through) : 0.0;
@@ -79,12 +81,15 @@ struct SlideFit {
 /// steps of 4 * step_m, then step_m around the best) and returns the offset
 /// whose pose the depth and colour support best (agreeing minus contradicting
 /// points): the outline fixes what ICP's point-to-plane pairs cannot when the
-/// object could slide along a face.
+/// object could slide along a face. `arms_dropped` (as for ScorePoseSupport):
+/// the drop counts the model points a probe moves behind the arms' pixels as
+/// agreeing, so an end that stops where a finger hides the object is no end.
 SlideFit SlideToBestSupport(const ModelCloud& model, const Eigen::Isometry3d& cMo,
                             const Eigen::Vector3d& direction_o, const ColorImage& color,
                             const DepthImage& depth, double depth_scale_m,
                             const CameraIntrinsics& K, const PoseSupportOptions& options = {},
-                            double range_m = 0.04, double step_m = 0.001, double probe_m = 0.01);
+                            double range_m = 0.04, double step_m = 0.001, double probe_m = 0.01,
+                            const DepthImage* arms_dropped = nullptr);
 
 /// The most model-point projections SlideToBestSupport makes with these arguments.
 std::size_t SlideWorkBound(const ModelCloud& model, const PoseSupportOptions& options = {},

@@ -43,6 +43,14 @@ struct SelfFilterOptions {
   /// support check see the depth as the camera gave it, the model behind an
   /// arm pixel hidden. Without effect when drop_from_depth is true.
   bool drop_from_cloud = false;
+  /// With drop_from_depth false: the support check takes the model behind the
+  /// arms' pixels as hidden. Without effect when drop_from_depth is true.
+  bool in_support = true;
+  /// With drop_from_depth false: the slide along a weak direction does not
+  /// take the outline where the object meets the arms' pixels for its end
+  /// (SlideToBestSupport's arms_dropped). Without effect when drop_from_depth
+  /// is true (the arms' pixels are then no data for the slide as well).
+  bool in_slide = false;
   /// A depth point this near an arm's collision shape (or inside it) is the
   /// arm's, m, [0, 0.1]: the depth noise, the joints' and the calibration's
   /// error at the grasping range.

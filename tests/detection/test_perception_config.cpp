@@ -93,6 +93,8 @@ void ExpectSameOptions(const PerceptionOptions& a, const PerceptionOptions& b) {
   EXPECT_SAME_FIELD(self_filter.enabled);
   EXPECT_SAME_FIELD(self_filter.drop_from_depth);
   EXPECT_SAME_FIELD(self_filter.drop_from_cloud);
+  EXPECT_SAME_FIELD(self_filter.in_support);
+  EXPECT_SAME_FIELD(self_filter.in_slide);
   EXPECT_SAME_FIELD(self_filter.margin_m);
 #undef EXPECT_SAME_FIELD
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/data_dir.h"
+#include "detection/object_tracker.h"
 #include "detection/pose_support.h"
 #include "hardware/sim/sim_devices.h"
 #include "hardware/sim/world.h"
@@ -282,6 +283,60 @@ TEST_F(SlideTest, WithBothEndsHiddenTheSlideIsAGuess) {
   }
   const SlideFit hidden = Slide(depth, 0.04);
   EXPECT_LT(std::abs(hidden.drop), 20) << "error along " << ErrorAlongM(hidden.cMo);
+}
+
+// A box in front of the object's far end along its length (a finger), 0.2 m
+// nearer: every pixel of the object beyond 60 mm from its middle on one side.
+// Returns the depth with the box, and (in *arms_dropped) that depth with the
+// box's pixels set to no data, as the self filter leaves it.
+DepthImage OneEndBoxed(const DepthImage& seen, const Eigen::Isometry3d& truth,
+                       const Eigen::Vector3d& length_o, double centre_along_m, double half_length_m,
+                       const CameraIntrinsics& K, double scale_m, DepthImage* arms_dropped) {
+  DepthImage depth = seen;
+  *arms_dropped = seen;
+  for (int v = 0; v < depth.height; ++v) {
+    for (int u = 0; u < depth.width; ++u) {
+      const std::uint16_t d = depth.at(u, v);
+      if (d == 0) continue;
+      const Eigen::Vector3d p_o = truth.inverse() * K.Unproject(u, v, d * scale_m);
+      const double along_m = length_o.dot(p_o) - centre_along_m;
+      if (along_m > 0.06 && along_m < half_length_m + 0.02 && p_o.norm() < 0.3) {
+        depth.at(u, v) = static_cast<std::uint16_t>(d - 0.2 / scale_m);
+        arms_dropped->at(u, v) = 0;
+      }
+    }
+  }
+  return depth;
+}
+
+TEST_F(SlideTest, AnEndAtTheArmsPixelsDoesNotFixTheSlide) {
+  DepthImage arms_dropped;
+  const DepthImage depth = OneEndBoxed(frame_.depth, truth_, length_o_, centre_along_m_,
+                                       half_length_m_, K_, scale_m_, &arms_dropped);
+  // Without the arms' pixels known, the box's edge passes for the object's end.
+  const SlideFit blind = SlideToBestSupport(testing::CrawlerModel(), slid_, length_o_, frame_.color,
+                                            depth, scale_m_, K_, {}, 0.04);
+  // The drop the tracker takes for an object placed along its length.
+  const int fixing_drop = PerceptionOptions().weak_direction_min_drop;
+  EXPECT_GE(blind.drop, fixing_drop);
+  const SlideFit aware =
+      SlideToBestSupport(testing::CrawlerModel(), slid_, length_o_, frame_.color, depth, scale_m_,
+                         K_, {}, 0.04, 0.001, 0.01, &arms_dropped);
+  EXPECT_LT(aware.drop, fixing_drop) << "error along " << ErrorAlongM(aware.cMo);
+}
+
+TEST_F(SlideTest, AnEndInViewFixesTheSlideWithTheArmsKnown) {
+  // Arms' pixels known at the image's left edge, away from the object: both
+  // ends in view.
+  DepthImage no_arm_on_the_object = frame_.depth;
+  for (int v = 0; v < no_arm_on_the_object.height; ++v) {
+    for (int u = 0; u < no_arm_on_the_object.width / 8; ++u) no_arm_on_the_object.at(u, v) = 0;
+  }
+  const SlideFit fit =
+      SlideToBestSupport(testing::CrawlerModel(), slid_, length_o_, frame_.color, frame_.depth,
+                         scale_m_, K_, {}, 0.04, 0.001, 0.01, &no_arm_on_the_object);
+  EXPECT_LT(std::abs(ErrorAlongM(fit.cMo)), 0.003);
+  EXPECT_GE(fit.drop, PerceptionOptions().weak_direction_min_drop);
 }
 
 }  // namespace
