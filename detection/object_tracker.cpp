@@ -474,16 +474,19 @@ bool ObjectTracker::Search(const SceneCloud& cloud, const ColorImage& color,
   return found;
 }
 
+bool ObjectTracker::InGlobalRange(const Eigen::Vector3d& c) const {
+  return c.norm() >= options_.min_global_range_m && c.norm() <= options_.max_global_range_m;
+}
+
+bool ObjectTracker::Reachable(const Eigen::Vector3d& c) const {
+  return InGlobalRange(c) &&
+         !(reacquire_zone_c_ && (c - reacquire_zone_c_->first).norm() >
+                                    reacquire_zone_c_->second + model_->box_radius_m);
+}
+
 void ObjectTracker::KeepReachable(std::vector<Eigen::Vector3d>* centres_c) const {
-  const double zone_reach_m =
-      reacquire_zone_c_ ? reacquire_zone_c_->second + model_->box_radius_m : 0.0;
   centres_c->erase(std::remove_if(centres_c->begin(), centres_c->end(),
-                                  [&](const Eigen::Vector3d& c) {
-                                    return c.norm() < options_.min_global_range_m ||
-                                           c.norm() > options_.max_global_range_m ||
-                                           (reacquire_zone_c_ &&
-                                            (c - reacquire_zone_c_->first).norm() > zone_reach_m);
-                                  }),
+                                  [&](const Eigen::Vector3d& c) { return !Reachable(c); }),
                    centres_c->end());
 }
 
@@ -680,18 +683,12 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& ca
     const bool segment = whole_frame && !report.detection;
     // The last known place leads the centres (SearchCentres) and stays first
     // when the search segments the scene.
-    std::size_t kept_centres = segment && prior && !centres_c.empty() &&
-                                       centres_c.front().norm() >= options_.min_global_range_m &&
-                                       centres_c.front().norm() <= options_.max_global_range_m
-                                   ? 1
-                                   : 0;
+    std::size_t kept_centres =
+        segment && prior && !centres_c.empty() && InGlobalRange(centres_c.front()) ? 1 : 0;
     // Only where the object may be, at a range where the search can succeed.
     const std::size_t centres = centres_c.size();
     centres_c.erase(std::remove_if(centres_c.begin(), centres_c.end(),
-                                   [&](const Eigen::Vector3d& c) {
-                                     return c.norm() < options_.min_global_range_m ||
-                                            c.norm() > options_.max_global_range_m;
-                                   }),
+                                   [&](const Eigen::Vector3d& c) { return !InGlobalRange(c); }),
                     centres_c.end());
     // (A segmented search finds its own centres.)
     if (centres > 0 && centres_c.empty() && !segment) allow_global = false;
@@ -699,9 +696,8 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& ca
     // holds no pose the search may return (a forgotten track's search has no
     // zone: Measure).
     if (report.detection && allow_global && !centres_c.empty()) {
-      std::vector<Eigen::Vector3d> reachable = centres_c;
-      KeepReachable(&reachable);
-      allow_global = !reachable.empty();
+      allow_global = std::any_of(centres_c.begin(), centres_c.end(),
+                                 [&](const Eigen::Vector3d& c) { return Reachable(c); });
     }
     // A pose of the track's own that lies outside the detector's crop forgets
     // the track (Measure), when the box check is on.

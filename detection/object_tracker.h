@@ -275,8 +275,11 @@ class ObjectTracker {
               double depth_scale_m, const CameraIntrinsics& K,
               const std::vector<Eigen::Vector3d>& centres_c, bool segment, std::size_t kept_centres,
               FrameReport* report);
-  /// Drops the centres out of the global registration's range or outside this
-  /// frame's reacquisition zone (grown by the object's radius).
+  /// A centre within the global registration's range (min/max_global_range_m).
+  bool InGlobalRange(const Eigen::Vector3d& c) const;
+  /// ... and inside this frame's reacquisition zone (grown by the object's radius).
+  bool Reachable(const Eigen::Vector3d& c) const;
+  /// Drops the centres that are not Reachable.
   void KeepReachable(std::vector<Eigen::Vector3d>* centres_c) const;
   /// Ends the search under way: it found the object, tried everything, or is
   /// no longer needed (the track was measured without it, a pose was given).

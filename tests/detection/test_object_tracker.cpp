@@ -60,6 +60,26 @@ Eigen::Isometry3d TruthAt(int k) {
   return cMo;
 }
 
+// The object in view on frames 0-2, hidden from frame 3 to hidden_until - 1
+// (*k ends there): the tracker's state after each part.
+struct SeenThenHidden {
+  TrackState seen = TrackState::kLost;
+  TrackState hidden = TrackState::kLost;
+};
+SeenThenHidden SeeThenHide(ObjectTracker* tracker, int hidden_until, int* k, ColorImage* color,
+                           DepthImage* depth) {
+  SeenThenHidden states;
+  for (*k = 0; *k < 3; ++*k) {
+    Scene().Render(TruthAt(*k), true, color, depth);
+    states.seen = tracker->Process(*color, *depth, *k / 30.0, Scene().K(), 0.001).estimate.state;
+  }
+  for (; *k < hidden_until; ++*k) {
+    Scene().Render(TruthAt(*k), false, color, depth);
+    states.hidden = tracker->Process(*color, *depth, *k / 30.0, Scene().K(), 0.001).estimate.state;
+  }
+  return states;
+}
+
 TEST(ObjectTrackerTest, FindsAndTracksWithoutADetector) {
   ObjectTracker tracker(ObjectModel::Load("crawler"), PerceptionOptions{}, nullptr);
   ColorImage color;
@@ -478,17 +498,9 @@ TEST(ObjectTrackerTest, BetweenSearchesALostTrackIsTrackedOnFromItsLastPose) {
   ColorImage color;
   DepthImage depth;
   int k = 0;
-  TrackState state = TrackState::kLost;
-  for (; k < 3; ++k) {
-    Scene().Render(TruthAt(k), true, &color, &depth);
-    state = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001).estimate.state;
-  }
-  ASSERT_EQ(state, TrackState::kFound);
-  for (; k < 10; ++k) {
-    Scene().Render(TruthAt(k), false, &color, &depth);
-    state = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001).estimate.state;
-  }
-  ASSERT_EQ(state, TrackState::kLost);
+  const SeenThenHidden states = SeeThenHide(&tracker, 10, &k, &color, &depth);
+  ASSERT_EQ(states.seen, TrackState::kFound);
+  ASSERT_EQ(states.hidden, TrackState::kLost);
   ASSERT_GE(tracker.global_stats().exhausted, 1);
   Scene().Render(TruthAt(k), true, &color, &depth);
   const FrameReport r = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001);
@@ -513,17 +525,9 @@ TEST(ObjectTrackerTest, ALostTrackIsReFoundOnlyNearWhereItWasLost) {
     ColorImage color;
     DepthImage depth;
     int k = 0;
-    TrackState state = TrackState::kLost;
-    for (; k < 3; ++k) {
-      Scene().Render(TruthAt(k), true, &color, &depth);
-      state = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001).estimate.state;
-    }
-    ASSERT_EQ(state, TrackState::kFound);
-    for (; k < 8; ++k) {
-      Scene().Render(TruthAt(k), false, &color, &depth);
-      state = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001).estimate.state;
-    }
-    ASSERT_EQ(state, TrackState::kLost);
+    const SeenThenHidden states = SeeThenHide(&tracker, 8, &k, &color, &depth);
+    ASSERT_EQ(states.seen, TrackState::kFound);
+    ASSERT_EQ(states.hidden, TrackState::kLost);
     // Seen again 0.3 m to the side, from 0.27 s after the last good frame.
     Eigen::Isometry3d moved = TruthAt(k);
     moved.translation() += aside;
@@ -562,17 +566,9 @@ TEST(ObjectTrackerTest, ALostTrackSearchesNoBoxBeyondWhereItMayBe) {
   ColorImage color;
   DepthImage depth;
   int k = 0;
-  TrackState state = TrackState::kLost;
-  for (; k < 3; ++k) {
-    Scene().Render(TruthAt(k), true, &color, &depth);
-    state = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001).estimate.state;
-  }
-  ASSERT_EQ(state, TrackState::kFound);
-  for (; k < 8; ++k) {
-    Scene().Render(TruthAt(k), false, &color, &depth);
-    state = tracker.Process(color, depth, k / 30.0, Scene().K(), 0.001).estimate.state;
-  }
-  ASSERT_EQ(state, TrackState::kLost);
+  const SeenThenHidden states = SeeThenHide(&tracker, 8, &k, &color, &depth);
+  ASSERT_EQ(states.seen, TrackState::kFound);
+  ASSERT_EQ(states.hidden, TrackState::kLost);
   Eigen::Isometry3d moved = TruthAt(k);
   moved.translation().x() += options.reacquire_radius_m + tracker.model().box_radius_m + 0.1;
   Scene().Render(moved, true, &color, &depth);

@@ -246,6 +246,29 @@ class SlideTest : public ::testing::Test {
   double ErrorAlongM(const Eigen::Isometry3d& cMo) const {
     return length_o_.dot(truth_.linear().transpose() * (cMo.translation() - truth_.translation()));
   }
+  /// Something 0.2 m nearer (fingers) in front of the object's far end along
+  /// its length, or of both ends: every pixel of the object beyond 60 mm from
+  /// its middle on that side. Returns the depth with it, and (in
+  /// *arms_dropped, if given) that depth with its pixels set to no data, as
+  /// the self filter leaves it.
+  DepthImage EndsBoxed(bool both_ends, DepthImage* arms_dropped = nullptr) const {
+    DepthImage depth = frame_.depth;
+    if (arms_dropped) *arms_dropped = frame_.depth;
+    for (int v = 0; v < depth.height; ++v) {
+      for (int u = 0; u < depth.width; ++u) {
+        const std::uint16_t d = depth.at(u, v);
+        if (d == 0) continue;
+        const Eigen::Vector3d p_o = truth_.inverse() * K_.Unproject(u, v, d * scale_m_);
+        const double along_m = length_o_.dot(p_o) - centre_along_m_;
+        const double beyond_m = both_ends ? std::abs(along_m) : along_m;
+        if (beyond_m > 0.06 && beyond_m < half_length_m_ + 0.02 && p_o.norm() < 0.3) {
+          depth.at(u, v) = static_cast<std::uint16_t>(d - 0.2 / scale_m_);
+          if (arms_dropped) arms_dropped->at(u, v) = 0;
+        }
+      }
+    }
+    return depth;
+  }
   RgbdFrame frame_;
   CameraIntrinsics K_;
   double scale_m_ = 0.001;
@@ -265,54 +288,15 @@ TEST_F(SlideTest, TheOutlineLocatesTheObjectAndSaysWhenItLiesBeyondTheRange) {
 }
 
 TEST_F(SlideTest, WithBothEndsHiddenTheSlideIsAGuess) {
-  // Something nearer (fingers) in front of both ends: every pixel of the
-  // object beyond 60 mm from its middle along the length shows a depth 0.2 m
-  // nearer, as grippers closing on it would.
-  DepthImage depth = frame_.depth;
-  for (int v = 0; v < depth.height; ++v) {
-    for (int u = 0; u < depth.width; ++u) {
-      const std::uint16_t d = depth.at(u, v);
-      if (d == 0) continue;
-      const Eigen::Vector3d p_o = truth_.inverse() * K_.Unproject(u, v, d * scale_m_);
-      const double along_m = length_o_.dot(p_o) - centre_along_m_;
-      if (std::abs(along_m) > 0.06 && std::abs(along_m) < half_length_m_ + 0.02 &&
-          p_o.norm() < 0.3) {
-        depth.at(u, v) = static_cast<std::uint16_t>(d - 0.2 / scale_m_);
-      }
-    }
-  }
+  // Fingers in front of both ends, as grippers closing on it would be.
+  const DepthImage depth = EndsBoxed(true);
   const SlideFit hidden = Slide(depth, 0.04);
   EXPECT_LT(std::abs(hidden.drop), 20) << "error along " << ErrorAlongM(hidden.cMo);
 }
 
-// A box in front of the object's far end along its length (a finger), 0.2 m
-// nearer: every pixel of the object beyond 60 mm from its middle on one side.
-// Returns the depth with the box, and (in *arms_dropped) that depth with the
-// box's pixels set to no data, as the self filter leaves it.
-DepthImage OneEndBoxed(const DepthImage& seen, const Eigen::Isometry3d& truth,
-                       const Eigen::Vector3d& length_o, double centre_along_m, double half_length_m,
-                       const CameraIntrinsics& K, double scale_m, DepthImage* arms_dropped) {
-  DepthImage depth = seen;
-  *arms_dropped = seen;
-  for (int v = 0; v < depth.height; ++v) {
-    for (int u = 0; u < depth.width; ++u) {
-      const std::uint16_t d = depth.at(u, v);
-      if (d == 0) continue;
-      const Eigen::Vector3d p_o = truth.inverse() * K.Unproject(u, v, d * scale_m);
-      const double along_m = length_o.dot(p_o) - centre_along_m;
-      if (along_m > 0.06 && along_m < half_length_m + 0.02 && p_o.norm() < 0.3) {
-        depth.at(u, v) = static_cast<std::uint16_t>(d - 0.2 / scale_m);
-        arms_dropped->at(u, v) = 0;
-      }
-    }
-  }
-  return depth;
-}
-
 TEST_F(SlideTest, AnEndAtTheArmsPixelsDoesNotFixTheSlide) {
   DepthImage arms_dropped;
-  const DepthImage depth = OneEndBoxed(frame_.depth, truth_, length_o_, centre_along_m_,
-                                       half_length_m_, K_, scale_m_, &arms_dropped);
+  const DepthImage depth = EndsBoxed(false, &arms_dropped);
   // Without the arms' pixels known, the box's edge passes for the object's end.
   const SlideFit blind = SlideToBestSupport(testing::CrawlerModel(), slid_, length_o_, frame_.color,
                                             depth, scale_m_, K_, {}, 0.04);
