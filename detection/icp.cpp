@@ -10,9 +10,7 @@
 namespace aerograsp {
 
 float ColorDistance(const Eigen::Vector3f& rgb_a, const Eigen::Vector3f& rgb_b) {
-  const Eigen::Vector3f a = rgb_a * (384.0f / std::max(rgb_a.sum(), 1.0f));
-  const Eigen::Vector3f b = rgb_b * (384.0f / std::max(rgb_b.sum(), 1.0f));
-  return (a - b).cwiseAbs().sum();
+  return (BrightnessNormalized(rgb_a) - BrightnessNormalized(rgb_b)).cwiseAbs().sum();
 }
 
 Rejection ClassifyPair(const Eigen::Vector3f& p, const Eigen::Vector3f& n_p,

@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cstddef>
 
 #include "detection/model_cloud.h"
@@ -20,8 +21,16 @@
 
 namespace aerograsp {
 
+/// RGB (0..255 each) scaled to a brightness of 384 (the channels' sum; a sum
+/// below 1 counts as 1): what ColorDistance compares.
+inline Eigen::Vector3f BrightnessNormalized(const Eigen::Vector3f& rgb) {
+  return rgb * (384.0f / std::max(rgb.sum(), 1.0f));
+}
+
 /// Eq. 3 on brightness-normalised RGB (0..255 each): 0 for the same hue and
-/// saturation, up to 768.
+/// saturation, up to 768. The L1 distance of BrightnessNormalized(rgb_a) and
+/// BrightnessNormalized(rgb_b), so a caller comparing many colours with one
+/// may normalise that one once (the same float).
 float ColorDistance(const Eigen::Vector3f& rgb_a, const Eigen::Vector3f& rgb_b);
 
 struct RejectorThresholds {

@@ -95,6 +95,10 @@ class SupportScorer {
       index_.push_back(i);
       p_c_.push_back(cMo_f * model.points_o[i]);
       n_c_.push_back(cRo_ * model.normals_o[i]);
+      if (check_color_) {
+        unit_rgb_.push_back(model.color_known(i) ? BrightnessNormalized(model.colors[i])
+                                                 : Eigen::Vector3f::Constant(-1.0f));
+      }
     }
   }
 
@@ -118,15 +122,17 @@ class SupportScorer {
     }
     order.insert(order.end(), away.begin(), away.end());
     std::vector<std::size_t> index;
-    std::vector<Eigen::Vector3f> p_c, n_c;
+    std::vector<Eigen::Vector3f> p_c, n_c, unit_rgb;
     for (const std::size_t k : order) {
       index.push_back(index_[k]);
       p_c.push_back(p_c_[k]);
       n_c.push_back(n_c_[k]);
+      if (check_color_) unit_rgb.push_back(unit_rgb_[k]);
     }
     index_ = std::move(index);
     p_c_ = std::move(p_c);
     n_c_ = std::move(n_c);
+    unit_rgb_ = std::move(unit_rgb);
   }
 
   /// Whether the surface seen at pixel (u, v), z_obs m deep, is the model's
@@ -143,6 +149,14 @@ class SupportScorer {
     const Eigen::Vector3f seen_o = cRo_.transpose() * (seen_c - t_c_ - shift_c);
     const int j = model_.Nearest(seen_o);
     return j >= 0 && (model_.points_o[j] - seen_o).squaredNorm() <= tolerance_m * tolerance_m;
+  }
+
+  /// ColorDistance from the colour at pixel (u, v) to a colour given
+  /// BrightnessNormalized (the same float).
+  float ColorDistanceTo(const Eigen::Vector3f& unit_rgb, int u, int v) const {
+    const std::uint8_t* rgb = &color_.at(u, v);
+    const Eigen::Vector3f seen(rgb[0], rgb[1], rgb[2]);
+    return (BrightnessNormalized(seen) - unit_rgb).cwiseAbs().sum();
   }
 
   /// Whether the surface seen at pixel (u, v) (with depth) is the robot's own arm.
@@ -175,10 +189,8 @@ class SupportScorer {
           std::max(options_.min_tolerance_m, 3.0 * options_.depth_noise_per_m2 * p.z() * p.z());
       if (std::abs(z_obs - p.z()) <= tolerance) {
         const std::size_t i = index_[k];
-        if (!check_color_ || !model_.color_known(i) ||
-            ColorDistance(
-                Eigen::Vector3f(color_.at(u, v, 0), color_.at(u, v, 1), color_.at(u, v, 2)),
-                model_.colors[i]) <= options_.max_color_distance) {
+        if (!check_color_ || unit_rgb_[k].x() < 0.0f ||
+            ColorDistanceTo(unit_rgb_[k], u, v) <= options_.max_color_distance) {
           ++support.agree;
           support.agree_box.x0 = std::min(support.agree_box.x0, u);
           support.agree_box.y0 = std::min(support.agree_box.y0, v);
@@ -222,6 +234,8 @@ class SupportScorer {
   Eigen::Vector3f t_c_ = Eigen::Vector3f::Zero();  // cMo's translation
   std::vector<std::size_t> index_;                 // model point of each sample
   std::vector<Eigen::Vector3f> p_c_, n_c_;         // its point and normal in c at cMo
+  // Its colour BrightnessNormalized when the colour is checked (x < 0: not known).
+  std::vector<Eigen::Vector3f> unit_rgb_;
 };
 
 }  // namespace

@@ -75,6 +75,19 @@ TEST(IcpRejectorTest, ColorRejectsOtherHuesButNotShading) {
   EXPECT_EQ(ClassifyPair({0, 0, 0}, kUp, kGrey, {0, 0, 0}, kUp, kYellow, t), Rejection::kNone);
 }
 
+TEST(IcpRejectorTest, ColorDistanceIsTheL1OfBrightnessNormalizedColours) {
+  // A caller normalising one colour once gets the same float as ColorDistance.
+  const Eigen::Vector3f black(0, 0, 0), dim(0.2f, 0.3f, 0.1f), shaded = kYellow * 0.3f;
+  for (const Eigen::Vector3f& a : {kGrey, kYellow, black, dim}) {
+    for (const Eigen::Vector3f& b : {kGrey, shaded, black, dim}) {
+      EXPECT_EQ(ColorDistance(a, b),
+                (BrightnessNormalized(a) - BrightnessNormalized(b)).cwiseAbs().sum());
+    }
+  }
+  EXPECT_FLOAT_EQ(BrightnessNormalized(kYellow).sum(), 384.0f);
+  EXPECT_EQ(BrightnessNormalized(dim), dim * 384.0f);  // a sum below 1 counts as 1
+}
+
 TEST(IcpRejectorTest, EachRejectorIsAppliedInOrder) {
   RejectorThresholds t;
   // Fails all three: reported as distance (Eq. 1 first).
