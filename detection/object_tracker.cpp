@@ -25,16 +25,27 @@ struct FieldCheck {
   }
 };
 
+/// Pixels two boxes share (0 when they do not meet).
+double SharedArea(const PixelBox& a, const PixelBox& b) {
+  const PixelBox inside{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1),
+                        std::min(a.y1, b.y1)};
+  return inside.empty() ? 0.0 : double(inside.width()) * inside.height();
+}
+
 }  // namespace
 
 bool OutlineInCrop(const PixelBox& outline, const PixelBox& crop, double min_fraction) {
   if (min_fraction <= 0.0) return true;
   if (outline.empty() || crop.empty()) return false;
-  const PixelBox inside{std::max(outline.x0, crop.x0), std::max(outline.y0, crop.y0),
-                        std::min(outline.x1, crop.x1), std::min(outline.y1, crop.y1)};
-  if (inside.empty()) return false;
-  return double(inside.width()) * inside.height() >=
-         min_fraction * double(outline.width()) * outline.height();
+  const double shared = SharedArea(outline, crop);
+  return shared > 0.0 && shared >= min_fraction * double(outline.width()) * outline.height();
+}
+
+bool OutlineCoversBox(const PixelBox& outline, const PixelBox& box, double min_fraction) {
+  if (min_fraction <= 0.0) return true;
+  if (outline.empty() || box.empty()) return false;
+  const double shared = SharedArea(outline, box);
+  return shared > 0.0 && shared >= min_fraction * double(box.width()) * box.height();
 }
 
 void PerceptionOptions::Validate(const std::string& source, const std::string& prefix) const {
@@ -51,6 +62,7 @@ void PerceptionOptions::Validate(const std::string& source, const std::string& p
           "must be in (0, 1]");
   Require(min_coverage > 0.0 && min_coverage <= 1.0, "min_coverage", "must be in (0, 1]");
   Require(min_box_overlap >= 0.0 && min_box_overlap <= 1.0, "min_box_overlap", "must be in [0, 1]");
+  Require(min_box_cover >= 0.0 && min_box_cover <= 1.0, "min_box_cover", "must be in [0, 1]");
   Require(min_cloud_points >= 10, "min_cloud_points", "must be >= 10");
   Require(min_global_range_m >= 0.0 && min_global_range_m < max_global_range_m,
           "min_global_range_m", "must be in [0, max_global_range_m) m");
@@ -254,7 +266,8 @@ bool ObjectTracker::ExplainsDepth(const PoseSupport& support) const {
 
 bool ObjectTracker::OutsideBox(const PoseSupport& support, const FrameReport& report) const {
   return report.detection && ExplainsDepth(support) &&
-         !OutlineInCrop(support.agree_box, report.crop, options_.min_box_overlap);
+         (!OutlineInCrop(support.agree_box, report.crop, options_.min_box_overlap) ||
+          !OutlineCoversBox(support.agree_box, report.detection->box, options_.min_box_cover));
 }
 
 bool ObjectTracker::Passes(const PoseSupport& support, const FrameReport& report) const {
@@ -699,9 +712,10 @@ FrameReport ObjectTracker::Process(const ColorImage& color, const DepthImage& ca
       allow_global = std::any_of(centres_c.begin(), centres_c.end(),
                                  [&](const Eigen::Vector3d& c) { return Reachable(c); });
     }
-    // A pose of the track's own that lies outside the detector's crop forgets
-    // the track (Measure), when the box check is on.
-    const bool own_track = own_prior && options_.min_box_overlap > 0.0;
+    // A pose of the track's own that lies outside the detector's crop, or
+    // does not cover its box, forgets the track (Measure), when the box check is on.
+    const bool own_track =
+        own_prior && (options_.min_box_overlap > 0.0 || options_.min_box_cover > 0.0);
     report.measured = Measure(cloud, color, depth, depth_scale_m, K, prior, centres_c, allow_global,
                               segment, kept_centres, own_track, &report);
   }

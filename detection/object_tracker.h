@@ -59,6 +59,14 @@ struct PerceptionOptions {
   /// track is forgotten (filter and last good pose) and the box searched: the
   /// frames without a box do not find the look-alike again from where it was.
   double min_box_overlap = 0.0;
+  /// On a frame with a detector's box, a pose passes only when the outline of
+  /// what it explains (PoseSupport::agree_box) also covers at least this
+  /// fraction of the box's area, [0, 1]; 0: no check. The box is the object
+  /// the detector saw: a look-alike in its crop (the support pipe under the
+  /// pipe, slid along it, or seen farther along the rays) explains another or
+  /// a smaller part of the image. A track's own pose refused so is forgotten
+  /// as with min_box_overlap.
+  double min_box_cover = 0.0;
   int min_cloud_points = 60;  ///< fewer points in the crop: no measurement, >= 10
   /// cloud size when the crop is the whole frame (no detector, no prior), [50, 100000]
   int whole_frame_points = 8000;
@@ -125,6 +133,11 @@ inline bool TwoCentresInBox(const PerceptionOptions& options) {
 /// in a detector's crop: at least `min_fraction` of the outline's area inside
 /// `crop`. Always with min_fraction 0; never for an empty outline otherwise.
 bool OutlineInCrop(const PixelBox& outline, const PixelBox& crop, double min_fraction);
+
+/// Whether the outline of what a pose explains (PoseSupport::agree_box) covers
+/// a detector's `box`: at least `min_fraction` of the box's area inside
+/// `outline`. Always with min_fraction 0; never for an empty outline otherwise.
+bool OutlineCoversBox(const PixelBox& outline, const PixelBox& box, double min_fraction);
 
 /// What the pipeline knows about the object after a frame.
 struct ObjectEstimate {
@@ -286,12 +299,14 @@ class ObjectTracker {
   enum class SearchEnd { kFound, kExhausted, kAbandoned };
   void EndSearch(SearchEnd end);
   /// A pose explains enough of the depth (min_support_ratio, min_coverage)
-  /// and, on a frame with a detector's box, lies in its crop (min_box_overlap).
+  /// and, on a frame with a detector's box, lies in its crop (min_box_overlap)
+  /// and covers the box (min_box_cover).
   bool Passes(const PoseSupport& support, const FrameReport& report) const;
   /// The pose explains enough of the depth (min_support_ratio, min_coverage).
   bool ExplainsDepth(const PoseSupport& support) const;
   /// The pose explains the depth but, on a frame with a detector's box, lies
-  /// outside its crop (min_box_overlap): a look-alike beside the object.
+  /// outside its crop (min_box_overlap) or does not cover the box
+  /// (min_box_cover): a look-alike beside the object.
   bool OutsideBox(const PoseSupport& support, const FrameReport& report) const;
   /// Drops the filter, the track's state and its last good pose: nothing seeds
   /// the next frames from a pose found to lie on a look-alike.

@@ -137,6 +137,7 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path,
                         "min_support_ratio",
                         "min_coverage",
                         "min_box_overlap",
+                        "min_box_cover",
                         "min_cloud_points",
                         "whole_frame_points",
                         "detect_every_frames",
@@ -168,6 +169,7 @@ PerceptionOptions LoadPerceptionOptions(const std::string& path,
   o.min_support_ratio = root.GetDouble("min_support_ratio", o.min_support_ratio);
   o.min_coverage = root.GetDouble("min_coverage", o.min_coverage);
   o.min_box_overlap = root.GetDouble("min_box_overlap", o.min_box_overlap);
+  o.min_box_cover = root.GetDouble("min_box_cover", o.min_box_cover);
   o.min_cloud_points = root.GetInt("min_cloud_points", o.min_cloud_points);
   o.whole_frame_points = root.GetInt("whole_frame_points", o.whole_frame_points);
   o.detect_every_frames = root.GetInt("detect_every_frames", o.detect_every_frames);

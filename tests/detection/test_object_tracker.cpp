@@ -635,6 +635,21 @@ TEST(ObjectTrackerTest, AnOutlineCountsInACropByTheShareOfItsAreaInside) {
   EXPECT_FALSE(OutlineInCrop({}, crop, 0.3));
 }
 
+TEST(ObjectTrackerTest, AnOutlineCoversABoxByTheShareOfTheBoxInside) {
+  const PixelBox box{100, 100, 300, 200};
+  // Around it, its left half, a quarter (a corner), a small outline inside, beside it.
+  EXPECT_TRUE(OutlineCoversBox({90, 90, 310, 210}, box, 1.0));
+  EXPECT_TRUE(OutlineCoversBox({100, 100, 200, 200}, box, 0.5));
+  EXPECT_FALSE(OutlineCoversBox({100, 100, 200, 200}, box, 0.6));
+  EXPECT_TRUE(OutlineCoversBox({0, 0, 200, 150}, box, 0.25));
+  EXPECT_FALSE(OutlineCoversBox({0, 0, 200, 150}, box, 0.3));
+  EXPECT_FALSE(OutlineCoversBox({150, 120, 200, 160}, box, 0.2));
+  EXPECT_FALSE(OutlineCoversBox({400, 120, 500, 180}, box, 0.01));
+  // 0: no check; an empty outline covers no box.
+  EXPECT_TRUE(OutlineCoversBox({400, 120, 500, 180}, box, 0.0));
+  EXPECT_FALSE(OutlineCoversBox({}, box, 0.3));
+}
+
 // The detector's box keeps a tracked pose: every frame of a tracked crawler
 // lies in the box's crop (a pose slid off it along a look-alike would not).
 TEST(ObjectTrackerTest, ATrackedPoseLiesInTheDetectorsCrop) {

@@ -76,6 +76,7 @@ void ExpectSameOptions(const PerceptionOptions& a, const PerceptionOptions& b) {
   EXPECT_SAME_FIELD(min_support_ratio);
   EXPECT_SAME_FIELD(min_coverage);
   EXPECT_SAME_FIELD(min_box_overlap);
+  EXPECT_SAME_FIELD(min_box_cover);
   EXPECT_SAME_FIELD(min_cloud_points);
   EXPECT_SAME_FIELD(whole_frame_points);
   EXPECT_SAME_FIELD(detect_every_frames);
@@ -195,6 +196,8 @@ TEST_F(PerceptionConfigTest, ValuesOutOfRangeAreNamedWithTheirPathAndBound) {
               HasSubstr("perception.yaml: min_support_ratio: must be in (0, 1]"));
   EXPECT_THAT(ErrorOf("min_box_overlap: -0.1\n"),
               HasSubstr("perception.yaml: min_box_overlap: must be in [0, 1]"));
+  EXPECT_THAT(ErrorOf("min_box_cover: 1.5\n"),
+              HasSubstr("perception.yaml: min_box_cover: must be in [0, 1]"));
   EXPECT_THAT(ErrorOf("model:\n  spacing_m: 0.5\n"),
               HasSubstr("perception.yaml: model.spacing_m: must be in [0.001, 0.05] m"));
   EXPECT_THAT(ErrorOf("ekf:\n  accel_noise_mps2: 0\n"),
