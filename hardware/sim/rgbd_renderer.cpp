@@ -99,7 +99,7 @@ struct RgbdRenderer::Impl {
   std::vector<int> mesh_of_static;  // geometry ID in `statics` -> mesh id
 
   Impl() {
-    device = rtcNewDevice("threads=1");  // one core: the budget is per core
+    device = rtcNewDevice(kEmbreeDeviceConfig);
     if (!device) throw std::runtime_error("Embree: cannot create a device");
     top = rtcNewScene(device);
     rtcSetSceneBuildQuality(top, RTC_BUILD_QUALITY_LOW);

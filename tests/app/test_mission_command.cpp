@@ -400,11 +400,11 @@ TEST(MissionEvaluatorTest, ArmsComingIntoContactCountOncePerContact) {
 }
 
 TEST(MissionRunnerTest, AGripperThatHoldsStaysClosedWhileTheOtherAimsAgain) {
-  // Seed 5017: on the first attempt the left gripper takes hold and the right
+  // Seed 5703: on the first attempt the left gripper takes hold and the right
   // closes empty; the holder keeps the object up while the right arm aims at
   // other pairs, and the mission grasps and flies home in the end.
   MissionOptions options;
-  options.seed = 5017;
+  options.seed = 5703;
   std::ostringstream log;
   MissionRecord record;
   const MissionResult result = RunMission(options, &record, &log);
