@@ -18,10 +18,11 @@ namespace {
 constexpr double kGrazingCos = 1e-3;
 
 /// One Embree device for the process (created on first use, thread-safe
-/// initialisation; one build thread so contact generation stays on one core).
+/// initialisation; one build thread so contact generation stays on one core;
+/// kernels no wider than AVX2, so contacts come out alike on AVX2 and AVX-512 CPUs).
 RTCDevice SharedDevice() {
   static const std::unique_ptr<RTCDeviceTy, void (*)(RTCDevice)> device(
-      rtcNewDevice("threads=1,set_affinity=0"), rtcReleaseDevice);
+      rtcNewDevice("threads=1,set_affinity=0,max_isa=avx2"), rtcReleaseDevice);
   if (!device) throw std::runtime_error("Embree: cannot create a device");
   return device.get();
 }

@@ -13,6 +13,10 @@ namespace {
 
 // Rays per rtcIntersect16 call: a tile of 8 x 2 neighbouring pixels.
 constexpr int kTileW = 8, kTileH = 2, kPacket = kTileW * kTileH;
+// One build thread (the budget is per core); kernels no wider than AVX2, so a
+// CPU with AVX-512 traces with the same kernels as one with AVX2 (kernels of
+// another width differ in a depth's last bits, enough to fly a seed otherwise).
+constexpr const char* kEmbreeDeviceConfig = "threads=1,max_isa=avx2";
 
 /// One triangle's shading for the frame being rendered: what depends on the
 /// pose and the lighting but not on the pixel. Side 0 is the one its normal
