@@ -32,20 +32,24 @@ double SharedArea(const PixelBox& a, const PixelBox& b) {
   return inside.empty() ? 0.0 : double(inside.width()) * inside.height();
 }
 
+/// Whether `outline` and `other` share at least min_fraction of the area of
+/// `of` (one of the two): 0 is no check; an empty box shares nothing.
+bool SharesAtLeast(const PixelBox& outline, const PixelBox& other, const PixelBox& of,
+                   double min_fraction) {
+  if (min_fraction <= 0.0) return true;
+  if (outline.empty() || other.empty()) return false;
+  const double shared = SharedArea(outline, other);
+  return shared > 0.0 && shared >= min_fraction * double(of.width()) * of.height();
+}
+
 }  // namespace
 
 bool OutlineInCrop(const PixelBox& outline, const PixelBox& crop, double min_fraction) {
-  if (min_fraction <= 0.0) return true;
-  if (outline.empty() || crop.empty()) return false;
-  const double shared = SharedArea(outline, crop);
-  return shared > 0.0 && shared >= min_fraction * double(outline.width()) * outline.height();
+  return SharesAtLeast(outline, crop, outline, min_fraction);
 }
 
 bool OutlineCoversBox(const PixelBox& outline, const PixelBox& box, double min_fraction) {
-  if (min_fraction <= 0.0) return true;
-  if (outline.empty() || box.empty()) return false;
-  const double shared = SharedArea(outline, box);
-  return shared > 0.0 && shared >= min_fraction * double(box.width()) * box.height();
+  return SharesAtLeast(outline, box, box, min_fraction);
 }
 
 void PerceptionOptions::Validate(const std::string& source, const std::string& prefix) const {
